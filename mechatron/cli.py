@@ -1,0 +1,335 @@
+"""The ``mechatron`` command line.
+
+Every command has ``--help``; ``--json`` prints machine-readable output; an error prints one line to stderr and exits
+with status 2 (set ``MECHATRON_DEBUG=1`` to see the traceback of an unexpected error).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import re
+import sys
+import traceback
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+import numpy as np
+import pinocchio as pin
+
+from . import __version__
+from .errors import InputError, MechatronError
+from .kinematics import REFERENCES, fk_and_jacobian
+from .library import available_robots, builtin_robot_files, installed_example_robots, load
+from .model import Mechanism
+from .urdf import export_urdf
+
+_NEGATIVE_VALUE = re.compile(r"^-\.?\d")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr and exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+# ------------------------------------------------------------------------------------------------- parsing
+def _floats(text: str, what: str) -> np.ndarray:
+    try:
+        values = np.array([float(x) for x in text.replace(" ", "").split(",") if x != ""])
+    except ValueError:
+        raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
+    if not np.all(np.isfinite(values)):
+        raise InputError(f"{what} must be finite numbers, got {text!r}")
+    return values
+
+
+def parse_assignments(items: Sequence[str] | None) -> dict[str, float]:
+    """``["a2=0.5,d3=0.1", ...]`` → {"a2": 0.5, "d3": 0.1} (values in SI units)."""
+    out: dict[str, float] = {}
+    for item in items or ():
+        for part in filter(None, item.split(",")):
+            name, sep, value = part.partition("=")
+            if not sep or not name.strip():
+                raise InputError(f"--set expects NAME=VALUE[,NAME=VALUE...], got {part!r}")
+            try:
+                out[name.strip()] = float(value)
+            except ValueError:
+                raise InputError(f"--set {name.strip()}: value must be a number, got {value!r}") from None
+    return out
+
+
+def _load(args: argparse.Namespace) -> Mechanism:
+    return load(args.robot, **parse_assignments(args.set))
+
+
+def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
+    q = _floats(text, "--q")
+    if q.shape != (mech.nq,):
+        raise InputError(f"--q needs {mech.nq} values for {mech.name} ({', '.join(mech.joint_names)}), got {len(q)}")
+    if degrees:
+        q = np.where(_revolute_mask(mech), np.radians(q), q)
+    for message in mech.limit_violations(q):
+        print(f"mechatron: warning: {message}", file=sys.stderr)
+    return q
+
+
+def _revolute_mask(mech: Mechanism) -> np.ndarray:
+    return np.array([_joint_kind(mech, j) == "revolute" for j in range(1, mech.model.njoints)])
+
+
+def _joint_kind(mech: Mechanism, joint_id: int) -> str:
+    short = mech.model.joints[joint_id].shortname()
+    if re.fullmatch(r"JointModel(R[XYZ]|RUB[XYZ]|RevoluteUnaligned|RevoluteUnboundedUnaligned)", short):
+        return "revolute"
+    if re.fullmatch(r"JointModel(P[XYZ]|PrismaticUnaligned)", short):
+        return "prismatic"
+    return short.removeprefix("JointModel")
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def _print_json(obj: Any) -> None:
+    print(json.dumps(obj, indent=2, allow_nan=False))
+
+
+def _matrix_text(matrix: np.ndarray, rows: Sequence[str], cols: Sequence[str], fmt: str = "{:>11.5f}") -> str:
+    width = max(11, *(len(c) for c in cols))
+    head = " " * 6 + "".join(f"{c:>{width}}" for c in cols)
+    lines = [head] + [f"{r:<6}" + "".join(f"{fmt.format(x):>{width}}" for x in row) for r, row in zip(rows, matrix)]
+    return "\n".join(lines)
+
+
+# ------------------------------------------------------------------------------------------------ commands
+def cmd_list(args: argparse.Namespace) -> int:
+    names = available_robots()
+    if args.json:
+        _print_json(names)
+        return 0
+    builtin = builtin_robot_files()
+    examples = installed_example_robots()
+    print(f"{'name':<18} {'dof':>3}  description")
+    for name in names:
+        try:
+            mech = load(name)
+            print(f"{name:<18} {mech.nq:>3}  {mech.description}")
+        except MechatronError as exc:
+            print(f"{name:<18} {'?':>3}  (cannot load: {exc})")
+    print(f"\n{len(builtin)} robot files in {next(iter(builtin.values())).parent if builtin else 'robots/'}; "
+          f"{len(examples)} arms from example-robot-data")
+    return 0
+
+
+def describe(mech: Mechanism) -> dict[str, Any]:
+    """Everything ``mechatron show`` prints, as plain data."""
+    model = mech.model
+    joints = []
+    for j in range(1, model.njoints):
+        iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
+        joints.append({
+            "name": model.names[j], "kind": _joint_kind(mech, j),
+            "lower": _finite(model.lowerPositionLimit[iq]), "upper": _finite(model.upperPositionLimit[iq]),
+            "max_velocity": _finite(model.velocityLimit[iv]), "max_effort": _finite(model.effortLimit[iv]),
+            "armature": float(model.armature[iv]),
+        })
+    links = [{"name": name, "mass": float(model.inertias[j].mass), "com": model.inertias[j].lever.tolist()}
+             for j, name in enumerate(mech.link_names, start=1)]
+    drives = {name: {"rotor_inertia": d.rotor_inertia, "gear_ratio": d.gear_ratio, "efficiency": d.efficiency,
+                     "reflected_inertia": d.reflected_inertia} for name, d in mech.drives.items()}
+    return {
+        "name": mech.name, "description": mech.description, "source": mech.source,
+        "convention": mech.dh.convention if mech.dh is not None else None,
+        "nq": mech.nq, "nv": mech.nv, "mobility": mech.mobility(), "total_mass": mech.total_mass,
+        "gravity": model.gravity.linear.tolist(),
+        "dh": mech.dh.to_frame().to_dict(orient="records") if mech.dh is not None else None,
+        "joints": joints, "links": links, "drives": drives,
+        "parameters": {n: {"value": p.value, "unit": p.unit, "description": p.description}
+                       for n, p in mech.parameters.items()},
+        "frames": sorted({f.name for f in model.frames if f.type in (pin.FrameType.OP_FRAME, pin.FrameType.BODY)}),
+    }
+
+
+def cmd_show(args: argparse.Namespace) -> int:
+    mech = _load(args)
+    info = describe(mech)
+    if args.json:
+        _print_json(info)
+        return 0
+    print(f"{mech.name}: {mech.description}")
+    if mech.source:
+        print(f"from {mech.source}")
+    print(f"{mech.nq} coordinates, mobility W = {info['mobility']}, total mass {info['total_mass']:.3f} kg, "
+          f"gravity {info['gravity']} m/s²")
+    if mech.dh is not None:
+        print(f"\nDH table ({mech.dh.convention} convention; θ and α in degrees, lengths in metres):")
+        print(mech.dh.to_frame().to_string())
+    print("\njoints:")
+    for joint in info["joints"]:
+        unit = "rad" if joint["kind"] == "revolute" else "m"
+        limits = f"[{joint['lower']:g}, {joint['upper']:g}] {unit}" if joint["lower"] is not None else "unbounded"
+        print(f"  {joint['name']:<22} {joint['kind']:<10} {limits}")
+    print("\nlinks (mass kg, centre of mass m in the joint frame):")
+    for link in info["links"]:
+        print(f"  {link['name']:<22} {link['mass']:9.4f}  {np.round(link['com'], 5).tolist()}")
+    if info["drives"]:
+        print("\ndrives (rotor inertia kg·m², gear ratio, efficiency, reflected inertia J·u²):")
+        for name, d in info["drives"].items():
+            print(f"  {name:<22} {d['rotor_inertia']:10.3e} {d['gear_ratio']:10.4g} {d['efficiency']:6.3f} "
+                  f"{d['reflected_inertia']:10.4g}")
+    print(f"\ngeometric parameters ({len(info['parameters'])}; override with --set NAME=VALUE):")
+    names = list(info["parameters"])
+    for start in range(0, len(names), 4):
+        print("  " + "  ".join(f"{n}={info['parameters'][n]['value']:.6g}" for n in names[start:start + 4]))
+    print(f"\nframes: {', '.join(info['frames'])}")
+    return 0
+
+
+def cmd_fk(args: argparse.Namespace) -> int:
+    mech = _load(args)
+    q = _configuration(mech, args.q, args.deg)
+    frame = args.frame or mech.tool_frame
+    placement = mech.frame_placement(q, frame)
+    if args.json:
+        _print_json({"frame": frame, "position": placement.translation.tolist(),
+                     "rotation": placement.rotation.tolist()})
+        return 0
+    rpy = np.degrees(pin.rpy.matrixToRpy(placement.rotation))
+    print(f"{mech.name}, frame {frame} at q = {np.round(q, 6).tolist()}")
+    print(f"position (m):      {np.array2string(placement.translation, precision=6, suppress_small=True)}")
+    print(f"roll-pitch-yaw (deg): {np.array2string(rpy, precision=4, suppress_small=True)}")
+    print("rotation:")
+    print(np.array2string(placement.rotation, precision=6, suppress_small=True))
+    return 0
+
+
+def cmd_jacobian(args: argparse.Namespace) -> int:
+    mech = _load(args)
+    q = _configuration(mech, args.q, args.deg)
+    frame = args.frame or mech.tool_frame
+    _, _, jacobians = fk_and_jacobian(mech, q[None, :], frame, args.reference)
+    jacobian = jacobians[0]
+    singular_values = np.linalg.svd(jacobian, compute_uv=False)
+    if args.json:
+        _print_json({"frame": frame, "reference": args.reference, "joints": mech.joint_names,
+                     "jacobian": jacobian.tolist(), "singular_values": singular_values.tolist()})
+        return 0
+    print(f"{mech.name}, Jacobian of frame {frame} ({args.reference}) at q = {np.round(q, 6).tolist()}")
+    print("rows: linear velocity (m/s) then angular velocity (rad/s) per unit joint rate")
+    print(_matrix_text(jacobian, ["vx", "vy", "vz", "wx", "wy", "wz"], mech.joint_names))
+    print(f"singular values: {np.array2string(singular_values, precision=5)}")
+    return 0
+
+
+def cmd_export_urdf(args: argparse.Namespace) -> int:
+    mech = _load(args)
+    written = export_urdf(mech, args.output)
+    for path in written:
+        print(f"wrote {path}")
+    if len(written) > 1:
+        print("(the .srdf holds the drives' rotor inertia and gear ratio: pinocchio.loadRotorParameters reads it)")
+    return 0
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    from .demo import run
+
+    run()
+    return 0
+
+
+# ------------------------------------------------------------------------------------------------- parser
+def _robot_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("robot", help="robot name (see 'mechatron list') or a .toml/.urdf file")
+    parser.add_argument("--set", action="append", metavar="NAME=VALUE,...",
+                        help="override geometric parameters (SI units: m, rad), e.g. --set a2=0.45,d4=0.43")
+    parser.add_argument("--json", action="store_true", help="print machine-readable JSON")
+
+
+def _pose_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--q", required=True, metavar="Q1,Q2,...",
+                        help="joint coordinates, comma-separated (rad and m; see --deg)")
+    parser.add_argument("--deg", action="store_true", help="revolute joint values of --q are in degrees")
+    parser.add_argument("--frame", help="frame name (default: tool)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="mechatron", description="Sizing and analysis of mechatronic modules and mechanisms "
+                                                   "(Pinocchio inside). SI units throughout.")
+    parser.add_argument("--version", action="version", version=f"mechatron {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+
+    p = sub.add_parser("list", help="list the robots and mechanisms mechatron can load")
+    p.add_argument("--json", action="store_true", help="print a JSON list of names")
+    p.set_defaults(func=cmd_list)
+
+    p = sub.add_parser("show", help="DH table, joints, masses, drives, mobility and parameters of a robot")
+    _robot_arguments(p)
+    p.set_defaults(func=cmd_show)
+
+    p = sub.add_parser("fk", help="forward kinematics: position and rotation of a frame")
+    _robot_arguments(p)
+    _pose_arguments(p)
+    p.set_defaults(func=cmd_fk)
+
+    p = sub.add_parser("jacobian", help="6×n Jacobian of a frame")
+    _robot_arguments(p)
+    _pose_arguments(p)
+    p.add_argument("--reference", choices=list(REFERENCES), default="world_aligned",
+                   help="world_aligned: world axes at the frame origin (default); local: frame axes; world: "
+                        "Pinocchio's spatial convention")
+    p.set_defaults(func=cmd_jacobian)
+
+    p = sub.add_parser("export-urdf", help="write a robot as URDF (plus SRDF rotor data)")
+    _robot_arguments(p)
+    p.add_argument("-o", "--output", required=True, metavar="FILE", help="URDF file to write")
+    p.set_defaults(func=cmd_export_urdf)
+
+    p = sub.add_parser("demo", help="a short tour: load a robot and print its kinematics")
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+def _join_negative_values(argv: Sequence[str]) -> list[str]:
+    """Let ``--q -0.5,1`` mean ``--q=-0.5,1`` (argparse would take -0.5,1 for an option)."""
+    out: list[str] = []
+    items = list(argv)
+    i = 0
+    while i < len(items):
+        token = items[i]
+        if (token.startswith("--") and "=" not in token and i + 1 < len(items)
+                and _NEGATIVE_VALUE.match(items[i + 1])):
+            out.append(f"{token}={items[i + 1]}")
+            i += 2
+            continue
+        out.append(token)
+        i += 1
+    return out
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 ok, 2 error)."""
+    parser = build_parser()
+    args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
+    try:
+        return int(args.func(args) or 0)
+    except MechatronError as exc:
+        print(f"mechatron: error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # e.g. piped into head
+        return 0
+    except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback unless asked to
+        if os.environ.get("MECHATRON_DEBUG"):
+            traceback.print_exc()
+        print(f"mechatron: internal error: {type(exc).__name__}: {exc} (set MECHATRON_DEBUG=1 for details)",
+              file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

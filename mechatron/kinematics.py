@@ -1,0 +1,238 @@
+r"""Kinematics of a :class:`~mechatron.model.Mechanism`, all from Pinocchio.
+
+Every function takes one configuration ``q`` of shape (nq,) or a batch of shape (N, nq) (with velocities ``v`` and
+accelerations ``a`` of shape (nv,) or (N, nv)) and returns one result or an array of N results. Positions are in
+metres, angles in radians, everything is expressed in the world (base) frame unless said otherwise.
+
+Textbook equations (section 4.3): the position of a point M is r = B_{0,i} r_i (4.44); its velocity
+v = Σ_k ∂r/∂q_k q̇_k = J q̇ (4.47–4.48); its acceleration a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s (4.49–4.50); the
+angular velocity of link i is Ω_i = Σ_{j≤i} σ_j z_{j-1} q̇_j (4.56) and its angular acceleration
+E_i = dΩ_i/dt (4.57), σ_j = 1 for a revolute and 0 for a prismatic pair.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+import pinocchio as pin
+
+from .errors import InputError
+from .model import Mechanism
+
+Reference = Literal["world_aligned", "local", "world"]
+REFERENCES: dict[str, pin.ReferenceFrame] = {
+    "world_aligned": pin.LOCAL_WORLD_ALIGNED,
+    "local": pin.LOCAL,
+    "world": pin.WORLD,
+}
+
+
+def reference_frame(reference: str) -> pin.ReferenceFrame:
+    """Pinocchio's reference frame for ``"world_aligned"`` (origin at the frame, world axes), ``"local"`` (frame
+    axes) or ``"world"`` (Pinocchio's spatial convention: origin at the world origin)."""
+    try:
+        return REFERENCES[reference]
+    except KeyError:
+        raise InputError(f"unknown reference {reference!r}; expected one of: {', '.join(REFERENCES)}") from None
+
+
+def _samples(mech: Mechanism, q, *rates) -> tuple[bool, np.ndarray, list[np.ndarray]]:
+    """Validate shapes: (is a single sample, Q of shape (N, nq), each rate of shape (N, nv))."""
+    q = mech.check_configuration(q)
+    single = q.ndim == 1
+    Q = np.atleast_2d(q)
+    if Q.ndim != 2:
+        raise InputError(f"q must have shape (nq,) or (N, nq), got {q.shape}")
+    out = []
+    for name, rate in zip(("v", "a"), rates):
+        arr = np.atleast_2d(np.asarray(rate, dtype=float))
+        if arr.shape != (len(Q), mech.nv):
+            raise InputError(f"{name} must have shape {(mech.nv,) if single else (len(Q), mech.nv)} to match q, "
+                             f"got {np.shape(rate)}")
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{name} must be finite")
+        out.append(arr)
+    return single, Q, out
+
+
+def _point(point) -> np.ndarray | None:
+    if point is None:
+        return None
+    p = np.asarray(point, dtype=float)
+    if p.shape != (3,) or not np.all(np.isfinite(p)):
+        raise InputError(f"point must be 3 finite coordinates (m) in the frame, got {point!r}")
+    return p
+
+
+# ------------------------------------------------------------------------------------------------- positions
+def frame_placement(mech: Mechanism, q, frame: str = "tool") -> pin.SE3:
+    """Placement (SE3, metres) of ``frame`` in the world at one configuration: B_{0,i} of eq. 4.45 for a DH arm."""
+    q = mech.check_configuration(q)
+    if q.ndim != 1:
+        raise InputError("frame_placement takes one configuration; use frame_position/frame_rotation for a batch")
+    fid = mech.frame_id(frame)
+    pin.forwardKinematics(mech.model, mech.data, q)
+    return pin.updateFramePlacement(mech.model, mech.data, fid).copy()
+
+
+def _placements(mech: Mechanism, q, frame: str) -> tuple[bool, np.ndarray, np.ndarray]:
+    single, Q, _ = _samples(mech, q)
+    fid = mech.frame_id(frame)
+    model, data = mech.model, mech.data
+    homogeneous = np.empty((len(Q), 4, 4))
+    for i, qi in enumerate(Q):
+        pin.forwardKinematics(model, data, qi)
+        homogeneous[i] = pin.updateFramePlacement(model, data, fid).homogeneous
+    return single, homogeneous[:, :3, 3].copy(), homogeneous[:, :3, :3].copy()
+
+
+def frame_position(mech: Mechanism, q, frame: str = "tool") -> np.ndarray:
+    """Position (m) of the origin of ``frame`` in the world (eq. 4.44): (3,) or (N, 3)."""
+    single, positions, _ = _placements(mech, q, frame)
+    return positions[0] if single else positions
+
+
+def frame_rotation(mech: Mechanism, q, frame: str = "tool") -> np.ndarray:
+    """Rotation matrix of ``frame`` in the world (the 3×3 block of B_{0,i}): (3, 3) or (N, 3, 3)."""
+    single, _, rotations = _placements(mech, q, frame)
+    return rotations[0] if single else rotations
+
+
+# ------------------------------------------------------------------------------------------------- Jacobians
+def fk_and_jacobian(mech: Mechanism, q, frame: str = "tool", reference: Reference = "world_aligned"
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions (N, 3), rotations (N, 3, 3) and 6×nv Jacobians (N, 6, nv) of ``frame`` over a batch ``q`` (N, nq).
+
+    One Pinocchio call (``computeFrameJacobian``) per sample gives both the placement and the Jacobian. The Jacobian
+    maps q̇ to the frame's twist [v; ω] in ``reference`` (:func:`reference_frame`); its linear rows in
+    ``"world_aligned"`` are ∂r/∂q of eq. 4.47.
+    """
+    _, Q, _ = _samples(mech, q)
+    fid = mech.frame_id(frame)
+    rf = reference_frame(reference)
+    model, data = mech.model, mech.data
+    n = len(Q)
+    homogeneous, jacobians = np.empty((n, 4, 4)), np.empty((n, 6, mech.nv))
+    placement = data.oMf[fid]  # a view into data, updated by every call below
+    compute = pin.computeFrameJacobian
+    for i, qi in enumerate(Q):
+        jacobians[i] = compute(model, data, qi, fid, rf)
+        homogeneous[i] = placement.homogeneous  # one conversion instead of two (translation, rotation)
+    return homogeneous[:, :3, 3].copy(), homogeneous[:, :3, :3].copy(), jacobians
+
+
+def frame_jacobian(mech: Mechanism, q, frame: str = "tool", reference: Reference = "world_aligned") -> np.ndarray:
+    """6×nv Jacobian of ``frame`` (linear rows first): (6, nv) or (N, 6, nv). See :func:`fk_and_jacobian`."""
+    single = np.ndim(q) == 1
+    jacobians = fk_and_jacobian(mech, q, frame, reference)[2]
+    return jacobians[0] if single else jacobians
+
+
+def point_jacobian(mech: Mechanism, q, frame: str = "tool", point=None) -> np.ndarray:
+    """∂r/∂q (3×nv, world axes) of a point fixed to the body of ``frame`` (eq. 4.47).
+
+    Args:
+        point: Coordinates (m) of the point in ``frame``; default the frame's origin.
+    """
+    p = _point(point)
+    single = np.ndim(q) == 1
+    _, rotations, jacobians = fk_and_jacobian(mech, q, frame, "world_aligned")
+    out = jacobians[:, :3, :].copy()
+    if p is not None:
+        r = rotations @ p  # (N, 3): the point relative to the frame origin, world axes
+        out -= np.cross(r[:, :, None], jacobians[:, 3:, :], axis=1)  # v_p = v_o + ω × r = v_o − r × ω
+    return out[0] if single else out
+
+
+# ----------------------------------------------------------------------------------- velocities, accelerations
+def _frame_motion(mech: Mechanism, q, v, a, frame: str, point=None):
+    """World linear velocity of the point, angular velocity, and (if ``a`` is given) the point's classical linear
+    acceleration and the angular acceleration of the body of ``frame``; each (N, 3)."""
+    p = _point(point)
+    single, Q, rates = _samples(mech, q, v) if a is None else _samples(mech, q, v, a)
+    fid = mech.frame_id(frame)
+    model, data = mech.model, mech.data
+    n = len(Q)
+    lin_v, ang_v = np.empty((n, 3)), np.empty((n, 3))
+    lin_a, ang_a = (np.empty((n, 3)), np.empty((n, 3))) if a is not None else (None, None)
+    for i in range(n):
+        if a is None:
+            pin.forwardKinematics(model, data, Q[i], rates[0][i])
+        else:
+            pin.forwardKinematics(model, data, Q[i], rates[0][i], rates[1][i])
+        placement = pin.updateFramePlacement(model, data, fid)
+        twist = pin.getFrameVelocity(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
+        lin_v[i], ang_v[i] = twist.linear, twist.angular
+        if a is not None:
+            acc = pin.getFrameClassicalAcceleration(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
+            lin_a[i], ang_a[i] = acc.linear, acc.angular
+        if p is not None:
+            r = placement.rotation @ p
+            w = ang_v[i]
+            lin_v[i] += np.cross(w, r)
+            if a is not None:
+                lin_a[i] += np.cross(ang_a[i], r) + np.cross(w, np.cross(w, r))
+    return single, lin_v, ang_v, lin_a, ang_a
+
+
+def point_velocity(mech: Mechanism, q, v, frame: str = "tool", point=None) -> np.ndarray:
+    """Velocity (m/s, world) of a point of the body of ``frame``: v = J q̇ (eq. 4.47–4.48). (3,) or (N, 3).
+
+    Args:
+        point: Coordinates (m) of the point in ``frame``; default the frame's origin.
+    """
+    single, lin_v, *_ = _frame_motion(mech, q, v, None, frame, point)
+    return lin_v[0] if single else lin_v
+
+
+def point_acceleration(mech: Mechanism, q, v, a, frame: str = "tool", point=None) -> np.ndarray:
+    """Acceleration (m/s², world) of a point of the body of ``frame``: a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s
+    (eq. 4.49–4.50), the classical (not spatial) acceleration. (3,) or (N, 3)."""
+    single, _, _, lin_a, _ = _frame_motion(mech, q, v, a, frame, point)
+    return lin_a[0] if single else lin_a
+
+
+def angular_velocity(mech: Mechanism, q, v, link: str) -> np.ndarray:
+    """Absolute angular velocity Ω (rad/s, world) of the body carrying the frame ``link`` (eq. 4.56)."""
+    single, _, ang_v, _, _ = _frame_motion(mech, q, v, None, link)
+    return ang_v[0] if single else ang_v
+
+
+def angular_acceleration(mech: Mechanism, q, v, a, link: str) -> np.ndarray:
+    """Absolute angular acceleration E = dΩ/dt (rad/s², world) of the body carrying the frame ``link`` (eq. 4.57)."""
+    single, _, _, _, ang_a = _frame_motion(mech, q, v, a, link)
+    return ang_a[0] if single else ang_a
+
+
+def _link_motion(mech: Mechanism, q, v, a=None) -> tuple[bool, np.ndarray, np.ndarray | None]:
+    """World angular velocity and acceleration of every joint's body: (N, njoints−1, 3) each."""
+    single, Q, rates = _samples(mech, q, v) if a is None else _samples(mech, q, v, a)
+    model, data = mech.model, mech.data
+    n, nb = len(Q), model.njoints - 1
+    omega = np.empty((n, nb, 3))
+    epsilon = np.empty((n, nb, 3)) if a is not None else None
+    for i in range(n):
+        if a is None:
+            pin.forwardKinematics(model, data, Q[i], rates[0][i])
+        else:
+            pin.forwardKinematics(model, data, Q[i], rates[0][i], rates[1][i])
+        for j in range(1, model.njoints):
+            rotation = data.oMi[j].rotation
+            omega[i, j - 1] = rotation @ data.v[j].angular
+            if epsilon is not None:
+                # The angular part of the body's spatial acceleration is Rᵀ·dΩ/dt in body axes.
+                epsilon[i, j - 1] = rotation @ data.a[j].angular
+    return single, omega, epsilon
+
+
+def link_angular_velocities(mech: Mechanism, q, v) -> np.ndarray:
+    """Ω_i (rad/s, world) of every link i, in the order of ``mech.link_names`` (eq. 4.56): (n, 3) or (N, n, 3)."""
+    single, omega, _ = _link_motion(mech, q, v)
+    return omega[0] if single else omega
+
+
+def link_angular_accelerations(mech: Mechanism, q, v, a) -> np.ndarray:
+    """E_i (rad/s², world) of every link i, in the order of ``mech.link_names`` (eq. 4.57): (n, 3) or (N, n, 3)."""
+    single, _, epsilon = _link_motion(mech, q, v, a)
+    return epsilon[0] if single else epsilon

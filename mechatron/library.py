@@ -1,0 +1,124 @@
+"""Finding and loading mechanisms by name: robot files shipped in ``robots/``, files given by path, and the arms of
+the installed ``example-robot-data`` package (found on disk, never downloaded).
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+from .errors import InputError
+from .model import Mechanism, unknown_name_error
+from .robotfile import read_robot_file
+from .urdf import load_urdf
+
+_PACKAGE_DIR = Path(__file__).resolve().parent
+
+
+def data_dir(name: str) -> Path:
+    """A data folder shipped with mechatron (``robots`` or ``catalogs``): inside the installed package, or at the top
+    of the source tree for a development checkout."""
+    for candidate in (_PACKAGE_DIR / name, _PACKAGE_DIR.parent / name):
+        if candidate.is_dir():
+            return candidate
+    raise InputError(f"mechatron's {name}/ folder is missing from the installation ({_PACKAGE_DIR})")
+
+
+@dataclass(frozen=True)
+class ExampleRobot:
+    """An arm of ``example-robot-data``: its URDF path in the package, the frame used as tool, joints to lock."""
+
+    urdf: str
+    tool: str | None = None
+    locked: tuple[str, ...] = ()
+    description: str = ""
+
+
+EXAMPLE_ROBOTS: dict[str, ExampleRobot] = {
+    "ur3": ExampleRobot("ur_description/urdf/ur3_robot.urdf", "tool0", description="Universal Robots UR3 (URDF)"),
+    "ur5": ExampleRobot("ur_description/urdf/ur5_robot.urdf", "tool0", description="Universal Robots UR5 (URDF)"),
+    "ur10": ExampleRobot("ur_description/urdf/ur10_robot.urdf", "tool0", description="Universal Robots UR10 (URDF)"),
+    "panda": ExampleRobot("panda_description/urdf/panda.urdf", "panda_hand_tcp",
+                          ("panda_finger_joint1", "panda_finger_joint2"),
+                          "Franka Emika Panda, fingers locked (URDF)"),
+    "z1": ExampleRobot("z1_description/urdf/z1.urdf", "gripperStator", ("jointGripper",),
+                       "Unitree Z1 arm, gripper locked (URDF)"),
+    "xarm7": ExampleRobot("xarm_description/urdf/xarm7.urdf", "link_eef", description="UFactory xArm 7 (URDF)"),
+    "so101": ExampleRobot("so_arm_description/urdf/so101.urdf", "gripper_frame_link", ("gripper",),
+                          "SO-101 arm, gripper locked (URDF)"),
+    "double_pendulum": ExampleRobot("double_pendulum_description/urdf/double_pendulum.urdf",
+                                    description="double pendulum (URDF)"),
+}
+
+
+@lru_cache(maxsize=1)
+def example_robot_data_dir() -> Path | None:
+    """The ``robots`` folder of the installed ``example-robot-data`` package, or ``None``."""
+    try:
+        dist = importlib.metadata.distribution("example-robot-data")
+    except importlib.metadata.PackageNotFoundError:
+        return None
+    folder = Path(str(dist.locate_file("cmeel.prefix/share/example-robot-data/robots")))
+    return folder if folder.is_dir() else None
+
+
+def builtin_robot_files() -> dict[str, Path]:
+    """Robot files shipped in ``robots/`` by name (file stem)."""
+    return {path.stem: path for path in sorted(data_dir("robots").glob("*.toml"))}
+
+
+def installed_example_robots() -> dict[str, Path]:
+    """The arms of :data:`EXAMPLE_ROBOTS` whose URDF is installed, by name."""
+    folder = example_robot_data_dir()
+    if folder is None:
+        return {}
+    return {name: folder / robot.urdf for name, robot in EXAMPLE_ROBOTS.items() if (folder / robot.urdf).is_file()}
+
+
+def available_robots() -> list[str]:
+    """Names :func:`load` accepts: built-in robot files, then installed example-robot-data arms."""
+    builtin = list(builtin_robot_files())
+    return builtin + [name for name in installed_example_robots() if name not in builtin]
+
+
+def _load_path(path: Path) -> Mechanism:
+    if path.suffix.lower() == ".toml":
+        return read_robot_file(path).mechanism()
+    if path.suffix.lower() == ".urdf":
+        return load_urdf(path)
+    raise InputError("unknown kind of file: expected a robot file (.toml) or a URDF (.urdf)", file=path)
+
+
+def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
+    """Load a mechanism by name or path, with some geometric parameters overridden.
+
+    Args:
+        name_or_path: A name from :func:`available_robots` (a file of ``robots/`` or an example-robot-data arm such as
+            ``ur5`` or ``panda``), or the path of a robot file (``.toml``) or a URDF (``.urdf``).
+        **parameters: New values (SI: metres, radians) of named geometric parameters, e.g. ``a2=0.5``.
+
+    Returns:
+        The :class:`Mechanism`. Its ``model`` is the ``pinocchio.Model`` and ``data`` its ``Data``.
+
+    Raises:
+        InputError: for an unknown name, an unreadable or invalid file, or an unknown parameter.
+    """
+    text = str(name_or_path)
+    path = Path(text)
+    looks_like_path = isinstance(name_or_path, Path) or path.suffix.lower() in (".toml", ".urdf") or "/" in text
+    if looks_like_path:
+        mechanism = _load_path(path)
+    else:
+        builtin = builtin_robot_files()
+        examples = installed_example_robots()
+        if text in builtin:
+            mechanism = read_robot_file(builtin[text]).mechanism()
+        elif text in examples:
+            robot = EXAMPLE_ROBOTS[text]
+            mechanism = load_urdf(examples[text], text, tool=robot.tool, locked_joints=robot.locked,
+                                  description=robot.description)
+        else:
+            raise unknown_name_error("robot", text, available_robots())
+    return mechanism.with_parameters(parameters) if parameters else mechanism

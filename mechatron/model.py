@@ -1,0 +1,235 @@
+"""The :class:`Mechanism`: one object for every analysed system.
+
+A mechanism is a Pinocchio kinematic tree (``model``) with its workspace (``data``), named frames (points and links),
+a registry of named geometric parameters with nominal values, drive data per joint, and (for closed-loop linkages) the
+closure constraints and the actuated coordinates. Serial arms are mechanisms without closures. Every analysis of the
+package takes a ``Mechanism``; Pinocchio does all rigid-body computations.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import pinocchio as pin
+
+from .errors import InputError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .dh import DHTable, Drive
+
+ParameterKind = Literal["length", "angle"]
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named geometric parameter of a mechanism.
+
+    Attributes:
+        name: Name used in overrides (``load("puma560", a2=0.45)``) and tolerance files.
+        value: Nominal value in SI units (m for lengths, rad for angles).
+        kind: ``"length"`` or ``"angle"``.
+        description: What the parameter is, e.g. "DH a of link 2 (common normal z1-z2)".
+    """
+
+    name: str
+    value: float
+    kind: ParameterKind
+    description: str = ""
+
+    @property
+    def unit(self) -> str:
+        return "m" if self.kind == "length" else "rad"
+
+
+def unknown_name_error(what: str, name: str, known: list[str], **where: Any) -> InputError:
+    """An :class:`InputError` for an unknown name, suggesting the closest known names."""
+    close = difflib.get_close_matches(name, known, n=3)
+    hint = f"; did you mean {', '.join(close)}?" if close else ""
+    listing = ", ".join(known) if len(known) <= 30 else ", ".join(known[:30]) + ", ..."
+    return InputError(f"unknown {what} {name!r}{hint} (known: {listing})", **where)
+
+
+_FRAME_PREFERENCE = (pin.FrameType.OP_FRAME, pin.FrameType.BODY, pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT,
+                     pin.FrameType.SENSOR)
+
+
+def find_frame(model: pin.Model, name: str) -> int | None:
+    """Index of the frame called ``name`` (an operational or body frame before a joint frame of the same name)."""
+    matches = [i for i, frame in enumerate(model.frames) if frame.name == name]
+    if not matches:
+        return None
+    return min(matches, key=lambda i: _FRAME_PREFERENCE.index(model.frames[i].type))
+
+
+@dataclass
+class Mechanism:
+    """A mechanism: a Pinocchio model plus everything mechatron knows about it.
+
+    Attributes:
+        name: Short name (the robot file's name).
+        model: The ``pinocchio.Model`` (kinematic tree, inertias, limits, gravity, armature).
+        parameters: Named geometric parameters with their nominal values.
+        description: One line for listings.
+        source: Where the model came from (file path), if anywhere.
+        dh: The DH table the model was built from, for DH arms.
+        drives: Drive data (rotor inertia, gear ratio, efficiency) by joint name.
+        closures: Closure constraints of closed loops (empty for serial arms).
+        actuated: Names of the actuated (input) coordinates; all joints for a serial arm.
+        tool_frame: Name of the default output frame.
+        rebuild: Function that builds the same mechanism with other parameter values.
+    """
+
+    name: str
+    model: pin.Model
+    parameters: dict[str, Parameter] = field(default_factory=dict)
+    description: str = ""
+    source: str | None = None
+    dh: DHTable | None = None
+    drives: dict[str, Drive] = field(default_factory=dict)
+    closures: list[Any] = field(default_factory=list)
+    actuated: list[str] = field(default_factory=list)
+    tool_frame: str = "tool"
+    rebuild: Callable[[dict[str, float]], Mechanism] | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        self.data = self.model.createData()
+        if not self.actuated:
+            self.actuated = self.joint_names
+
+    # ------------------------------------------------------------------------------------------- structure
+    @property
+    def nq(self) -> int:
+        return self.model.nq
+
+    @property
+    def nv(self) -> int:
+        return self.model.nv
+
+    @property
+    def joint_names(self) -> list[str]:
+        """Names of the joints (generalized coordinates), in model order, without the universe."""
+        return list(self.model.names)[1:]
+
+    @property
+    def frame_names(self) -> list[str]:
+        return [f.name for f in self.model.frames]
+
+    @property
+    def link_names(self) -> list[str]:
+        """One frame per moving body (the first BODY frame attached to each joint), in joint order."""
+        names: list[str] = []
+        for joint_id in range(1, self.model.njoints):
+            for frame in self.model.frames:
+                if frame.parentJoint == joint_id and frame.type == pin.FrameType.BODY:
+                    names.append(frame.name)
+                    break
+            else:
+                names.append(self.model.names[joint_id])
+        return names
+
+    def frame_id(self, name: str) -> int:
+        """Index of the frame called ``name``; a clear error listing the frames if there is none."""
+        index = find_frame(self.model, name)
+        if index is None:
+            raise unknown_name_error(f"frame of {self.name}", name, self.frame_names)
+        return index
+
+    def joint_id(self, name: str) -> int:
+        if not self.model.existJointName(name):
+            raise unknown_name_error(f"joint of {self.name}", name, self.joint_names)
+        return self.model.getJointId(name)
+
+    def mobility(self) -> int:
+        """Degree of mobility W = nv − rank(closure Jacobian); W = nv for a serial chain."""
+        return self.nv
+
+    @property
+    def total_mass(self) -> float:
+        return float(sum(inertia.mass for inertia in self.model.inertias))
+
+    # ------------------------------------------------------------------------------------------ parameters
+    def parameter_values(self) -> dict[str, float]:
+        return {name: p.value for name, p in self.parameters.items()}
+
+    def with_parameters(self, values: Mapping[str, float] | None = None, **kwargs: float) -> Mechanism:
+        """The same mechanism built with other values of some geometric parameters (SI units).
+
+        Raises:
+            InputError: for an unknown parameter name or a non-finite value.
+        """
+        overrides = {**(values or {}), **kwargs}
+        if not overrides:
+            return self
+        for key, value in overrides.items():
+            if key not in self.parameters:
+                raise unknown_name_error(f"parameter of {self.name}", key, list(self.parameters))
+            if isinstance(value, bool) or not np.isfinite(value):
+                raise InputError(f"parameter {key} must be a finite number, got {value!r}")
+        if self.rebuild is None:
+            raise InputError(f"{self.name} cannot be rebuilt with other parameters")
+        return self.rebuild({**self.parameter_values(), **{k: float(v) for k, v in overrides.items()}})
+
+    # ------------------------------------------------------------------------------------------ configurations
+    def neutral(self) -> np.ndarray:
+        """The neutral configuration (all joint coordinates zero for revolute and prismatic joints)."""
+        return pin.neutral(self.model)
+
+    def random_configuration(self, rng: np.random.Generator | None = None, size: int | None = None) -> np.ndarray:
+        """Uniform random configurations within the joint limits: shape (nq,) or (size, nq)."""
+        rng = rng or np.random.default_rng()
+        lo, hi = self.model.lowerPositionLimit, self.model.upperPositionLimit
+        shape = (self.nq,) if size is None else (size, self.nq)
+        return rng.uniform(lo, hi, size=shape)
+
+    def check_configuration(self, q: Any, what: str = "q") -> np.ndarray:
+        """``q`` as a float array of length nq, or a clear error."""
+        arr = np.asarray(q, dtype=float)
+        if arr.shape[-1:] != (self.nq,):
+            raise InputError(f"{what} must have {self.nq} values for {self.name} ({', '.join(self.joint_names)}), "
+                             f"got shape {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{what} must be finite, got {arr}")
+        return arr
+
+    def limit_violations(self, q: np.ndarray) -> list[str]:
+        """Human-readable list of the joint coordinates of ``q`` outside their limits."""
+        out = []
+        lo, hi = self.model.lowerPositionLimit, self.model.upperPositionLimit
+        for i, name in enumerate(self.joint_names):
+            if not lo[i] <= q[i] <= hi[i]:
+                out.append(f"{name} = {q[i]:g} outside [{lo[i]:g}, {hi[i]:g}]")
+        return out
+
+    # ------------------------------------------------------------------------ kinematics (see kinematics.py)
+    def frame_placement(self, q: np.ndarray, frame: str | None = None) -> pin.SE3:
+        from .kinematics import frame_placement
+
+        return frame_placement(self, q, frame or self.tool_frame)
+
+    def point_velocity(self, q: np.ndarray, v: np.ndarray, point: str) -> np.ndarray:
+        """World velocity (m/s) of the origin of the frame ``point`` (eq. 4.47)."""
+        from .kinematics import point_velocity
+
+        return point_velocity(self, q, v, point)
+
+    def point_acceleration(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, point: str) -> np.ndarray:
+        """World acceleration (m/s²) of the origin of the frame ``point`` (eq. 4.49)."""
+        from .kinematics import point_acceleration
+
+        return point_acceleration(self, q, v, a, point)
+
+    def angular_velocity(self, q: np.ndarray, v: np.ndarray, link: str) -> np.ndarray:
+        """World angular velocity (rad/s) of the body carrying the frame ``link`` (eq. 4.56)."""
+        from .kinematics import angular_velocity
+
+        return angular_velocity(self, q, v, link)
+
+    def angular_acceleration(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, link: str) -> np.ndarray:
+        """World angular acceleration (rad/s²) of the body carrying the frame ``link`` (eq. 4.57)."""
+        from .kinematics import angular_acceleration
+
+        return angular_acceleration(self, q, v, a, link)

@@ -1,0 +1,150 @@
+"""Robot files: ``robots/NAME.toml`` describing a DH arm (schema in ``robots/README.md``).
+
+:func:`read_robot_file` parses and validates a file and returns the :class:`~mechatron.dh.DHTable` plus its metadata;
+every problem raises :class:`~mechatron.errors.InputError` naming the file and the field (``links[3].mass``).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .dh import CONVENTIONS, JOINT_KINDS, DHLink, DHTable, Drive, Inertial, dh_mechanism, placement_matrix
+from .errors import InputError
+from .model import Mechanism
+from .schema import REQUIRED, FieldReader
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+
+@dataclass(frozen=True)
+class RobotFile:
+    """A parsed robot file."""
+
+    name: str
+    description: str
+    source: str
+    table: DHTable
+    path: Path
+
+    def mechanism(self) -> Mechanism:
+        return dh_mechanism(self.table, self.name, description=self.description, source=str(self.path))
+
+
+def read_toml(path: str | Path) -> dict:
+    """Parse a TOML file; a missing or malformed file raises :class:`InputError` naming it."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError("no such file", file=path) from None
+    except IsADirectoryError:
+        raise InputError("is a directory, not a file", file=path) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not valid TOML: {exc}", file=path) from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not a UTF-8 text file: {exc}", file=path) from None
+
+
+def _placement(reader: FieldReader, key: str) -> np.ndarray:
+    table = reader.table(key, None)
+    if table is None:
+        return np.eye(4)
+    xyz = table.lengths("xyz", 3, np.zeros(3))
+    rpy = table.angles("rpy", 3, np.zeros(3))
+    table.finish()
+    return placement_matrix(xyz, rpy)
+
+
+def _checked(reader: FieldReader, build, *args, **kwargs):
+    """Call a constructor that validates its data; re-raise its error with this file and field."""
+    try:
+        return build(*args, **kwargs)
+    except InputError as exc:
+        raise InputError(exc.message, file=reader.file, field=reader.field(exc.field or "")) from None
+
+
+def _inertial(link: FieldReader) -> Inertial:
+    mass = link.number("mass", 0.0)
+    if mass < 0:
+        raise link.error("mass", f"must be >= 0 kg, got {mass:g}")
+    com = link.lengths("com", 3, np.zeros(3))
+    inertia = np.zeros((3, 3))
+    table = link.table("inertia", None)
+    if table is not None:
+        xx, yy, zz = (table.number(k) for k in ("xx", "yy", "zz"))
+        xy, xz, yz = (table.number(k, 0.0) for k in ("xy", "xz", "yz"))
+        table.finish()
+        inertia = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    physical = link.boolean("physical_inertia", True)
+    return _checked(link, Inertial, mass, com, inertia, physical)
+
+
+def _drive(link: FieldReader) -> Drive | None:
+    table = link.table("drive", None)
+    if table is None:
+        return None
+    coulomb = table.vector("coulomb_friction", 2, np.zeros(2))
+    drive = _checked(
+        table, Drive,
+        rotor_inertia=table.number("rotor_inertia", 0.0, minimum=0.0),
+        gear_ratio=table.number("gear_ratio", 1.0, nonzero=True),
+        efficiency=table.number("efficiency", 1.0, positive=True),
+        viscous_friction=table.number("viscous_friction", 0.0, minimum=0.0),
+        coulomb_friction=(float(coulomb[0]), float(coulomb[1])),
+    )
+    table.finish()
+    return drive
+
+
+def _link(link: FieldReader) -> DHLink:
+    kind = link.string("joint", choices=JOINT_KINDS)
+    revolute = kind == "revolute"
+    # Revolute limits default to ±180°; a prismatic axis always has a stroke, so its limits are required.
+    limit = link.angle if revolute else link.length
+    lower = limit("lower", -math.pi if revolute else REQUIRED)
+    upper = limit("upper", math.pi if revolute else REQUIRED)
+    if not lower < upper:
+        raise link.error("lower", f"lower limit {lower:g} must be below upper limit {upper:g}")
+    out = _checked(
+        link, DHLink,
+        joint=kind,
+        name=link.string("name", ""),
+        a=link.length("a", 0.0),
+        alpha=link.angle("alpha", 0.0),
+        d=link.length("d", 0.0),
+        theta=link.angle("theta", 0.0),
+        lower=lower,
+        upper=upper,
+        velocity_limit=link.number("max_velocity", math.inf, positive=True),
+        effort_limit=link.number("max_effort", math.inf, positive=True),
+        inertial=_inertial(link),
+        drive=_drive(link),
+    )
+    link.finish()
+    return out
+
+
+def read_robot_file(path: str | Path) -> RobotFile:
+    """Read and validate a robot file (schema: ``robots/README.md``)."""
+    path = Path(path)
+    top = FieldReader(read_toml(path), file=path)
+    name = top.string("name", path.stem)
+    description = top.string("description", "")
+    source = top.string("source", "")
+    convention = top.string("convention", "standard", choices=CONVENTIONS)
+    gravity = top.vector("gravity", 3, np.array([0.0, 0.0, -9.81]))
+    base = _placement(top, "base")
+    tool = _placement(top, "tool")
+    links = tuple(_link(link) for link in top.tables("links"))
+    top.finish()
+    table = _checked(top, DHTable, links, convention, base, tool, gravity)
+    return RobotFile(name=name, description=description, source=source, table=table, path=path)

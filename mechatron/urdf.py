@@ -1,0 +1,278 @@
+"""URDF in and out.
+
+:func:`load_urdf` makes a :class:`~mechatron.model.Mechanism` of a URDF file (joint origins become named geometric
+parameters ``{joint}_x``, ``{joint}_y``, ``{joint}_z``; rotor data come from a sibling ``.srdf`` file's
+``<rotor_params>``). :func:`export_urdf` writes any mechanism made of 1-DoF revolute and prismatic joints as URDF, plus
+an SRDF with the drives' rotor inertia and gear ratio (Pinocchio's ``loadRotorParameters`` turns them back into
+``armature = J_rotor·u²``), so that the files loaded by Pinocchio give the same frames, mass matrix and RNEA torques.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import re
+import sys
+import tempfile
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+import pinocchio as pin
+
+from .dh import Drive
+from .errors import InputError
+from .model import Mechanism, Parameter, find_frame
+
+_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+_AXIS_NAMES = ("x", "y", "z")
+
+
+# ------------------------------------------------------------------------------------------------------ loading
+@contextlib.contextmanager
+def _captured_native_stderr() -> Iterator[list[str]]:
+    """Keep what C++ libraries (urdfdom) print on file descriptor 2 out of the terminal; yield it as lines."""
+    lines: list[str] = []
+    try:
+        fd = sys.stderr.fileno()
+    except (AttributeError, OSError, ValueError):
+        yield lines
+        return
+    sys.stderr.flush()
+    saved = os.dup(fd)
+    with tempfile.TemporaryFile(mode="w+b") as sink:
+        os.dup2(sink.fileno(), fd)
+        try:
+            yield lines
+        finally:
+            os.dup2(saved, fd)
+            os.close(saved)
+            sink.seek(0)
+            lines.extend(line.strip() for line in sink.read().decode(errors="replace").splitlines() if line.strip())
+
+
+def _build(path: Path, locked_joints: Sequence[str]) -> pin.Model:
+    try:
+        with _captured_native_stderr() as native:
+            model = pin.buildModelFromUrdf(str(path))
+    except (RuntimeError, ValueError) as exc:
+        detail = next((line for line in native if "Error" in line), str(exc).strip().splitlines()[0])
+        raise InputError(f"cannot read URDF: {detail}", file=path) from None
+    if locked_joints:
+        ids = []
+        for name in locked_joints:
+            if not model.existJointName(name):
+                raise InputError(f"no joint {name!r} to lock", file=path)
+            ids.append(model.getJointId(name))
+        model = pin.buildReducedModel(model, ids, pin.neutral(model))
+    srdf = path.with_suffix(".srdf")
+    if srdf.is_file() and "rotor_params" in srdf.read_text(errors="replace"):
+        try:
+            pin.loadRotorParameters(model, str(srdf), False)
+        except (RuntimeError, ValueError) as exc:
+            raise InputError(f"cannot read rotor parameters: {exc}", file=srdf) from None
+    return model
+
+
+def _origin_parameters(model: pin.Model) -> dict[str, Parameter]:
+    """Every non-zero component of every joint origin as a length parameter ``{joint}_{x|y|z}``."""
+    out: dict[str, Parameter] = {}
+    for joint_id in range(1, model.njoints):
+        name = model.names[joint_id]
+        for k, axis in enumerate(_AXIS_NAMES):
+            value = float(model.jointPlacements[joint_id].translation[k])
+            if value != 0.0:
+                out[f"{name}_{axis}"] = Parameter(f"{name}_{axis}", value, "length",
+                                                  f"{axis} of the origin of joint {name} in its parent joint frame")
+    return out
+
+
+def _apply_origin_parameters(model: pin.Model, values: dict[str, float]) -> None:
+    for joint_id in range(1, model.njoints):
+        placement = model.jointPlacements[joint_id]
+        translation = placement.translation.copy()
+        for k, axis in enumerate(_AXIS_NAMES):
+            key = f"{model.names[joint_id]}_{axis}"
+            if key in values:
+                translation[k] = values[key]
+        placement.translation = translation
+        model.jointPlacements[joint_id] = placement
+
+
+def _add_tool_frame(model: pin.Model, tool: str | None, path: Path) -> None:
+    """Add a frame ``tool``: a copy of frame ``tool`` if given, else the last body frame on the last joint."""
+    if find_frame(model, "tool") is not None:
+        return
+    if tool is not None:
+        parent_frame = find_frame(model, tool)
+        if parent_frame is None:
+            raise InputError(f"no frame {tool!r} to use as tool", file=path)
+    else:
+        last_joint = max(f.parentJoint for f in model.frames)
+        bodies = [i for i, f in enumerate(model.frames)
+                  if f.parentJoint == last_joint and f.type == pin.FrameType.BODY]
+        parent_frame = bodies[-1] if bodies else find_frame(model, model.names[last_joint])
+    source = model.frames[parent_frame]
+    model.addFrame(pin.Frame("tool", source.parentJoint, parent_frame, source.placement, pin.FrameType.OP_FRAME))
+
+
+def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = None,
+              locked_joints: Sequence[str] = (), description: str = "",
+              values: dict[str, float] | None = None) -> Mechanism:
+    """A :class:`Mechanism` of the URDF file ``path``.
+
+    Args:
+        path: URDF file. A file with the same stem and the suffix ``.srdf`` holding ``<rotor_params>`` sets the rotor
+            inertia and gear ratio of the joints (armature = J_rotor·u²).
+        name: Mechanism name (default: file stem).
+        tool: Frame to copy as the frame ``tool`` (default: the last body frame on the last joint).
+        locked_joints: Joints fixed at their neutral position (e.g. gripper fingers).
+        description: One line for listings.
+        values: Joint origin parameters to override (``{joint}_x``…, metres).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("no such file", file=path)
+    model = _build(path, locked_joints)
+    parameters = _origin_parameters(model)
+    if values:
+        _apply_origin_parameters(model, values)
+        parameters = {k: Parameter(p.name, float(values.get(k, p.value)), p.kind, p.description)
+                      for k, p in parameters.items()}
+    _add_tool_frame(model, tool, path)
+    name = name or path.stem
+    model.name = name
+    drives = {model.names[j]: Drive(float(model.rotorInertia[model.joints[j].idx_v]),
+                                    float(model.rotorGearRatio[model.joints[j].idx_v]))
+              for j in range(1, model.njoints)
+              if model.joints[j].nv == 1 and model.rotorInertia[model.joints[j].idx_v] > 0}
+
+    def rebuild(new_values: dict[str, float]) -> Mechanism:
+        return load_urdf(path, name, tool=tool, locked_joints=locked_joints, description=description,
+                         values=new_values)
+
+    return Mechanism(name=name, model=model, parameters=parameters, description=description or f"URDF {path.name}",
+                     source=str(path), drives=drives, rebuild=rebuild)
+
+
+# ------------------------------------------------------------------------------------------------------ export
+def _num(x: float) -> str:
+    x = float(x)
+    if math.isinf(x):
+        x = math.copysign(np.finfo(float).max, x)
+    return repr(x)
+
+
+def _vec(v: Sequence[float]) -> str:
+    return " ".join(_num(x) for x in v)
+
+
+def _origin(placement: pin.SE3) -> str:
+    rpy = pin.rpy.matrixToRpy(placement.rotation)
+    return f'<origin xyz="{_vec(placement.translation)}" rpy="{_vec(rpy)}"/>'
+
+
+def _joint_axis(joint: pin.JointModel, name: str) -> tuple[str, tuple[float, ...]]:
+    """URDF type and axis of a 1-DoF Pinocchio joint."""
+    short = joint.shortname()
+    match = re.fullmatch(r"JointModel(R|P)(X|Y|Z)", short)
+    if match:
+        return ("revolute" if match[1] == "R" else "prismatic"), _AXES[match[2]]
+    if short in ("JointModelRevoluteUnaligned", "JointModelPrismaticUnaligned"):
+        kind = "revolute" if "Revolute" in short else "prismatic"
+        return kind, tuple(float(a) for a in joint.extract().axis)
+    raise InputError(f"joint {name} ({short}) cannot be written as URDF: only 1-DoF revolute and prismatic joints "
+                     "are supported")
+
+
+def _body_link_names(model: pin.Model) -> list[str]:
+    """URDF link name of each joint's body: a BODY frame at the joint frame if there is one, else ``{joint}_body``."""
+    names = ["world"]
+    for joint_id in range(1, model.njoints):
+        name = f"{model.names[joint_id]}_body"
+        for frame in model.frames:
+            if (frame.parentJoint == joint_id and frame.type == pin.FrameType.BODY
+                    and frame.placement.isIdentity(1e-12)):
+                name = frame.name
+                break
+        names.append(name)
+    return names
+
+
+def _inertial_xml(inertia: pin.Inertia) -> str:
+    if inertia.mass == 0 and not np.any(inertia.inertia):
+        return ""
+    i = inertia.inertia
+    return (f'<inertial><origin xyz="{_vec(inertia.lever)}" rpy="0 0 0"/><mass value="{_num(inertia.mass)}"/>'
+            f'<inertia ixx="{_num(i[0, 0])}" ixy="{_num(i[0, 1])}" ixz="{_num(i[0, 2])}" iyy="{_num(i[1, 1])}" '
+            f'iyz="{_num(i[1, 2])}" izz="{_num(i[2, 2])}"/></inertial>')
+
+
+def to_urdf(mechanism: Mechanism) -> str:
+    """The URDF text of ``mechanism`` (joints, bodies with their inertia, and its named frames as fixed links)."""
+    model = mechanism.model
+    links = _body_link_names(model)
+    lines = ['<?xml version="1.0"?>',
+             f"<!-- written by mechatron from {mechanism.name}; gravity {_vec(model.gravity.linear)} m/s^2 -->",
+             f"<robot name={quoteattr(mechanism.name)}>", '  <link name="world"/>']
+    for joint_id in range(1, model.njoints):
+        name = model.names[joint_id]
+        kind, axis = _joint_axis(model.joints[joint_id], name)
+        iq = model.joints[joint_id].idx_q
+        lines.append(f"  <link name={quoteattr(links[joint_id])}>{_inertial_xml(model.inertias[joint_id])}</link>")
+        lines.append(
+            f"  <joint name={quoteattr(name)} type=\"{kind}\"><parent link={quoteattr(links[model.parents[joint_id]])}/>"
+            f"<child link={quoteattr(links[joint_id])}/>{_origin(model.jointPlacements[joint_id])}"
+            f'<axis xyz="{_vec(axis)}"/><limit lower="{_num(model.lowerPositionLimit[iq])}" '
+            f'upper="{_num(model.upperPositionLimit[iq])}" effort="{_num(model.effortLimit[iq])}" '
+            f'velocity="{_num(model.velocityLimit[iq])}"/></joint>')
+    skip = set(links) | {"universe"} | set(model.names)
+    for frame in model.frames:
+        if frame.name in skip or frame.type in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT):
+            continue
+        lines.append(f"  <link name={quoteattr(frame.name)}/>")
+        lines.append(f"  <joint name={quoteattr(frame.name + '_fixed')} type=\"fixed\">"
+                     f"<parent link={quoteattr(links[frame.parentJoint])}/><child link={quoteattr(frame.name)}/>"
+                     f"{_origin(frame.placement)}</joint>")
+    lines.append("</robot>")
+    return "\n".join(lines) + "\n"
+
+
+def to_srdf(mechanism: Mechanism) -> str | None:
+    """SRDF ``<rotor_params>`` reproducing the model's armature, or ``None`` if every armature is zero."""
+    model = mechanism.model
+    entries = []
+    for joint_id in range(1, model.njoints):
+        iv = model.joints[joint_id].idx_v
+        armature = float(model.armature[iv])
+        if armature == 0.0:
+            continue
+        rotor, ratio = float(model.rotorInertia[iv]), float(model.rotorGearRatio[iv])
+        if not math.isclose(rotor * ratio**2, armature, rel_tol=1e-12):
+            rotor, ratio = armature, 1.0
+        entries.append(f'    <joint name={quoteattr(model.names[joint_id])} mass="{_num(rotor)}" '
+                       f'gear_ratio="{_num(ratio)}"/>')
+    if not entries:
+        return None
+    return "\n".join(['<?xml version="1.0"?>',
+                      "<!-- rotor inertia (attribute 'mass', kg m^2) and gear ratio of each drive; "
+                      "pinocchio.loadRotorParameters sets armature = mass * gear_ratio^2 -->",
+                      f"<robot name={quoteattr(mechanism.name)}>", "  <rotor_params>", *entries, "  </rotor_params>",
+                      "</robot>"]) + "\n"
+
+
+def export_urdf(mechanism: Mechanism, path: str | Path) -> list[Path]:
+    """Write ``mechanism`` as URDF to ``path`` (and its drives as ``path`` with suffix ``.srdf``); return the files."""
+    path = Path(path)
+    try:
+        path.write_text(to_urdf(mechanism))
+        written = [path]
+        srdf = to_srdf(mechanism)
+        if srdf is not None:
+            path.with_suffix(".srdf").write_text(srdf)
+            written.append(path.with_suffix(".srdf"))
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
+    return written

@@ -1,0 +1,21 @@
+"""The example scripts run and say what they computed."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def test_arm_workspace_example(tmp_path):
+    output = tmp_path / "ws.png"
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "arm_workspace.py"), "planar_2r", "--samples", "2000",
+                           "--output", str(output)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert output.stat().st_size > 10_000
+    # reach of a 0.5 + 0.4 m arm: at most l1 + l2; the manipulability l1·l2·|sin q2| is at most 0.2
+    words = proc.stdout.split()
+    assert float(words[words.index("…") + 1]) <= 0.9 + 1e-12
+    assert float(words[words.index("manipulability") + 1].rstrip(";")) <= 0.2 + 1e-12
