@@ -78,9 +78,11 @@ def installed_example_robots() -> dict[str, Path]:
 
 
 def available_robots() -> list[str]:
-    """Names :func:`load` accepts: built-in robot files, then installed example-robot-data arms."""
-    builtin = list(builtin_robot_files())
-    return builtin + [name for name in installed_example_robots() if name not in builtin]
+    """Names :func:`load` accepts: built-in robot files, built-in mechanisms, installed example-robot-data arms."""
+    from .machines import BUILTINS
+
+    names = list(builtin_robot_files()) + list(BUILTINS)
+    return names + [name for name in installed_example_robots() if name not in names]
 
 
 def _load_path(path: Path) -> Mechanism:
@@ -89,6 +91,12 @@ def _load_path(path: Path) -> Mechanism:
     if path.suffix.lower() == ".urdf":
         return load_urdf(path)
     raise InputError("unknown kind of file: expected a robot file (.toml) or a URDF (.urdf)", file=path)
+
+
+def _build_machine(name: str, build, parameters: dict[str, float]) -> Mechanism:
+    """A built-in mechanism with its defaults, then rebuilt with the overrides (checked against its parameters)."""
+    mechanism = build()
+    return mechanism.with_parameters(parameters) if parameters else mechanism
 
 
 def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
@@ -111,8 +119,12 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
     if looks_like_path:
         mechanism = _load_path(path)
     else:
+        from .machines import BUILTINS
+
         builtin = builtin_robot_files()
         examples = installed_example_robots()
+        if text in BUILTINS:
+            return _build_machine(text, BUILTINS[text].build, parameters)
         if text in builtin:
             mechanism = read_robot_file(builtin[text]).mechanism()
         elif text in examples:

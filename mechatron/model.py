@@ -65,6 +65,30 @@ def find_frame(model: pin.Model, name: str) -> int | None:
     return min(matches, key=lambda i: _FRAME_PREFERENCE.index(model.frames[i].type))
 
 
+@dataclass(frozen=True)
+class SketchLine:
+    """A polyline through named points, drawn to show a body (``kind`` "link", "ground" or "cylinder")."""
+
+    name: str
+    points: tuple[str, ...]
+    kind: str = "link"
+
+
+@dataclass(frozen=True)
+class Measure:
+    """A named geometric quantity reported along a motion.
+
+    ``kind`` is "transmission_angle" (points a, b, c, d: the acute angle between lines ab and cd, rad),
+    "lever_arm" (points base, eye, pivot: distance from pivot to the line base–eye, m) or "distance" (points a, b, m).
+    ``minimum`` (same unit) makes the value a design check, e.g. a transmission angle of at least 30°.
+    """
+
+    name: str
+    kind: str
+    points: tuple[str, ...]
+    minimum: float | None = None
+
+
 @dataclass
 class Mechanism:
     """A mechanism: a Pinocchio model plus everything mechatron knows about it.
@@ -77,10 +101,16 @@ class Mechanism:
         source: Where the model came from (file path), if anywhere.
         dh: The DH table the model was built from, for DH arms.
         drives: Drive data (rotor inertia, gear ratio, efficiency) by joint name.
-        closures: Closure constraints of closed loops (empty for serial arms).
+        closures: Closure constraints of closed loops (empty for serial arms), see :mod:`mechatron.closures`.
         actuated: Names of the actuated (input) coordinates; all joints for a serial arm.
         tool_frame: Name of the default output frame.
         rebuild: Function that builds the same mechanism with other parameter values.
+        reference_q: An assembled configuration (it names the default assembly branch).
+        points: Named points (frames) of a linkage, in drawing order.
+        sketch: Polylines through points that draw the mechanism.
+        notes: Remarks about the model or its source (shown by ``mechatron show``).
+        measures: Geometric quantities to report along a motion (transmission angles, lever arms).
+        input_rates: Nominal rates of the actuated coordinates (m/s or rad/s) for sweeps; 1 where not given.
     """
 
     name: str
@@ -94,11 +124,18 @@ class Mechanism:
     actuated: list[str] = field(default_factory=list)
     tool_frame: str = "tool"
     rebuild: Callable[[dict[str, float]], Mechanism] | None = field(default=None, repr=False)
+    reference_q: np.ndarray | None = None
+    points: list[str] = field(default_factory=list)
+    sketch: list[SketchLine] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    measures: list[Measure] = field(default_factory=list)
+    input_rates: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.data = self.model.createData()
         if not self.actuated:
             self.actuated = self.joint_names
+        self._loop_solver = None
 
     # ------------------------------------------------------------------------------------------- structure
     @property
@@ -143,9 +180,45 @@ class Mechanism:
             raise unknown_name_error(f"joint of {self.name}", name, self.joint_names)
         return self.model.getJointId(name)
 
-    def mobility(self) -> int:
-        """Degree of mobility W = nv − rank(closure Jacobian); W = nv for a serial chain."""
-        return self.nv
+    def mobility(self, q: np.ndarray | None = None) -> int:
+        """Degree of mobility W = nv − rank(closure Jacobian) at a regular configuration (default
+        :attr:`reference_q`); W = nv for a serial chain."""
+        if not self.closures:
+            return self.nv
+        return self.nv - self.loop_solver().rank(self.reference_q if q is None else q)
+
+    def redundant_closure_equations(self, q: np.ndarray | None = None) -> int:
+        """Number of closure equations that repeat others (rows − rank of the closure Jacobian)."""
+        if not self.closures:
+            return 0
+        solver = self.loop_solver()
+        return solver.nrows - solver.rank(self.reference_q if q is None else q)
+
+    def loop_solver(self):
+        """The :class:`~mechatron.linkages.LoopSolver` of this mechanism (built once)."""
+        if self._loop_solver is None:
+            from .linkages import LoopSolver
+
+            self._loop_solver = LoopSolver(self)
+        return self._loop_solver
+
+    # ------------------------------------------------------------------------------- closed-loop analysis
+    def assemble(self, inputs: Mapping[str, float] | None = None, guess: np.ndarray | None = None) -> np.ndarray:
+        """Configuration q (length nq) with the actuated coordinates at ``inputs`` and all closures satisfied.
+
+        Newton iterations start from ``guess`` (default: the reference configuration, i.e. its assembly branch).
+        Raises :class:`~mechatron.errors.UnreachableError` if the loops cannot close.
+        """
+        return self.loop_solver().assemble(inputs or {}, guess)
+
+    def velocity(self, q: np.ndarray, rates: Mapping[str, float]) -> np.ndarray:
+        """Joint velocity q̇ = S·q̇_act (length nv) for the actuated rates (m/s or rad/s) at an assembled q."""
+        return self.loop_solver().velocity(q, rates)
+
+    def acceleration(self, q: np.ndarray, v: np.ndarray, accelerations: Mapping[str, float] | None = None
+                     ) -> np.ndarray:
+        """Joint acceleration q̈ (length nv) from J q̈ = −J̇ q̇ with the actuated accelerations given (default 0)."""
+        return self.loop_solver().acceleration(q, v, accelerations or {})
 
     @property
     def total_mass(self) -> float:

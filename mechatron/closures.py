@@ -1,0 +1,270 @@
+r"""Closure constraints of closed kinematic loops, evaluated from Pinocchio.
+
+A closed-loop mechanism is a Pinocchio tree plus closures Φ(q) = 0. Differentiating twice along a motion,
+
+.. math::
+
+    J(q)\,\dot q = 0, \qquad J(q)\,\ddot q + \dot J(q,\dot q)\,\dot q = 0,
+
+so every closure provides its residual Φ, its Jacobian J = ∂Φ/∂q and its drift term ``drift`` = J̇ q̇ (the second time
+derivative of Φ at q̈ = 0). All three come from Pinocchio frame placements, frame Jacobians and classical frame
+accelerations computed at q̈ = 0 for the frames the closures use (:class:`FrameStates`). Mechanisms are planar in the
+world xy plane unless a closure says otherwise: a pin then has the two in-plane rows only.
+
+Closures:
+
+- :class:`Pin` — two frame points coincide (a revolute pair that closes a loop);
+- :class:`Slider` — a frame point stays on a line fixed to a body (a higher pair or a massless block), optionally with
+  the two bodies' angles locked (a full prismatic pair);
+- :class:`OnCurve` — a frame point stays on a curve y = f(x) in the world (the grab's jaw tip on the scooping curve).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+
+LWA = pin.LOCAL_WORLD_ALIGNED
+
+
+class FrameStates:
+    """Positions, rotations, Jacobians, twists and q̈ = 0 accelerations of a fixed list of frames.
+
+    ``update(q)`` fills positions, angles and Jacobians; ``update_motion(q, v)`` fills twists and the accelerations at
+    q̈ = 0 (classical linear acceleration, angular acceleration), i.e. J̇ q̇ of every frame.
+    """
+
+    def __init__(self, model: pin.Model, frame_ids: list[int]) -> None:
+        self.model = model
+        self.data = model.createData()
+        self.frame_ids = frame_ids
+        n = len(frame_ids)
+        self.position = np.zeros((n, 3))
+        self.angle = np.zeros(n)  # planar angle of the frame's x axis in the world xy plane
+        self.jacobian = np.zeros((n, 6, model.nv))
+        self.velocity = np.zeros((n, 6))
+        self.acceleration0 = np.zeros((n, 6))
+        self._zero = np.zeros(model.nv)
+
+    def update(self, q: np.ndarray) -> None:
+        model, data = self.model, self.data
+        pin.computeJointJacobians(model, data, q)
+        for k, fid in enumerate(self.frame_ids):
+            homogeneous = pin.updateFramePlacement(model, data, fid).homogeneous
+            self.position[k] = homogeneous[:3, 3]
+            self.angle[k] = math.atan2(homogeneous[1, 0], homogeneous[0, 0])
+            self.jacobian[k] = pin.getFrameJacobian(model, data, fid, LWA)
+
+    def update_motion(self, q: np.ndarray, v: np.ndarray) -> None:
+        model, data = self.model, self.data
+        pin.forwardKinematics(model, data, q, v, self._zero)
+        for k, fid in enumerate(self.frame_ids):
+            self.velocity[k] = pin.getFrameVelocity(model, data, fid, LWA).vector
+            self.acceleration0[k] = pin.getFrameClassicalAcceleration(model, data, fid, LWA).vector
+
+
+@dataclass
+class Closure:
+    """Base class: a closure uses some frames (by name) and contributes ``nrows`` equations."""
+
+    name: str
+    frames: tuple[str, ...] = field(init=False, default=())
+    nrows: int = field(init=False, default=0)
+
+    def bind(self, index: dict[str, int]) -> None:
+        """Remember where this closure's frames sit in the :class:`FrameStates` arrays."""
+        self._k = [index[f] for f in self.frames]
+
+    def residual(self, s: FrameStates) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def jacobian(self, s: FrameStates) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def drift(self, s: FrameStates) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        return self.name
+
+
+@dataclass
+class Pin(Closure):
+    """Frame points ``a`` and ``b`` coincide: Φ = p_a − p_b (x, y rows; also z when ``planar`` is false)."""
+
+    a: str = ""
+    b: str = ""
+    planar: bool = True
+
+    def __post_init__(self) -> None:
+        self.frames = (self.a, self.b)
+        self.nrows = 2 if self.planar else 3
+        self._rows = slice(0, self.nrows)
+
+    def residual(self, s: FrameStates) -> np.ndarray:
+        ka, kb = self._k
+        return (s.position[ka] - s.position[kb])[self._rows]
+
+    def jacobian(self, s: FrameStates) -> np.ndarray:
+        ka, kb = self._k
+        return (s.jacobian[ka] - s.jacobian[kb])[self._rows]
+
+    def drift(self, s: FrameStates) -> np.ndarray:
+        ka, kb = self._k
+        return (s.acceleration0[ka] - s.acceleration0[kb])[self._rows]
+
+    def describe(self) -> str:
+        return f"pin {self.a} = {self.b}"
+
+
+@dataclass
+class Slider(Closure):
+    """Frame point ``point`` stays on the line through the origin of frame ``line`` along that frame's x axis
+    (planar). With ``lock_angle`` the frame ``point`` also keeps its angle to the line frame (a prismatic pair
+    between two bodies): Φ = [n·(p − o), θ_point − θ_line − θ₀].
+
+    With d the line direction and n = e_z × d its normal, both turning with the line body at ω:
+    dΦ₁/dt = n·(ṗ − ȯ) − ω d·(p − o), and at q̈ = 0
+    d²Φ₁/dt² = n·(p̈ − ö) − 2ω d·(ṗ − ȯ) − (ω̇ d + ω² n)·(p − o).
+    """
+
+    point: str = ""
+    line: str = ""
+    lock_angle: bool = False
+    angle_offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        self.frames = (self.point, self.line)
+        self.nrows = 2 if self.lock_angle else 1
+
+    def _geometry(self, s: FrameStates):
+        kp, kl = self._k
+        theta = s.angle[kl]
+        d = np.array([math.cos(theta), math.sin(theta)])
+        n = np.array([-d[1], d[0]])
+        r = (s.position[kp] - s.position[kl])[:2]
+        return kp, kl, d, n, r
+
+    def residual(self, s: FrameStates) -> np.ndarray:
+        kp, kl, d, n, r = self._geometry(s)
+        rows = [n @ r]
+        if self.lock_angle:
+            rows.append(_wrap(s.angle[kp] - s.angle[kl] - self.angle_offset))
+        return np.array(rows)
+
+    def jacobian(self, s: FrameStates) -> np.ndarray:
+        kp, kl, d, n, r = self._geometry(s)
+        Jp, Jl = s.jacobian[kp], s.jacobian[kl]
+        rows = [n @ (Jp[:2] - Jl[:2]) - (d @ r) * Jl[5]]
+        if self.lock_angle:
+            rows.append(Jp[5] - Jl[5])
+        return np.array(rows)
+
+    def drift(self, s: FrameStates) -> np.ndarray:
+        kp, kl, d, n, r = self._geometry(s)
+        w = s.velocity[kl][5]
+        wdot = s.acceleration0[kl][5]
+        rdot = (s.velocity[kp] - s.velocity[kl])[:2]
+        rddot = (s.acceleration0[kp] - s.acceleration0[kl])[:2]
+        rows = [n @ rddot - 2 * w * (d @ rdot) - (wdot * d + w * w * n) @ r]
+        if self.lock_angle:
+            rows.append(s.acceleration0[kp][5] - s.acceleration0[kl][5])
+        return np.array(rows)
+
+    def describe(self) -> str:
+        return f"slider {self.point} on {self.line}" + (" (angle locked)" if self.lock_angle else "")
+
+
+@dataclass
+class OnCurve(Closure):
+    """Frame point ``point`` stays on the world curve y = f(x): Φ = y − f(x).
+
+    dΦ/dt = ẏ − f′(x) ẋ and, at q̈ = 0, d²Φ/dt² = ÿ − f′(x) ẍ − f″(x) ẋ².
+    Args:
+        f, df, d2f: the curve y = f(x) and its first and second derivatives (SI units).
+    """
+
+    point: str = ""
+    f: Callable[[float], float] = field(default=lambda x: 0.0, repr=False)
+    df: Callable[[float], float] = field(default=lambda x: 0.0, repr=False)
+    d2f: Callable[[float], float] = field(default=lambda x: 0.0, repr=False)
+    label: str = "y = f(x)"
+
+    def __post_init__(self) -> None:
+        self.frames = (self.point,)
+        self.nrows = 1
+
+    def residual(self, s: FrameStates) -> np.ndarray:
+        x, y = s.position[self._k[0]][:2]
+        return np.array([y - self.f(x)])
+
+    def jacobian(self, s: FrameStates) -> np.ndarray:
+        J = s.jacobian[self._k[0]]
+        x = s.position[self._k[0]][0]
+        return (J[1] - self.df(x) * J[0])[None, :]
+
+    def drift(self, s: FrameStates) -> np.ndarray:
+        k = self._k[0]
+        x = s.position[k][0]
+        xdot = s.velocity[k][0]
+        a = s.acceleration0[k]
+        return np.array([a[1] - self.df(x) * a[0] - self.d2f(x) * xdot**2])
+
+    def describe(self) -> str:
+        return f"{self.point} on {self.label}"
+
+
+def _wrap(angle: float) -> float:
+    """Angle wrapped to (−π, π]."""
+    return math.remainder(angle, 2 * math.pi)
+
+
+class ClosureSystem:
+    """All closures of a mechanism, evaluated together: Φ(q), J(q) and the drift J̇ q̇."""
+
+    def __init__(self, model: pin.Model, closures: list[Closure], frame_id: Callable[[str], int],
+                 extra_frames: tuple[str, ...] | list[str] = ()) -> None:
+        self.closures = list(closures)
+        names: list[str] = []
+        for closure in self.closures:
+            names.extend(f for f in closure.frames if f not in names)
+        names.extend(f for f in extra_frames if f not in names)
+        self.frame_names = names
+        self.states = FrameStates(model, [frame_id(n) for n in names])
+        self.index = {n: i for i, n in enumerate(names)}
+        for closure in self.closures:
+            closure.bind(self.index)
+        self.nrows = sum(c.nrows for c in self.closures)
+        self.nv = model.nv
+        self._empty = (np.zeros(0), np.zeros((0, self.nv)))
+
+    def __bool__(self) -> bool:
+        return bool(self.closures)
+
+    def evaluate(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(Φ(q), J(q)); also fills the frame states (positions, Jacobians) at q."""
+        if self.frame_names:
+            self.states.update(q)
+        if not self.closures:
+            return self._empty
+        return (np.concatenate([c.residual(self.states) for c in self.closures]),
+                np.vstack([c.jacobian(self.states) for c in self.closures]))
+
+    def drift(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """J̇(q, q̇) q̇, after :meth:`evaluate` at the same q; also fills the frame velocities and accelerations at
+        q̈ = 0."""
+        if self.frame_names:
+            self.states.update_motion(q, v)
+        if not self.closures:
+            return self._empty[0]
+        return np.concatenate([c.drift(self.states) for c in self.closures])
+
+    def row_labels(self) -> list[str]:
+        labels = []
+        for closure in self.closures:
+            labels.extend(f"{closure.describe()} [{i}]" for i in range(closure.nrows))
+        return labels

@@ -1,0 +1,319 @@
+r"""Closed-loop mechanisms: position analysis (assembly), velocity and acceleration analysis, transfer functions,
+transmission angles and cylinder lever arms.
+
+With the closure equations Φ(q) = 0 of a mechanism (see :mod:`mechatron.closures`) and its coordinates split into
+actuated q_a (the inputs: crank angles, cylinder lengths) and dependent q_d:
+
+- position analysis solves Φ(q_a, q_d) = 0 for q_d by Newton's method, starting from a named assembly branch or a
+  previous solution, so that a sweep keeps its branch;
+- velocity analysis: J_d q̇_d = −J_a q̇_a, i.e. q̇ = S q̇_a with S = [I; −J_d⁻¹ J_a];
+- acceleration analysis: J_d q̈_d = −J_a q̈_a − J̇ q̇.
+
+For a 1-DOF mechanism the columns of S are the first transfer functions (textbook eq. 4.2, 4.10) of all coordinates
+with respect to the input, and the accelerations at q̇_a = 1, q̈_a = 0 are the second transfer functions (4.7, 4.15).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from .closures import ClosureSystem
+from .errors import InputError, SingularityError, UnreachableError
+from .model import Mechanism, unknown_name_error
+
+#: Newton stops when every closure residual is below this (m for positions, rad for angles).
+TOLERANCE = 1e-10
+#: An entry of J_d⁻¹ above this (a velocity ratio of 1e8) means the actuated coordinates no longer determine the
+#: motion: a singular position.
+SINGULAR_RATIO = 1e8
+
+
+class LoopSolver:
+    """Assembly, velocity and acceleration analysis of one mechanism (built once, reused for every sample)."""
+
+    def __init__(self, mech: Mechanism, extra_frames: tuple[str, ...] | list[str] = ()) -> None:
+        """``extra_frames`` are evaluated along with the closures' frames (positions and Jacobians in
+        :meth:`newton`, velocities and q̈ = 0 accelerations in :meth:`analyse`), see ``system.states``."""
+        model = mech.model
+        if model.nq != model.nv:
+            raise InputError(f"{mech.name}: closed-loop analysis needs joints with one coordinate each")
+        self.mech = mech
+        self.system = ClosureSystem(model, mech.closures, mech.frame_id, extra_frames)
+        self.nrows = self.system.nrows
+        names = mech.joint_names
+        for name in mech.actuated:
+            if name not in names:
+                raise unknown_name_error(f"actuated coordinate of {mech.name}", name, names)
+        self.index = {name: model.joints[model.getJointId(name)].idx_q for name in names}
+        self.act = np.array([self.index[n] for n in mech.actuated], dtype=int)
+        self.dep = np.array([i for i in range(model.nq) if i not in set(self.act)], dtype=int)
+        self.lower = model.lowerPositionLimit.copy()
+        self.upper = model.upperPositionLimit.copy()
+
+    # ------------------------------------------------------------------------------------------ helpers
+    def _inputs(self, values: Mapping[str, float] | np.ndarray, what: str) -> dict[int, float]:
+        """Actuated values by coordinate index; only actuated names are accepted."""
+        if isinstance(values, np.ndarray):
+            if values.shape != (len(self.act),):
+                raise InputError(f"{what} must have {len(self.act)} values ({', '.join(self.mech.actuated)})")
+            return {int(i): float(x) for i, x in zip(self.act, values)}
+        out = {}
+        for name, value in values.items():
+            if name not in self.mech.actuated:
+                raise unknown_name_error(f"actuated coordinate of {self.mech.name}", name, self.mech.actuated)
+            if isinstance(value, bool) or not math.isfinite(value):
+                raise InputError(f"{what} {name} must be a finite number, got {value!r}")
+            out[self.index[name]] = float(value)
+        return out
+
+    def rank(self, q: np.ndarray) -> int:
+        """Rank of the closure Jacobian at q."""
+        _, J = self.system.evaluate(np.asarray(q, dtype=float))
+        if J.size == 0:
+            return 0
+        return int(np.linalg.matrix_rank(J, tol=1e-9 * max(1.0, np.abs(J).max())))
+
+    def _solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+        if A.shape[0] == A.shape[1]:
+            try:
+                return np.linalg.solve(A, b)
+            except np.linalg.LinAlgError:
+                pass
+        return np.linalg.lstsq(A, b, rcond=None)[0]
+
+    def _describe_inputs(self, q: np.ndarray) -> str:
+        return ", ".join(f"{n} = {q[self.index[n]]:.6g}" for n in self.mech.actuated)
+
+    # ------------------------------------------------------------------------------------------ position
+    def assemble(self, inputs: Mapping[str, float] | np.ndarray, guess: np.ndarray | None = None,
+                 max_iterations: int = 50) -> np.ndarray:
+        """Solve the closures for the dependent coordinates with the actuated ones at ``inputs``.
+
+        If ``guess`` (default: the reference configuration) is an assembled configuration, the inputs are moved from
+        its values to ``inputs`` in small steps, each solved by Newton's method from a prediction along the
+        velocity map: the solution is the one on the guess's assembly branch. Otherwise ``guess`` is taken as an
+        approximate solution and Newton's method starts from it. Actuated coordinates not in ``inputs`` keep their
+        value in ``guess``.
+        """
+        mech = self.mech
+        if guess is None:
+            if mech.reference_q is None:
+                raise InputError(f"{mech.name} has no reference configuration to start the assembly from")
+            guess = mech.reference_q
+        q = np.array(guess, dtype=float)
+        target = q[self.act].copy()
+        for i, value in self._inputs(inputs, "input").items():
+            if not self.lower[i] - 1e-12 <= value <= self.upper[i] + 1e-12:
+                name = mech.actuated[list(self.act).index(i)]
+                raise UnreachableError(f"{mech.name}: {name} = {value:.6g} is outside its range "
+                                       f"[{self.lower[i]:.6g}, {self.upper[i]:.6g}]")
+            target[list(self.act).index(i)] = value
+        phi, _ = self.system.evaluate(q)
+        if phi.size and np.abs(phi).max() < TOLERANCE:  # an assembled start: continue along the inputs
+            start = q[self.act].copy()
+            steps = max(1, int(np.ceil(np.max(np.abs(target - start) / self.max_step, initial=0.0))))
+            try:
+                for k in range(1, steps + 1):
+                    u = start + (target - start) * k / steps
+                    q, J = self.newton(q + self.velocity_matrix(q) @ (u - q[self.act]), max_iterations,
+                                       polish=k == steps)
+                return q
+            except (UnreachableError, SingularityError) as exc:
+                wanted = ", ".join(f"{n} = {x:.6g}" for n, x in zip(mech.actuated, target))
+                raise UnreachableError(f"{mech.name}: cannot assemble at {wanted} on the branch of the start "
+                                       f"position: {str(exc).removeprefix(mech.name + ': ')}") from None
+        q[self.act] = target
+        return self.newton(q, max_iterations, polish=True)[0]
+
+    @property
+    def max_step(self) -> np.ndarray:
+        """Largest input step of a continuation: 0.05 rad for angles, 2% of the stroke (or 5 mm) for lengths."""
+        steps = []
+        for i in self.act:
+            joint = self.mech.model.joints[[j.idx_q for j in self.mech.model.joints].index(i)]
+            if joint.shortname().startswith("JointModelP"):
+                span = self.upper[i] - self.lower[i]
+                steps.append(0.02 * span if np.isfinite(span) else 0.005)
+            else:
+                steps.append(0.05)
+        return np.array(steps)
+
+    def newton(self, q: np.ndarray, max_iterations: int = 50, polish: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Newton's method on the dependent coordinates of q; returns (q, closure Jacobian at q), the residual Φ(q)
+        being left in :attr:`residual`. It stops below :data:`TOLERANCE`; with ``polish`` it takes one more step,
+        which brings the residual to rounding level."""
+        phi, J = self.system.evaluate(q)
+        self.residual = phi
+        error = np.abs(phi).max(initial=0.0)
+        for _ in range(max_iterations):
+            if error < TOLERANCE:
+                if polish and error > 0.0:
+                    q = q.copy()
+                    q[self.dep] += self._solve(J[:, self.dep], -phi)
+                    phi, J = self.system.evaluate(q)
+                    self.residual = phi
+                return q, J
+            step = self._solve(J[:, self.dep], -phi)
+            t = 1.0
+            while True:  # halve the step while it makes the residual grow (keeps far guesses on their branch)
+                trial = q.copy()
+                trial[self.dep] += t * step
+                phi_t, J_t = self.system.evaluate(trial)
+                error_t = np.abs(phi_t).max(initial=0.0)
+                if error_t < error or t < 1e-3:
+                    break
+                t /= 2
+            q, phi, J, error = trial, phi_t, J_t, error_t
+            self.residual = phi
+        if error < TOLERANCE:
+            return q, J
+        labels = self.system.row_labels()
+        worst = labels[int(np.argmax(np.abs(phi)))]
+        raise UnreachableError(f"{self.mech.name}: the loops do not close at {self._describe_inputs(q)} "
+                               f"(closure residual {error:.3g} at {worst} after {max_iterations} Newton iterations)")
+
+    # ------------------------------------------------------------------------------------ velocity, acceleration
+    def _dependent_inverse(self, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """J_d⁻¹ (or its pseudo-inverse when the closure equations are redundant), checked for singularity."""
+        Jd = J[:, self.dep]
+        try:
+            inverse = np.linalg.inv(Jd) if Jd.shape[0] == Jd.shape[1] else np.linalg.pinv(Jd)
+        except np.linalg.LinAlgError:
+            inverse = np.full((Jd.shape[1], Jd.shape[0]), np.inf)
+        if not np.abs(inverse).max() <= SINGULAR_RATIO:  # also catches inf and nan
+            raise SingularityError(f"{self.mech.name} is at a singular position ({self._describe_inputs(q)}): "
+                                   "the actuated coordinates do not determine the motion")
+        return inverse
+
+    def analyse(self, q: np.ndarray, J: np.ndarray, rates: np.ndarray, accelerations: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(S, q̇, q̈) at an assembled q with closure Jacobian J, for actuated rates and accelerations in
+        ``mech.actuated`` order: q̇ = S q̇_a, J_d q̈_d = −J_a q̈_a − J̇ q̇. Leaves J_d⁻¹ in :attr:`inverse`."""
+        S = np.zeros((self.mech.nv, len(self.act)))
+        S[self.act, np.arange(len(self.act))] = 1.0
+        v = np.zeros(self.mech.nv)
+        a = np.zeros(self.mech.nv)
+        v[self.act], a[self.act] = rates, accelerations
+        if len(self.dep) and J.size:
+            inverse = self.inverse = self._dependent_inverse(q, J)
+            S[self.dep] = -inverse @ J[:, self.act]
+            v = S @ rates
+            a[self.dep] = -inverse @ (J[:, self.act] @ accelerations + self.system.drift(q, v))
+        else:
+            self.system.drift(q, v)
+        return S, v, a
+
+    def _vector(self, values: Mapping[str, float] | np.ndarray, what: str) -> np.ndarray:
+        given = self._inputs(values, what)
+        return np.array([given.get(int(i), 0.0) for i in self.act])
+
+    def velocity_matrix(self, q: np.ndarray, J: np.ndarray | None = None) -> np.ndarray:
+        """S (nv × n_act) with q̇ = S q̇_a: S_a = I, S_d = −J_d⁻¹ J_a."""
+        q = np.asarray(q, dtype=float)
+        J = self.system.evaluate(q)[1] if J is None else J
+        S = np.zeros((self.mech.nv, len(self.act)))
+        S[self.act, np.arange(len(self.act))] = 1.0
+        if len(self.dep) and J.size:
+            S[self.dep] = -self._dependent_inverse(q, J) @ J[:, self.act]
+        return S
+
+    def velocity(self, q: np.ndarray, rates: Mapping[str, float] | np.ndarray) -> np.ndarray:
+        """q̇ for the actuated rates (missing ones are 0)."""
+        return self.velocity_matrix(q) @ self._vector(rates, "rate")
+
+    def acceleration(self, q: np.ndarray, v: np.ndarray, accelerations: Mapping[str, float] | np.ndarray
+                     ) -> np.ndarray:
+        """q̈ for the joint velocity v (consistent with the closures) and the actuated accelerations (missing ones
+        are 0): J_d q̈_d = −J_a q̈_a − J̇ q̇."""
+        q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+        J = self.system.evaluate(q)[1]
+        a = np.zeros(self.mech.nv)
+        a[self.act] = self._vector(accelerations, "acceleration")
+        if len(self.dep) and J.size:
+            drift = self.system.drift(q, v)
+            a[self.dep] = -self._dependent_inverse(q, J) @ (J[:, self.act] @ a[self.act] + drift)
+        return a
+
+
+# --------------------------------------------------------------------------------------------------- points
+def point_state(mech: Mechanism, q: np.ndarray, v: np.ndarray, a: np.ndarray, point: str
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """World position (m), velocity (m/s) and classical acceleration (m/s²) of the origin of frame ``point``."""
+    fid = mech.frame_id(point)
+    pin.forwardKinematics(mech.model, mech.data, q, v, a)
+    placement = pin.updateFramePlacement(mech.model, mech.data, fid)
+    velocity = pin.getFrameVelocity(mech.model, mech.data, fid, pin.LOCAL_WORLD_ALIGNED).linear
+    acceleration = pin.getFrameClassicalAcceleration(mech.model, mech.data, fid, pin.LOCAL_WORLD_ALIGNED).linear
+    return placement.translation.copy(), velocity.copy(), acceleration.copy()
+
+
+def link_angle(mech: Mechanism, q: np.ndarray, link: str) -> float:
+    """Angle (rad) of the x axis of frame ``link`` in the world xy plane."""
+    rotation = mech.frame_placement(q, link).rotation
+    return math.atan2(rotation[1, 0], rotation[0, 0])
+
+
+@dataclass(frozen=True)
+class TransferFunctions:
+    """First and second transfer functions of a point or a link with respect to one input (textbook 4.2-4.16).
+
+    For a point: ``first`` = dr/dq_in (m/rad or m/m), ``second`` = d²r/dq_in² (3-vectors). For a link: ``first`` =
+    dφ/dq_in, ``second`` = d²φ/dq_in² (scalars, the z components; rad/rad or rad/m).
+    """
+
+    first: np.ndarray | float
+    second: np.ndarray | float
+
+
+def transfer_functions(mech: Mechanism, q: np.ndarray, input: str, *, point: str | None = None,
+                       link: str | None = None) -> TransferFunctions:
+    """Transfer functions of ``point`` or ``link`` w.r.t. the actuated coordinate ``input`` at an assembled ``q``:
+    the velocity and acceleration for q̇_in = 1, q̈_in = 0 and the other inputs held (eq. 4.8: a = a_q q̇² + v_q q̈).
+    """
+    if (point is None) == (link is None):
+        raise InputError("give either point= or link=")
+    solver = mech.loop_solver()
+    v = solver.velocity(q, {input: 1.0})
+    a = solver.acceleration(q, v, {})
+    if point is not None:
+        _, first, second = point_state(mech, q, v, a, point)
+        return TransferFunctions(first, second)
+    from .kinematics import angular_acceleration, angular_velocity
+
+    return TransferFunctions(float(angular_velocity(mech, q, v, link)[2]),
+                             float(angular_acceleration(mech, q, v, a, link)[2]))
+
+
+# ----------------------------------------------------------------------------------------- geometry checks
+def _positions(mech: Mechanism, q: np.ndarray, *points: str) -> list[np.ndarray]:
+    pin.forwardKinematics(mech.model, mech.data, q)
+    return [pin.updateFramePlacement(mech.model, mech.data, mech.frame_id(p)).translation[:2].copy()
+            for p in points]
+
+
+def line_angle(mech: Mechanism, q: np.ndarray, a: str, b: str, c: str, d: str) -> float:
+    """Angle (rad, in [0, π/2]) between the lines ab and cd: the transmission angle when ab is the coupler or
+    cylinder and cd the driven lever (90° is ideal; designs require at least 30° or so)."""
+    pa, pb, pc, pd = _positions(mech, q, a, b, c, d)
+    u, w = pb - pa, pd - pc
+    cosine = abs(u @ w) / (np.linalg.norm(u) * np.linalg.norm(w))
+    return math.acos(min(1.0, cosine))
+
+
+def lever_arm(mech: Mechanism, q: np.ndarray, base: str, eye: str, pivot: str) -> float:
+    """Distance (m) from ``pivot`` to the line of action base–eye of a cylinder: the arm of its force about the
+    pivot; for a cylinder across a revolute joint it equals dL/dθ."""
+    pa, pb, pc = _positions(mech, q, base, eye, pivot)
+    axis = pb - pa
+    return abs(axis[0] * (pc - pa)[1] - axis[1] * (pc - pa)[0]) / np.linalg.norm(axis)
+
+
+def distance(mech: Mechanism, q: np.ndarray, a: str, b: str) -> float:
+    """Distance (m) between two points."""
+    pa, pb = _positions(mech, q, a, b)
+    return float(np.linalg.norm(pb - pa))

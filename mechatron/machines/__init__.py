@@ -1,0 +1,26 @@
+"""Built-in closed-loop mechanisms, loadable by name with :func:`mechatron.load`.
+
+Each entry builds a :class:`~mechatron.model.Mechanism` from keyword parameters (SI units); ``load(name, l1=0.12)``
+passes overrides through. Each module documents where its geometry comes from.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from ..model import Mechanism
+from . import textbook
+
+
+@dataclass(frozen=True)
+class Builtin:
+    build: Callable[..., Mechanism]
+    description: str
+
+
+BUILTINS: dict[str, Builtin] = {
+    "crank_slider": Builtin(textbook.crank_slider, textbook.crank_slider.__doc__.splitlines()[0]),
+    "scotch_yoke": Builtin(textbook.scotch_yoke, textbook.scotch_yoke.__doc__.splitlines()[0]),
+    "slotted_link": Builtin(textbook.slotted_link, textbook.slotted_link.__doc__.splitlines()[0]),
+}

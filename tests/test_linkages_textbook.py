@@ -1,0 +1,285 @@
+"""Closed loops: the textbook's crank-slider, scotch-yoke and slotted-link mechanisms against their closed forms
+(notes seed-textbook-ch4a-ch5.md §2.2-2.4 and checks E1-E4), finite differences, assembly failures and branches.
+
+Sign conventions: mechatron measures every angle counter-clockwise. The book's rod angle β of the crank-slider and
+its slotted-link angle β are clockwise, so θ2 = −β and θ3 = π − β here. The book prints ω_q2 = dβ/dq1 with a minus
+sign (L2348) that belongs to the counter-clockwise angle, while its ε_q2 (L2354) is the derivative of +dβ/dq1; with
+θ2 = −β both come out consistent: ω_q2 = −l1 cos q1/√(l2² − l1² sin² q1) and ε_q2 = −d²β/dq1².
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mechatron
+from mechatron.errors import InputError, SingularityError, UnreachableError
+from mechatron.linkages import transfer_functions
+from mechatron.planar import GROUND, PlanarBuilder
+from mechatron.sweep import sweep
+
+angles = st.floats(-math.pi, math.pi)
+
+
+# ------------------------------------------------------------------------------------------- closed forms
+def crank_slider_closed_form(l1, l2, q):
+    root = math.sqrt(l2**2 - l1**2 * math.sin(q) ** 2)
+    x = l1 * math.cos(q) + root
+    v_q = -l1 * math.sin(q) - l1**2 * math.sin(2 * q) / (2 * root)
+    a_q = -l1 * math.cos(q) - (l1**2 / 4) * (4 * math.cos(2 * q) + l1**2 * math.sin(2 * q) ** 2 / root**2) / root
+    beta_q = l1 * math.cos(q) / root  # dβ/dq, β clockwise
+    beta_qq = l1 * (l1**2 - l2**2) * math.sin(q) / root**3
+    return x, v_q, a_q, beta_q, beta_qq
+
+
+def slotted_link_closed_form(l1, d, q):
+    denominator = l1**2 + d**2 - 2 * d * l1 * math.cos(q)
+    beta = math.atan2(l1 * math.sin(q), d - l1 * math.cos(q))
+    omega_q = l1 * (d * math.cos(q) - l1) / denominator  # (4.1, L2414), β clockwise
+    epsilon_q = d * l1 * (l1**2 - d**2) * math.sin(q) / denominator**2  # (L2426)
+    return beta, omega_q, epsilon_q, math.sqrt(denominator)
+
+
+@settings(max_examples=40, deadline=None)
+@given(angles)
+def test_crank_slider_transfer_functions(q):
+    mech = mechatron.load("crank_slider")
+    qq = mech.assemble({"q1": q})
+    x, v_q, a_q, beta_q, beta_qq = crank_slider_closed_form(0.1, 0.4, q)
+    slider = transfer_functions(mech, qq, "q1", point="C")
+    assert mech.frame_placement(qq, "C").translation[0] == pytest.approx(x, abs=1e-12)
+    assert slider.first[0] == pytest.approx(v_q, abs=1e-10)
+    assert slider.second[0] == pytest.approx(a_q, abs=1e-10)
+    rod = transfer_functions(mech, qq, "q1", link="rod")
+    assert rod.first == pytest.approx(-beta_q, abs=1e-10)  # θ2 = −β
+    assert rod.second == pytest.approx(-beta_qq, abs=1e-10)
+
+
+def test_E1_crank_slider_point_on_rod():
+    """E1: l1 = 0.1, L2 = 0.4, B at mid-rod (the book's fig. 4.2 naming; here point S2), q1 = 30°, q̇1 = 10 rad/s."""
+    mech = mechatron.load("crank_slider")
+    q = mech.assemble({"q1": math.radians(30)})
+    v = mech.velocity(q, {"q1": 10.0})
+    for qdd, expected in ((0.0, [-9.305193, -2.5]), (5.0, [-9.582471, -2.283494])):
+        a = mech.acceleration(q, v, {"q1": qdd})
+        np.testing.assert_allclose(mech.point_acceleration(q, v, a, "S2")[:2], expected, atol=1e-6)
+    np.testing.assert_allclose(mech.frame_placement(q, "S2").translation[:2], [0.2850339, 0.025], atol=1e-7)
+    np.testing.assert_allclose(mech.point_velocity(q, v, "S2")[:2], [-0.554554, 0.433013], atol=1e-6)
+    np.testing.assert_allclose(mech.point_velocity(q, v, "C")[:2], [-0.6091089, 0.0], atol=1e-7)
+    # rod: |ω2| = 2.182179 rad/s; counter-clockwise ω2 = −2.182179, ε2 = +11.998872 (q̈1 = 0)
+    assert mech.angular_velocity(q, v, "rod")[2] == pytest.approx(-2.182179, abs=1e-6)
+    a = mech.acceleration(q, v, {"q1": 0.0})
+    assert mech.angular_acceleration(q, v, a, "rod")[2] == pytest.approx(11.998872, abs=1e-6)
+
+
+def test_E2_crank_slider_hand_checks():
+    mech = mechatron.load("crank_slider")
+    q0 = mech.assemble({"q1": 0.0})
+    assert mech.frame_placement(q0, "C").translation[0] == pytest.approx(0.5)
+    assert transfer_functions(mech, q0, "q1", point="C").second[0] == pytest.approx(-0.125)
+    assert transfer_functions(mech, q0, "q1", link="rod").first == pytest.approx(-0.25)
+    q90 = mech.assemble({"q1": math.pi / 2})
+    assert mech.frame_placement(q90, "C").translation[0] == pytest.approx(0.3872983, abs=1e-7)
+    tf = transfer_functions(mech, q90, "q1", point="C")
+    assert tf.first[0] == pytest.approx(-0.1) and tf.second[0] == pytest.approx(0.02581989, abs=1e-8)
+
+
+@settings(max_examples=40, deadline=None)
+@given(angles)
+def test_scotch_yoke(q):
+    mech = mechatron.load("scotch_yoke")
+    qq = mech.assemble({"q1": q})
+    tf = transfer_functions(mech, qq, "q1", point="C")
+    assert mech.frame_placement(qq, "C").translation[0] == pytest.approx(0.1 * math.cos(q), abs=1e-12)
+    assert tf.first[0] == pytest.approx(-0.1 * math.sin(q), abs=1e-10)
+    assert tf.second[0] == pytest.approx(-0.1 * math.cos(q), abs=1e-10)
+
+
+def test_E3_scotch_yoke_worked_values():
+    # the book's "a_C = −l1 cos q1 q̇1" (L2393) lacks the square: it would give −0.866
+    mech = mechatron.load("scotch_yoke")
+    q = mech.assemble({"q1": math.radians(30)})
+    v = mech.velocity(q, {"q1": 10.0})
+    assert mech.point_velocity(q, v, "C")[0] == pytest.approx(-0.5)
+    for qdd, expected in ((0.0, -8.660254), (5.0, -8.910254)):
+        a = mech.acceleration(q, v, {"q1": qdd})
+        assert mech.point_acceleration(q, v, a, "C")[0] == pytest.approx(expected, abs=1e-6)
+
+
+@settings(max_examples=40, deadline=None)
+@given(angles)
+def test_slotted_link(q):
+    mech = mechatron.load("slotted_link")
+    qq = mech.assemble({"q1": q})
+    beta, omega_q, epsilon_q, l3 = slotted_link_closed_form(0.1, 0.3, q)
+    theta3 = mechatron.linkages.link_angle(mech, qq, "coulisse")
+    assert math.remainder(theta3 - (math.pi - beta), 2 * math.pi) == pytest.approx(0.0, abs=1e-12)
+    tf = transfer_functions(mech, qq, "q1", link="coulisse")
+    assert tf.first == pytest.approx(-omega_q, abs=1e-10)  # θ3 = π − β
+    assert tf.second == pytest.approx(-epsilon_q, abs=1e-10)
+    assert mechatron.linkages.distance(mech, qq, "B", "C") == pytest.approx(l3, abs=1e-12)
+
+
+def test_E4_slotted_link_worked_values():
+    mech = mechatron.load("slotted_link")
+    q = mech.assemble({"q1": math.radians(30)})
+    v = mech.velocity(q, {"q1": 10.0})
+    assert mechatron.linkages.link_angle(mech, q, "coulisse") == pytest.approx(math.radians(166.813215), abs=1e-8)
+    assert mech.angular_velocity(q, v, "coulisse")[2] == pytest.approx(-3.326659, abs=1e-6)
+    for qdd, expected in ((0.0, -51.99994), (5.0, -50.33661)):
+        a = mech.acceleration(q, v, {"q1": qdd})
+        assert mech.angular_acceleration(q, v, a, "coulisse")[2] == pytest.approx(-expected, abs=1e-4)
+    # hand checks: q1 = 0 → ω_q3 = l1/(d − l1) = 0.5; q1 = 180° → −0.25; q1 = 90° → −0.1, ε_q3 = −0.24
+    for q1, w, e in ((0.0, 0.5, 0.0), (math.pi, -0.25, 0.0), (math.pi / 2, -0.1, -0.24)):
+        tf = transfer_functions(mech, mech.assemble({"q1": q1}), "q1", link="coulisse")
+        assert (tf.first, tf.second) == pytest.approx((-w, -e), abs=1e-10)
+
+
+# ------------------------------------------------------------------------------------- finite differences
+@pytest.mark.parametrize("name", ["crank_slider", "scotch_yoke", "slotted_link"])
+def test_velocity_and_acceleration_equal_finite_differences(name):
+    mech = mechatron.load(name)
+    h = 1e-5
+    for q1 in np.linspace(-3.0, 3.0, 7):
+        q = mech.assemble({"q1": q1})
+        plus, minus = mech.assemble({"q1": q1 + h}, q), mech.assemble({"q1": q1 - h}, q)
+        v = mech.velocity(q, {"q1": 1.0})
+        np.testing.assert_allclose(v, (plus - minus) / (2 * h), atol=1e-8)
+        a = mech.acceleration(q, v, {"q1": 0.0})
+        v_plus, v_minus = mech.velocity(plus, {"q1": 1.0}), mech.velocity(minus, {"q1": 1.0})
+        np.testing.assert_allclose(a, (v_plus - v_minus) / (2 * h), atol=1e-6)
+
+
+# ------------------------------------------------------------------------------- a cylinder-driven rocker
+def rocker(stroke=(0.25, 0.45)):
+    """A rocker OR (0.3 m) about O, pushed by a cylinder from P = (0.4, −0.1) to R; drawn at θ = 60°."""
+    b = PlanarBuilder("rocker")
+    b.point("O", GROUND, (0.0, 0.0))
+    b.point("P", GROUND, (0.4, -0.1))
+    R = 0.3 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
+    arm = b.revolute("arm", "O", toward=R, coordinate="theta", mass=2.0, com=R / 2, inertia=0.015)
+    b.point("R", arm, R)
+    b.cylinder("s", "P", "R", stroke=stroke)
+    b.line("arm", "O", "R")
+    b.transmission_angle("mu", "P", "R", "O", "R", minimum_deg=30)
+    return b.build(actuated=["s"], description="cylinder-driven rocker")
+
+
+def rocker_angle(s):
+    """θ from the triangle O-P-R: |R − P| = s with |R| = 0.3 (branch with R above the line OP's start)."""
+    # solve 0.3²(cos θ, sin θ) − P: |0.3 e(θ) − P|² = s²
+    P = np.array([0.4, -0.1])
+    c = (0.09 + P @ P - s**2) / (2 * 0.3 * np.linalg.norm(P))
+    phi = math.atan2(P[1], P[0])
+    return phi + math.acos(c)
+
+
+def test_cylinder_rocker_position_and_velocity():
+    mech = rocker()
+    assert mech.mobility() == 1 and mech.redundant_closure_equations() == 0
+    for s in np.linspace(0.26, 0.44, 7):
+        q = mech.assemble({"s": s})
+        theta = q[mech.loop_solver().index["theta"]]
+        assert theta == pytest.approx(rocker_angle(s), abs=1e-10)
+        # lever arm e = dL/dθ, so θ̇ = ṡ / e for a unit cylinder speed
+        e = mechatron.linkages.lever_arm(mech, q, "P", "R", "O")
+        v = mech.velocity(q, {"s": 1.0})
+        assert v[mech.loop_solver().index["theta"]] == pytest.approx(1.0 / e, rel=1e-9)
+
+
+def test_assembly_failures_name_inputs_and_residual():
+    mech = rocker(stroke=(0.05, 0.9))
+    with pytest.raises(UnreachableError, match=r"s = 0.95 is outside its range \[0.05, 0.9\]"):
+        mech.assemble({"s": 0.95})
+    # in stroke but longer than |OP| + |OR| = 0.712: the loop cannot close
+    with pytest.raises(UnreachableError, match=r"cannot assemble at s = 0.8 .*closure residual"):
+        mech.assemble({"s": 0.8})
+    with pytest.raises(InputError, match="unknown actuated coordinate of rocker 'theta'"):
+        mech.assemble({"theta": 0.1})
+
+
+def test_sweep_marks_unreachable_samples_instead_of_nan_rows(tmp_path):
+    mech = rocker(stroke=(0.05, 0.9))
+    result = sweep(mech, {"s": np.linspace(0.2, 0.8, 61)})
+    assert len(result.failures) > 0 and len(result.table) + len(result.failures) == 61
+    assert not result.table.isna().any().any()
+    assert set(result.failures.columns) == {"sample", "s", "reason"}
+    assert (result.failures["s"] > 0.7).all() and "do not close" in result.failures["reason"].iloc[0]
+    files = result.to_csv(tmp_path / "rocker.csv")
+    assert [f.name for f in files] == ["rocker.csv", "rocker.failures.csv"]
+
+
+def test_singular_position_is_reported():
+    # the crank-slider driven by its slider (xC) is singular at the dead centre (crank and rod aligned)
+    mech = mechatron.load("crank_slider")
+    mech.actuated = ["xC"]
+    mech._loop_solver = None
+    dead_centre = np.array([0.0, 0.0, 0.5])  # crank and rod along +x: an exact solution of the closure
+    assert np.abs(mech.loop_solver().system.evaluate(dead_centre)[0]).max() < 1e-15
+    with pytest.raises(SingularityError, match="singular position"):
+        mech.velocity(dead_centre, {"xC": 1.0})
+
+
+def test_branch_is_kept_and_chosen_by_guess():
+    mech = mechatron.load("crank_slider")
+    result = sweep(mech, samples=500)
+    assert (result.table["C_x"] > 0.29).all()  # the slider stays on the +x branch over a full crank turn
+    # the other branch (slider at x = l1 cos q1 − √(…)) is reached from a guess on that side
+    q = mech.assemble({"q1": 0.3})
+    mirrored = q.copy()
+    mirrored[1] = math.pi - 2 * 0.3 - q[1]
+    mirrored[2] = 0.1 * math.cos(0.3) - math.sqrt(0.16 - 0.01 * math.sin(0.3) ** 2)
+    other = mech.assemble({"q1": 0.3}, guess=mirrored + 0.01)
+    assert mech.frame_placement(other, "C").translation[0] == pytest.approx(mirrored[2], abs=1e-12)
+
+
+def test_mobility_and_redundancy_of_a_spatial_pin():
+    from mechatron.closures import Pin
+
+    mech = mechatron.load("crank_slider")
+    mech.closures = [Pin("C=C_slider (3 rows)", a="C", b="C_slider", planar=False)]
+    mech._loop_solver = None
+    assert mech.mobility() == 1 and mech.redundant_closure_equations() == 1  # the z row repeats 0 = 0
+
+
+def test_sweep_velocity_and_acceleration_columns_agree_with_single_calls():
+    mech = mechatron.load("slotted_link")
+    result = sweep(mech, {"q1": np.linspace(0.0, 2 * math.pi, 50)}, rates={"q1": 3.0}, accelerations={"q1": -2.0},
+                   links=["coulisse"])
+    for row in result.table.itertuples():
+        q = mech.assemble({"q1": row.q1})
+        v = mech.velocity(q, {"q1": 3.0})
+        a = mech.acceleration(q, v, {"q1": -2.0})
+        assert row.B_vy == pytest.approx(mech.point_velocity(q, v, "B")[1], abs=1e-9)
+        assert row.coulisse_epsilon == pytest.approx(mech.angular_acceleration(q, v, a, "coulisse")[2], abs=1e-8)
+
+
+def test_plans_and_sweep_plots(tmp_path):
+    from mechatron.plots import plot_plans, plot_sweep
+
+    mech = mechatron.load("crank_slider")
+    q = mech.assemble({"q1": 0.5})
+    v = mech.velocity(q, {"q1": 10.0})
+    a = mech.acceleration(q, v)
+    assert plot_plans(mech, q, v, a, tmp_path / "plans.png").stat().st_size > 20_000
+    result = sweep(rocker(), samples=30)
+    assert plot_sweep(result, tmp_path / "rocker.png", curves=["mu"], trace="R").stat().st_size > 20_000
+
+
+def test_linkage_command(tmp_path, capsys):
+    import json
+
+    from mechatron.cli import main
+
+    assert main(["linkage", "slotted_link", "--samples", "90", "--json", "--csv", str(tmp_path / "s.csv"),
+                 "--plot", str(tmp_path / "s.png"), "--set", "d=0.25"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["mobility"] == 1 and summary["assembled"] == 90
+    assert summary["points"]["B"]["x"] == pytest.approx([-0.1, 0.1], abs=1e-3)
+    assert (tmp_path / "s.csv").exists() and (tmp_path / "s.png").exists()
+    assert main(["linkage", "puma560"]) == 2
+    assert "no closed loops" in capsys.readouterr().err
