@@ -75,6 +75,23 @@ class SketchLine:
 
 
 @dataclass(frozen=True)
+class Cylinder:
+    """A hydraulic cylinder of a mechanism: pin ``base`` to pin ``eye``, coordinate ``name`` = its length (m) in
+    ``stroke`` = (L_min, L_max); ``count`` cylinders act side by side (a twin boom cylinder has 2)."""
+
+    name: str
+    base: str
+    eye: str
+    stroke: tuple[float, float]
+    count: int = 1
+
+    @property
+    def ratio(self) -> float:
+        """λ = L_max / L_min."""
+        return self.stroke[1] / self.stroke[0]
+
+
+@dataclass(frozen=True)
 class Measure:
     """A named geometric quantity reported along a motion.
 
@@ -111,6 +128,7 @@ class Mechanism:
         notes: Remarks about the model or its source (shown by ``mechatron show``).
         measures: Geometric quantities to report along a motion (transmission angles, lever arms).
         input_rates: Nominal rates of the actuated coordinates (m/s or rad/s) for sweeps; 1 where not given.
+        cylinders: Hydraulic cylinders by coordinate name.
     """
 
     name: str
@@ -130,6 +148,7 @@ class Mechanism:
     notes: list[str] = field(default_factory=list)
     measures: list[Measure] = field(default_factory=list)
     input_rates: dict[str, float] = field(default_factory=dict)
+    cylinders: dict[str, Cylinder] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.data = self.model.createData()

@@ -22,7 +22,7 @@ import pinocchio as pin
 
 from .closures import Closure, OnCurve, Pin, Slider
 from .errors import InputError
-from .model import Measure, Mechanism, Parameter, SketchLine
+from .model import Cylinder, Measure, Mechanism, Parameter, SketchLine
 
 GROUND = "ground"
 Point2 = Sequence[float]
@@ -73,6 +73,7 @@ class PlanarBuilder:
         self.closures: list[Closure] = []
         self.sketch: list[SketchLine] = []
         self.measures: list[Measure] = []
+        self.cylinders: dict[str, Cylinder] = {}
 
     # ---------------------------------------------------------------------------------------------- points
     def point(self, name: str, body: str, at: Point2, direction: Point2 | None = None, *, report: bool = True) -> str:
@@ -161,13 +162,14 @@ class PlanarBuilder:
         return self._add_body(body, parent, pin.JointModelPX(), placement, coordinate or f"{body}_position",
                               reference, limits, pivot.world + reference * unit, angle, mass, com, inertia)
 
-    def cylinder(self, name: str, base: str, eye: str, *, stroke: tuple[float, float],
+    def cylinder(self, name: str, base: str, eye: str, *, stroke: tuple[float, float], count: int = 1,
                  barrel_mass: float = 0.0, rod_mass: float = 0.0) -> str:
         """A hydraulic cylinder from point ``base`` to point ``eye`` (on different bodies).
 
         The barrel turns about ``base`` (body ``{name}_barrel``), the rod slides in it (body ``{name}_rod``, joint
         coordinate ``name`` = the pin-to-pin length, limited to ``stroke`` = (L_min, L_max)), and a pin closure joins
         the rod eye (point ``{name}_eye``) to ``eye``. Barrel and rod masses sit at their middles as slender rods.
+        ``count`` cylinders act side by side (e.g. a twin boom cylinder: one in the planar model, twice the force).
         """
         start, end = self._point(base).world, self._point(eye).world
         length = float(np.linalg.norm(end - start))
@@ -186,6 +188,7 @@ class PlanarBuilder:
         self.point(f"{name}_eye", rod, end, report=False)
         self.pin(f"{name}_eye", eye)
         self.sketch.append(SketchLine(name, (base, eye), "cylinder"))
+        self.cylinders[name] = Cylinder(name, base, eye, (float(stroke[0]), float(stroke[1])), count)
         return name
 
     # -------------------------------------------------------------------------------------------- closures
@@ -245,6 +248,7 @@ class PlanarBuilder:
             reference_q=np.array(self.reference, dtype=float),
             points=[name for name, p in self.points.items() if p.report], sketch=list(self.sketch),
             notes=list(notes), measures=list(self.measures), input_rates=dict(input_rates or {}),
+            cylinders=dict(self.cylinders),
         )
         if check and mech.closures:
             residual, _ = mech.loop_solver().system.evaluate(mech.reference_q)

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..model import Mechanism
-from . import textbook
+from . import excavator, textbook
 
 
 @dataclass(frozen=True)
@@ -23,4 +23,5 @@ BUILTINS: dict[str, Builtin] = {
     "crank_slider": Builtin(textbook.crank_slider, textbook.crank_slider.__doc__.splitlines()[0]),
     "scotch_yoke": Builtin(textbook.scotch_yoke, textbook.scotch_yoke.__doc__.splitlines()[0]),
     "slotted_link": Builtin(textbook.slotted_link, textbook.slotted_link.__doc__.splitlines()[0]),
+    "front_shovel": Builtin(excavator.front_shovel, excavator.front_shovel.__doc__.splitlines()[0]),
 }

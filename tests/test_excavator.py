@@ -1,0 +1,184 @@
+"""Front-shovel excavator working device (seed 001) against the report's self-consistent numbers, recomputed by hand
+from its formulas (notes seed-excavator.md §2.3), and against the closed-loop model.
+
+The report's inconsistent numbers are not asserted as results; each one is asserted to differ from what its own
+formulas give, with the reason in mechatron.machines.excavator.report_comparison (and in the notes, §2.3 A-E).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import mechatron
+from mechatron.machines import excavator as ex
+
+DEG = math.pi / 180
+
+
+@pytest.fixture(scope="module")
+def shovel():
+    return ex.synthesize()
+
+
+@pytest.fixture(scope="module")
+def mech(shovel):
+    return ex.build(shovel)
+
+
+def test_joint_ranges_by_hand(shovel):
+    # MATLAB pipeline of the report with l1 = 4.3, l2 = 3.3, l3 = 2, R0 = 4.2, R1 = 9.06, H1 = 3.2, H2 = 9.53,
+    # C = (0.5, 2.7), ζ = 25°, and the text's δ = 40° for θ3min
+    l1, l2, l3, xc, yc, zeta = 4.3, 3.3, 2.0, 0.5, 2.7, 25 * DEG
+    t2max = math.acos((l1**2 + l2**2 - (9.06 - l3 - xc) ** 2) / (2 * l1 * l2))
+    t2min = math.acos((l1**2 + l2**2 - (yc - l3 * math.sin(zeta)) ** 2 - (4.2 - l3 * math.cos(zeta) - xc) ** 2)
+                      / (2 * l1 * l2))
+    l44 = math.sqrt(l1**2 + l2**2 - 2 * l1 * l2 * math.cos(t2max))
+    t1max = math.asin((9.53 - l3 - yc) / l44) + math.asin(l2 * math.sin(t2max) / l44)
+    t1min = math.asin((-3.2 - yc + l2 + l3) / l1)
+    assert shovel.theta2 == pytest.approx((t2min, t2max), abs=1e-12)
+    assert shovel.theta1 == pytest.approx((t1min, t1max), abs=1e-12)
+    assert shovel.theta3 == pytest.approx((2 * math.pi - t1max - t2max - 40 * DEG, 2.5 * math.pi - t1max - t2max))
+    # the report's rounded values (lines 102-163)
+    assert np.degrees(shovel.theta2) == pytest.approx((38.0, 118.8), abs=0.05)
+    assert np.degrees(shovel.theta1) == pytest.approx((-8.0, 73.6), abs=0.05)
+    assert np.degrees(shovel.theta3) == pytest.approx((127.7, 257.6), abs=0.1)
+
+
+def test_special_positions_closed_form_and_model(shovel, mech):
+    """Tips of §2.3 B: (9.060, 2.700), (4.939, 9.530), (4.758, −3.200) and the ground reach 8.605 (not 8.71)."""
+    expected = {"max_digging_radius": (9.06, 2.7), "max_digging_height": (4.939, 9.53),
+                "max_digging_depth": (4.758, -3.2), "max_ground_radius": (8.605, 0.0)}
+    for name, angles in ex.special_positions(shovel).items():
+        assert shovel.tip(*angles) == pytest.approx(expected[name], abs=1e-3)
+        # the same tip from the closed-loop model assembled at the matching cylinder lengths
+        q = mech.assemble(shovel.cylinder_lengths(*angles))
+        np.testing.assert_allclose(mech.frame_placement(q, "V").translation[:2], shovel.tip(*angles), atol=1e-9)
+        wrapped = np.remainder(np.subtract(ex.joint_angles(mech, q), angles) + np.pi, 2 * np.pi) - np.pi
+        np.testing.assert_allclose(wrapped, 0.0, atol=1e-9)
+
+
+def test_stick_cylinder_block_as_in_report():
+    """§2.3 C with the report's rounded θ2 = 37°…118.8°, λ = 1.7, k = 1, l9 = 1.0 m."""
+    c = ex.included_angle_offset(37 * DEG, 118.8 * DEG, 1.7)
+    s, r = ex.lever_synthesis(118.8 * DEG + c, 37 * DEG + c, 1.7)
+    assert -c / DEG == pytest.approx(4.56, abs=0.01)  # α34 = 4.5° printed
+    assert (s, r, 1.7 * r) == pytest.approx((2.636, 1.871, 3.180), abs=1e-3)  # l8 = 2.6, L2 = 1.87 / 3.18 printed
+    # equal moment arms at both ends (k = 1): e = l8 l9 sin ψ / L
+    cyl = ex.CylinderDesign("L2", s, 1.0, c, (r, 1.7 * r), (37 * DEG, 118.8 * DEG))
+    assert cyl.lever_arm(37 * DEG) == pytest.approx(cyl.lever_arm(118.8 * DEG), rel=1e-12)
+    assert cyl.lever_arm(37 * DEG) == pytest.approx(0.756, abs=1e-3)
+    assert cyl.min_transmission_angle() / DEG == pytest.approx(49.1, abs=0.1)  # 49° printed
+
+
+def test_bucket_triangle_as_printed():
+    """§2.3 E: l11 = 0.7, λ = 1.7 and an included angle from 40.0° to 150.2° give l10 = 2.04, L3 = 1.57 / 2.67."""
+    s, r = ex.lever_synthesis(150.2 * DEG, 40.0 * DEG, 1.7)
+    assert (0.7 * s, 0.7 * r, 0.7 * 1.7 * r) == pytest.approx((2.042, 1.572, 2.672), abs=1e-3)
+
+
+def test_lever_synthesis_closes_both_triangles():
+    for psi_start, psi_end, ratio in ((20 * DEG, 110 * DEG, 1.6), (35 * DEG, 140 * DEG, 1.8)):
+        s, r = ex.lever_synthesis(psi_end, psi_start, ratio)
+        assert ex.triangle_side(1.0, s, psi_start) == pytest.approx(r, rel=1e-12)
+        assert ex.triangle_side(1.0, s, psi_end) == pytest.approx(ratio * r, rel=1e-12)
+    # a 20° sweep from 80° can stretch a cylinder by at most sin 50°/sin 40° = 1.19 (equal levers)
+    with pytest.raises(mechatron.InputError, match="no cylinder with λ = 1.5"):
+        ex.lever_synthesis(100 * DEG, 80 * DEG, 1.5)
+
+
+def test_cylinders_span_the_joint_ranges(shovel, mech):
+    for cyl, (lo, hi) in zip(shovel.cylinders, (shovel.theta1, shovel.theta2, shovel.theta3)):
+        assert cyl.length(lo) == pytest.approx(cyl.stroke[0], rel=1e-12)
+        assert cyl.length(hi) == pytest.approx(cyl.stroke[1], rel=1e-12)
+        assert cyl.ratio == pytest.approx(1.7)
+    assert mech.cylinders["L1"].count == 2  # twin boom cylinders
+    assert mech.mobility() == 3 and mech.actuated == ["L1", "L2", "L3"]
+
+
+def test_lever_arm_is_derivative_of_cylinder_length(shovel, mech):
+    """e = dL/dθ: the model's lever arm of each cylinder equals the ratio of cylinder speed to joint speed."""
+    q = mech.assemble(shovel.cylinder_lengths(0.4, 1.4, 3.3))
+    for cyl, pivot, rate_name in (("L1", "C", "L1"), ("L2", "F", "L2"), ("L3", "Q", "L3")):
+        c = mech.cylinders[cyl]
+        v = mech.velocity(q, {rate_name: 1.0})
+        angles_now = np.array(ex.joint_angles(mech, q))
+        h = 1e-6
+        q2 = mech.assemble({rate_name: q[mech.loop_solver().index[rate_name]] + h}, q)
+        dtheta = (np.array(ex.joint_angles(mech, q2)) - angles_now) / h
+        joint = ["L1", "L2", "L3"].index(cyl)
+        arm = mechatron.linkages.lever_arm(mech, q, c.base, c.eye, pivot)
+        assert 1.0 / dtheta[joint] == pytest.approx(arm, rel=1e-5)
+        del v
+
+
+def test_report_comparison_flags_exactly_the_inconsistent_numbers(shovel):
+    rows = {r["quantity"]: r for r in ex.report_comparison(shovel)}
+    not_reproduced = {q for q, r in rows.items() if not r["reproduced"]}
+    assert not_reproduced == {
+        "stick l2 = 0.9·∛46 (3.1)", "L44max = |CQ| (line 128)", "θ1max (3.3b), line 133",
+        "θ3max', radius condition (3.6)", "R2max, ground reach (2.4)", "boom α12 with λ = 1.7 (3.9)",
+        "boom l7 = CB (3.12)", "boom L1min", "boom L1max", "boom minimum transmission angle",
+        "bucket minimum transmission angle",
+    }
+    assert all(rows[q]["note"] for q in not_reproduced)
+    assert rows["L44max = |CQ| (line 128)"]["computed"] == pytest.approx(6.56, abs=1e-3)
+    assert rows["θ3max', radius condition (3.6)"]["computed"] == pytest.approx(215.075, abs=1e-3)
+
+
+def test_report_boom_lengths_are_a_triangle_with_lambda_1_8():
+    # l5 = 1.2, l7 = 2.74, L1min = 1.94, L1max = 3.50: λ = 1.80, included angles 37.97° → 120.1°, k = 1.28
+    def angle(L):
+        return math.acos((1.2**2 + 2.74**2 - L**2) / (2 * 1.2 * 2.74))
+
+    start, end = angle(1.94), angle(3.50)
+    assert (start / DEG, end / DEG) == pytest.approx((37.97, 120.1), abs=0.05)
+    k = (1.2 * 2.74 * math.sin(start) / 1.94) / (1.2 * 2.74 * math.sin(end) / 3.50)
+    assert k == pytest.approx(1.28, abs=0.01)
+    assert math.degrees(math.asin(1.2 / 2.74)) == pytest.approx(26.0, abs=0.05)  # the most γ1 can ever be
+
+
+def test_first_sizing():
+    sizes = ex.first_sizing(46)
+    assert sizes["boom"] == pytest.approx(4.300, abs=5e-4)
+    assert ex.mass_from_requirements({"max_digging_radius": 9.06, "max_digging_depth": 3.2,
+                                      "max_digging_height": 9.53}) == pytest.approx(46.0, rel=1e-9)
+
+
+def test_working_range_matches_special_positions(mech):
+    working = ex.working_range(mech, samples=21)
+    summary = working.summary
+    assert summary["max_digging_radius"] == pytest.approx(9.06, abs=0.01)
+    assert summary["max_digging_height"] == pytest.approx(9.53, abs=0.01)
+    assert summary["max_digging_depth"] == pytest.approx(3.2, abs=0.01)
+    # the ground reach over all strokes is at least the report's ζ = 25° position (8.605 m)
+    assert 8.60 <= summary["max_ground_radius"] <= 8.7
+
+
+def test_transmission_checks_in_sweep(mech):
+    from mechatron.sweep import sweep
+
+    result = sweep(mech, samples=60)
+    checks = {c["name"]: c for c in result.check_measures()}
+    assert checks["stick_transmission_angle"]["pass"] is True
+    assert checks["boom_transmission_angle"]["pass"] is False  # the report's boom geometry cannot reach 30°
+
+
+def test_excavator_command(tmp_path, capsys):
+    from mechatron.cli import main
+
+    design = tmp_path / "design.toml"
+    design.write_text("boom_ratio = 1.9\nmax_digging_height = 9.52\n")
+    assert main(["excavator", "--design", str(design), "--samples", "9", "--json",
+                 "--plot", str(tmp_path / "range.png")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["cylinders"]["L1"]["ratio"] == pytest.approx(1.9)
+    assert out["joint_ranges_deg"]["theta1"][1] == pytest.approx(73.455, abs=1e-3)  # with H2 = 9.52 (notes §2.3 A)
+    assert (tmp_path / "range.png").stat().st_size > 30_000
+    bad = tmp_path / "bad.toml"
+    bad.write_text("boom = -1.0\n")
+    assert main(["excavator", "--design", str(bad)]) == 2
+    assert "bad.toml" in capsys.readouterr().err
