@@ -126,21 +126,26 @@ class PlanarBuilder:
         self.reference.append(reference)
         return name
 
-    def revolute(self, body: str, at: str, *, toward: str | Point2 | None = None, coordinate: str | None = None,
-                 limits: tuple[float, float] = (-np.inf, np.inf), mass: float = 0.0, com: Point2 | None = None,
-                 inertia: float = 0.0) -> str:
+    def revolute(self, body: str, at: str, *, toward: str | Point2 | None = None, angle: float | None = None,
+                 coordinate: str | None = None, limits: tuple[float, float] = (-np.inf, np.inf), mass: float = 0.0,
+                 com: Point2 | None = None, inertia: float = 0.0) -> str:
         """A body turning about the point ``at`` (which belongs to the parent body).
 
         Args:
             toward: A point or world position the body frame's x axis points to in the drawing (default: along the
                 parent's x axis). With a ground parent the coordinate is then the absolute angle of that line.
+            angle: Instead of ``toward``, the world angle (rad) of the body frame's x axis in the drawing.
             coordinate: Name of the joint coordinate (default ``{body}_angle``).
             limits: Coordinate limits (rad).
             mass, com, inertia: Mass (kg), centre of mass (world point of the drawing) and I_zz about it (kg·m²).
         """
         pivot = self._point(at)
         parent = self._body(pivot.body)
-        if toward is None:
+        if toward is not None and angle is not None:
+            raise InputError(f"{self.name}: body {body}: give toward or angle, not both")
+        if angle is not None:
+            pass
+        elif toward is None:
             angle = parent.angle
         else:
             target = self._point(toward).world if isinstance(toward, str) else np.asarray(toward, dtype=float)
@@ -153,14 +158,21 @@ class PlanarBuilder:
                   coordinate: str | None = None, limits: tuple[float, float] = (-np.inf, np.inf),
                   mass: float = 0.0, com: Point2 | None = None, inertia: float = 0.0) -> str:
         """A body sliding on the parent of point ``at`` along ``direction`` (world, drawing); its coordinate is the
-        displacement of the body frame from ``at`` (m), equal to ``reference`` in the drawing."""
+        displacement of the body frame from ``at`` (m), equal to ``reference`` in the drawing. The body frame keeps
+        the parent's orientation."""
         pivot = self._point(at)
         parent = self._body(pivot.body)
-        angle = _angle_of(direction)
-        unit = np.array([math.cos(angle), math.sin(angle)])
-        placement = pin.SE3(_rz(angle - parent.angle), parent.local(pivot.world))
-        return self._add_body(body, parent, pin.JointModelPX(), placement, coordinate or f"{body}_position",
-                              reference, limits, pivot.world + reference * unit, angle, mass, com, inertia)
+        unit = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+        local_axis = _rz(-parent.angle) @ np.array([unit[0], unit[1], 0.0])
+        if abs(local_axis[0]) > 1 - 1e-15:
+            joint_model = pin.JointModelPX() if local_axis[0] > 0 else pin.JointModelPrismaticUnaligned(local_axis)
+        elif abs(local_axis[1]) > 1 - 1e-15 and local_axis[1] > 0:
+            joint_model = pin.JointModelPY()
+        else:
+            joint_model = pin.JointModelPrismaticUnaligned(local_axis)
+        placement = pin.SE3(np.eye(3), parent.local(pivot.world))
+        return self._add_body(body, parent, joint_model, placement, coordinate or f"{body}_position",
+                              reference, limits, pivot.world + reference * unit, parent.angle, mass, com, inertia)
 
     def cylinder(self, name: str, base: str, eye: str, *, stroke: tuple[float, float], count: int = 1,
                  barrel_mass: float = 0.0, rod_mass: float = 0.0) -> str:

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..model import Mechanism
-from . import excavator, textbook
+from . import excavator, grab, textbook
 
 
 @dataclass(frozen=True)
@@ -24,4 +24,5 @@ BUILTINS: dict[str, Builtin] = {
     "scotch_yoke": Builtin(textbook.scotch_yoke, textbook.scotch_yoke.__doc__.splitlines()[0]),
     "slotted_link": Builtin(textbook.slotted_link, textbook.slotted_link.__doc__.splitlines()[0]),
     "front_shovel": Builtin(excavator.front_shovel, excavator.front_shovel.__doc__.splitlines()[0]),
+    "grab": Builtin(grab.grab, grab.grab.__doc__.splitlines()[0]),
 }
