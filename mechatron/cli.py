@@ -113,11 +113,11 @@ def cmd_list(args: argparse.Namespace) -> int:
         return 0
     builtin = builtin_robot_files()
     examples = installed_example_robots()
-    print(f"{'name':<18} {'dof':>3}  description")
+    print(f"{'name':<18} {'W':>3}  description (W: degrees of mobility)")
     for name in names:
         try:
             mech = load(name)
-            print(f"{name:<18} {mech.nq:>3}  {mech.description}")
+            print(f"{name:<18} {mech.mobility():>3}  {mech.description}")
         except MechatronError as exc:
             print(f"{name:<18} {'?':>3}  (cannot load: {exc})")
     print(f"\n{len(builtin)} robot files in {next(iter(builtin.values())).parent if builtin else 'robots/'}; "
@@ -151,6 +151,12 @@ def describe(mech: Mechanism) -> dict[str, Any]:
         "parameters": {n: {"value": p.value, "unit": p.unit, "description": p.description}
                        for n, p in mech.parameters.items()},
         "frames": sorted({f.name for f in model.frames if f.type in (pin.FrameType.OP_FRAME, pin.FrameType.BODY)}),
+        "actuated": mech.actuated,
+        "closures": [c.describe() for c in mech.closures],
+        "redundant_closure_equations": mech.redundant_closure_equations(),
+        "cylinders": {n: {"base": c.base, "eye": c.eye, "L_min": c.stroke[0], "L_max": c.stroke[1], "count": c.count}
+                      for n, c in mech.cylinders.items()},
+        "notes": mech.notes,
     }
 
 
@@ -185,6 +191,16 @@ def cmd_show(args: argparse.Namespace) -> int:
     names = list(info["parameters"])
     for start in range(0, len(names), 4):
         print("  " + "  ".join(f"{n}={info['parameters'][n]['value']:.6g}" for n in names[start:start + 4]))
+    if mech.closures:
+        print(f"\nclosures ({len(mech.closures)}; redundant equations: {info['redundant_closure_equations']}):")
+        for text in info["closures"]:
+            print(f"  {text}")
+        print(f"actuated coordinates: {', '.join(mech.actuated)}")
+    for name, c in info["cylinders"].items():
+        twin = f", {c['count']} side by side" if c["count"] > 1 else ""
+        print(f"cylinder {name}: {c['base']} to {c['eye']}, {c['L_min']:.4g} … {c['L_max']:.4g} m{twin}")
+    for note in mech.notes:
+        print(f"note: {note}")
     print(f"\nframes: {', '.join(info['frames'])}")
     return 0
 
@@ -227,6 +243,9 @@ def cmd_jacobian(args: argparse.Namespace) -> int:
 
 def cmd_export_urdf(args: argparse.Namespace) -> int:
     mech = _load(args)
+    if mech.closures:
+        print(f"mechatron: warning: URDF has no closed loops; {len(mech.closures)} closure(s) of {mech.name} are "
+              "not written (only its spanning tree)", file=sys.stderr)
     written = export_urdf(mech, args.output)
     for path in written:
         print(f"wrote {path}")

@@ -21,7 +21,7 @@ from .errors import InputError
 if TYPE_CHECKING:  # pragma: no cover
     from .dh import DHTable, Drive
 
-ParameterKind = Literal["length", "angle"]
+ParameterKind = Literal["length", "angle", "ratio"]
 
 
 @dataclass(frozen=True)
@@ -31,7 +31,7 @@ class Parameter:
     Attributes:
         name: Name used in overrides (``load("puma560", a2=0.45)``) and tolerance files.
         value: Nominal value in SI units (m for lengths, rad for angles).
-        kind: ``"length"`` or ``"angle"``.
+        kind: ``"length"``, ``"angle"`` or ``"ratio"`` (dimensionless).
         description: What the parameter is, e.g. "DH a of link 2 (common normal z1-z2)".
     """
 
@@ -42,7 +42,7 @@ class Parameter:
 
     @property
     def unit(self) -> str:
-        return "m" if self.kind == "length" else "rad"
+        return {"length": "m", "angle": "rad"}.get(self.kind, "-")
 
 
 def unknown_name_error(what: str, name: str, known: list[str], **where: Any) -> InputError:

@@ -20,7 +20,7 @@ The design follows the report step by step:
    and the lever, folded to [0°, 90°]) checked against 30° (3.18–3.19);
 5. special tooth-tip positions and the working range from sweeping all strokes.
 
-Reproduced and inconsistent numbers of the report are listed in :data:`REPORT_CHECKS`.
+Reproduced and inconsistent numbers of the report are listed by :func:`report_comparison`.
 """
 
 from __future__ import annotations
@@ -323,7 +323,8 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
         base, eye = b.cylinders[cyl].base, b.cylinders[cyl].eye
         b.transmission_angle(f"{name}_transmission_angle", base, eye, pivot, lever_end, minimum_deg=30.0)
         b.lever_arm(f"{name}_lever_arm", base, eye, pivot)
-    params = {name: Parameter(name, float(value), "length" if not name.endswith("_deg") else "angle", name)
+    params = {name: Parameter(name, float(value), "ratio" if name.endswith(("_ratio", "_k")) else "length",
+                              f"design input {name}")
               for name, value in asdict(d).items() if isinstance(value, float) and not name.endswith("_deg")}
 
     def rebuild(values: dict[str, float]) -> Mechanism:
@@ -332,7 +333,8 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
     return b.build(actuated=["L1", "L2", "L3"], parameters=params, rebuild=rebuild, tool="V",
                    description="front-shovel excavator working device (boom, stick, bucket, 3 cylinders)",
                    input_rates={"L1": 0.1, "L2": 0.1, "L3": 0.1},
-                   notes=["seed 001 course-design report; see mechatron.machines.excavator.REPORT_CHECKS"])
+                   notes=["seed 001 course-design report; 'mechatron excavator' compares its numbers with the "
+                          "report's (mechatron.machines.excavator.report_comparison)"])
 
 
 def joint_angles(mech: Mechanism, q: np.ndarray) -> tuple[float, float, float]:
