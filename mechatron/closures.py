@@ -43,28 +43,41 @@ class FrameStates:
         self.data = model.createData()
         self.frame_ids = frame_ids
         n = len(frame_ids)
-        self.position = np.zeros((n, 3))
-        self.angle = np.zeros(n)  # planar angle of the frame's x axis in the world xy plane
+        self.homogeneous = np.tile(np.eye(4), (n, 1, 1))
         self.jacobian = np.zeros((n, 6, model.nv))
         self.velocity = np.zeros((n, 6))
         self.acceleration0 = np.zeros((n, 6))
         self._zero = np.zeros(model.nv)
+        # frames on the ground never move: their placement is computed once, their Jacobian and motion stay zero
+        self._moving = [(k, fid) for k, fid in enumerate(frame_ids) if model.frames[fid].parentJoint != 0]
+        pin.framesForwardKinematics(model, self.data, pin.neutral(model))
+        for k, fid in enumerate(frame_ids):
+            if model.frames[fid].parentJoint == 0:
+                self.homogeneous[k] = self.data.oMf[fid].homogeneous
+        self.position = self.homogeneous[:, :3, 3]  # a view: follows every update
+        self.angle = np.arctan2(self.homogeneous[:, 1, 0], self.homogeneous[:, 0, 0])
 
     def update(self, q: np.ndarray) -> None:
         model, data = self.model, self.data
         pin.computeJointJacobians(model, data, q)
-        for k, fid in enumerate(self.frame_ids):
-            homogeneous = pin.updateFramePlacement(model, data, fid).homogeneous
-            self.position[k] = homogeneous[:3, 3]
-            self.angle[k] = math.atan2(homogeneous[1, 0], homogeneous[0, 0])
+        for k, fid in self._moving:
+            self.homogeneous[k] = pin.updateFramePlacement(model, data, fid).homogeneous
             self.jacobian[k] = pin.getFrameJacobian(model, data, fid, LWA)
+        np.arctan2(self.homogeneous[:, 1, 0], self.homogeneous[:, 0, 0], out=self.angle)
+
+    def restore(self, homogeneous: np.ndarray, jacobian: np.ndarray) -> None:
+        """Put back placements and Jacobians saved from an earlier :meth:`update`."""
+        self.homogeneous[:] = homogeneous
+        self.jacobian[:] = jacobian
+        np.arctan2(self.homogeneous[:, 1, 0], self.homogeneous[:, 0, 0], out=self.angle)
 
     def update_motion(self, q: np.ndarray, v: np.ndarray) -> None:
+        """Twists J q̇ and the classical accelerations at q̈ = 0, after :meth:`update` at the same q."""
         model, data = self.model, self.data
         pin.forwardKinematics(model, data, q, v, self._zero)
-        for k, fid in enumerate(self.frame_ids):
-            self.velocity[k] = pin.getFrameVelocity(model, data, fid, LWA).vector
+        for k, fid in self._moving:
             self.acceleration0[k] = pin.getFrameClassicalAcceleration(model, data, fid, LWA).vector
+        np.matmul(self.jacobian, v, out=self.velocity)
 
 
 @dataclass
@@ -241,6 +254,12 @@ class ClosureSystem:
         self.nrows = sum(c.nrows for c in self.closures)
         self.nv = model.nv
         self._empty = (np.zeros(0), np.zeros((0, self.nv)))
+        # planar pins, the common case, are evaluated together with one gather per quantity; their rows come first
+        self._pins = [c for c in self.closures if isinstance(c, Pin) and c.planar]
+        self._others = [c for c in self.closures if c not in self._pins]
+        self.closures = self._pins + self._others
+        self._a = np.array([self.index[c.a] for c in self._pins], dtype=int)
+        self._b = np.array([self.index[c.b] for c in self._pins], dtype=int)
 
     def __bool__(self) -> bool:
         return bool(self.closures)
@@ -251,8 +270,13 @@ class ClosureSystem:
             self.states.update(q)
         if not self.closures:
             return self._empty
-        return (np.concatenate([c.residual(self.states) for c in self.closures]),
-                np.vstack([c.jacobian(self.states) for c in self.closures]))
+        s = self.states
+        phi = (s.position[self._a, :2] - s.position[self._b, :2]).ravel()
+        J = (s.jacobian[self._a, :2] - s.jacobian[self._b, :2]).reshape(-1, self.nv)
+        if self._others:
+            phi = np.concatenate([phi, *(c.residual(s) for c in self._others)])
+            J = np.vstack([J, *(c.jacobian(s) for c in self._others)])
+        return phi, J
 
     def drift(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """J̇(q, q̇) q̇, after :meth:`evaluate` at the same q; also fills the frame velocities and accelerations at
@@ -261,7 +285,11 @@ class ClosureSystem:
             self.states.update_motion(q, v)
         if not self.closures:
             return self._empty[0]
-        return np.concatenate([c.drift(self.states) for c in self.closures])
+        s = self.states
+        drift = (s.acceleration0[self._a, :2] - s.acceleration0[self._b, :2]).ravel()
+        if self._others:
+            drift = np.concatenate([drift, *(c.drift(s) for c in self._others)])
+        return drift
 
     def row_labels(self) -> list[str]:
         labels = []

@@ -54,6 +54,8 @@ class LoopSolver:
         self.dep = np.array([i for i in range(model.nq) if i not in set(self.act)], dtype=int)
         self.lower = model.lowerPositionLimit.copy()
         self.upper = model.upperPositionLimit.copy()
+        self._identity = np.zeros((model.nv, len(self.act)))  # S with the actuated rows filled
+        self._identity[self.act, np.arange(len(self.act))] = 1.0
 
     # ------------------------------------------------------------------------------------------ helpers
     def _inputs(self, values: Mapping[str, float] | np.ndarray, what: str) -> dict[int, float]:
@@ -194,19 +196,25 @@ class LoopSolver:
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(S, q̇, q̈) at an assembled q with closure Jacobian J, for actuated rates and accelerations in
         ``mech.actuated`` order: q̇ = S q̇_a, J_d q̈_d = −J_a q̈_a − J̇ q̇. Leaves J_d⁻¹ in :attr:`inverse`."""
-        S = np.zeros((self.mech.nv, len(self.act)))
-        S[self.act, np.arange(len(self.act))] = 1.0
-        v = np.zeros(self.mech.nv)
-        a = np.zeros(self.mech.nv)
-        v[self.act], a[self.act] = rates, accelerations
+        S = self._identity.copy()
+        a = S @ accelerations
         if len(self.dep) and J.size:
             inverse = self.inverse = self._dependent_inverse(q, J)
-            S[self.dep] = -inverse @ J[:, self.act]
+            Ja = J[:, self.act]
+            S[self.dep] = -inverse @ Ja
             v = S @ rates
-            a[self.dep] = -inverse @ (J[:, self.act] @ accelerations + self.system.drift(q, v))
+            a[self.dep] = -inverse @ (Ja @ accelerations + self.system.drift(q, v))
         else:
+            v = S @ rates
             self.system.drift(q, v)
         return S, v, a
+
+    def inverse_correction(self) -> np.ndarray:
+        """The Newton step J_d⁻¹ Φ (as a full-length vector) for the last :meth:`newton` residual and the last
+        :meth:`analyse` inverse; subtracting it from q brings the residual to second order."""
+        correction = np.zeros(self.mech.nv)
+        correction[self.dep] = self.inverse @ self.residual
+        return correction
 
     def _vector(self, values: Mapping[str, float] | np.ndarray, what: str) -> np.ndarray:
         given = self._inputs(values, what)

@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError, MechatronError
-from .linkages import LoopSolver
+from .linkages import SINGULAR_RATIO, LoopSolver
 from .model import Measure, Mechanism
 
 ProgressCallback = Callable[[int, int], None]
@@ -100,16 +100,18 @@ def _as_arrays(values: Mapping[str, object] | None, names: Sequence[str], n: int
     return out
 
 
-def _measure_value(measure: Measure, position: Callable[[str], np.ndarray]) -> float:
-    p = [position(name) for name in measure.points]
+def measure_values(measure: Measure, positions: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Values of ``measure`` for arrays (N, 2) of the positions of its points."""
+    p = [np.atleast_2d(positions[name]) for name in measure.points]
     if measure.kind == "transmission_angle":
         u, w = p[1] - p[0], p[3] - p[2]
-        return math.acos(min(1.0, abs(u @ w) / (np.linalg.norm(u) * np.linalg.norm(w))))
+        cosine = np.abs((u * w).sum(axis=1)) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1))
+        return np.arccos(np.minimum(1.0, cosine))
     if measure.kind == "lever_arm":
         axis, r = p[1] - p[0], p[2] - p[0]
-        return abs(axis[0] * r[1] - axis[1] * r[0]) / np.linalg.norm(axis)
+        return np.abs(axis[:, 0] * r[:, 1] - axis[:, 1] * r[:, 0]) / np.linalg.norm(axis, axis=1)
     if measure.kind == "distance":
-        return float(np.linalg.norm(p[1] - p[0]))
+        return np.linalg.norm(p[1] - p[0], axis=1)
     raise InputError(f"unknown measure kind {measure.kind!r}")
 
 
@@ -147,103 +149,171 @@ def sweep(mech: Mechanism, inputs: Mapping[str, object] | None = None, *, sample
     wanted = list(dict.fromkeys(points + [p for m in measures for p in m.points] + links))
     solver = LoopSolver(mech, extra_frames=wanted)  # evaluates the reported frames with the closures' frames
     states = solver.system.states
-    frames = [solver.system.index[name] for name in wanted]
-    nf, nv = len(frames), mech.nv
+    nv = mech.nv
 
-    ok = np.zeros(n, dtype=bool)
-    Qs, Vs, As = np.zeros((n, nv)), np.zeros((n, nv)), np.zeros((n, nv))
-    position = np.zeros((n, nf, 2))
-    angle = np.zeros((n, nf))
-    twist = np.zeros((n, nf, 6))  # world-aligned frame velocities [v; ω]
-    accel = np.zeros((n, nf, 6))  # classical linear and angular accelerations
-    failures = []
-    history: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (u, q, S) of the last two good samples
-    step = max(1, n // 100)
     lower, upper = solver.lower[solver.act], solver.upper[solver.act]
+    out_of_range = (U < lower - 1e-12) | (U > upper + 1e-12)
+    failures: dict[int, str] = {}
+    for k in np.flatnonzero(out_of_range.any(axis=1)):
+        j = int(np.argmax(out_of_range[k]))
+        failures[int(k)] = f"{names[j]} = {U[k, j]:.6g} is outside its range [{lower[j]:.6g}, {upper[j]:.6g}]"
+
+    # pass 1, positions: continuation from sample to sample (the only sequential part)
+    system, states = solver.system, solver.system.states
+    Q = np.zeros((n, nv))
+    Jc = np.zeros((n, system.nrows, nv))  # closure Jacobians
+    H = np.zeros((n, len(system.frame_names), 4, 4))  # placements of every evaluated frame
+    Jf = np.zeros((n, len(system.frame_names), 6, nv))  # their world-aligned Jacobians
+    ok = np.zeros(n, dtype=bool)
+    # equal input steps allow polynomial extrapolation through the previous solutions
+    steps = np.diff(U, axis=0)
+    scale = np.maximum(np.abs(steps).max(axis=1), 1e-300)
+    same_step = np.zeros(n, dtype=bool)  # same_step[k]: U[k] − U[k−1] equals U[k−1] − U[k−2]
+    same_step[2:] = np.abs(steps[1:] - steps[:-1]).max(axis=1) <= 1e-9 * scale[1:]
+    history: list[np.ndarray] = []  # last good solutions, each reached by the same step as the next
+    dep, act = solver.dep, solver.act
+    polish = len(dep) > 0 and system.nrows > 0
+    correction = None  # an approximate J_d⁻¹, refreshed every few samples, for one cheap extra Newton step
+    every = max(1, n // 100)
     for k in range(n):
-        u = U[k]
-        try:
-            outside = (u < lower - 1e-12) | (u > upper + 1e-12)
-            if outside.any():
-                bad = int(np.argmax(outside))
-                raise MechatronError(f"{names[bad]} = {u[bad]:.6g} is outside its range "
-                                     f"[{lower[bad]:.6g}, {upper[bad]:.6g}]")
-            trial = _predict(q, u, history)
-            trial[solver.act] = u
-            trial, J = solver.newton(trial)
-            S, v, a = solver.analyse(trial, J, R[k], A[k])
-        except MechatronError as exc:
-            failures.append({"sample": k, **{name: u[j] for j, name in enumerate(names)}, "reason": str(exc)})
+        if k in failures:
             history.clear()
             continue
-        q = trial
-        # Remember q with one more Newton correction (free: J_d⁻¹ is known) so that the closure tolerance left in
-        # each accepted sample does not build up through the extrapolation.
-        polished = q.copy()
-        if len(solver.dep) and solver.nrows:
-            polished[solver.dep] -= solver.inverse @ solver.residual
-        history = [history[-1], (u, polished, S)] if history else [(u, polished, S)]
+        if history and not same_step[k]:
+            del history[:-1]  # the step changed: only the last solution is a good start
+        trial = _extrapolate(history, q)
+        trial[act] = U[k]
+        try:
+            trial, J = solver.newton(trial)
+        except MechatronError as exc:
+            failures[k] = str(exc)
+            history.clear()
+            continue
         ok[k] = True
-        Qs[k], Vs[k], As[k] = q, v, a
-        position[k] = states.position[frames, :2]
-        angle[k] = states.angle[frames]
-        twist[k] = states.velocity[frames]
-        # classical acceleration = its value at q̈ = 0 plus J q̈
-        accel[k] = states.acceleration0[frames] + states.jacobian[frames] @ a
-        if progress is not None and (k % step == 0 or k == n - 1):
+        Q[k], Jc[k], H[k], Jf[k] = trial, J, states.homogeneous, states.jacobian
+        q = trial
+        if polish:  # remember q after one more (quasi-)Newton step, so that the tolerance does not build up
+            if correction is None or k % 16 == 0:
+                correction = np.linalg.pinv(J[:, dep])
+            q = trial.copy()
+            q[dep] -= correction @ solver.residual
+        history.append(q)
+        if len(history) > 4:
+            del history[0]
+        if progress is not None and (k % every == 0 or k == n - 1):
             progress(k + 1, n)
 
-    return _result(mech, U, ok, Qs, Vs, As, position, angle, twist, accel, wanted, points, links, measures,
-                   failures, names)
+    # velocities of all samples at once: q̇ = S q̇_a with S = [I; −J_d⁻¹ J_a]
+    good = np.flatnonzero(ok)
+    S, singular = _velocity_maps(solver, Jc[good])
+    for k in good[singular]:
+        failures[int(k)] = (f"{mech.name} is at a singular position ("
+                            + ", ".join(f"{name} = {U[k, j]:.6g}" for j, name in enumerate(names))
+                            + "): the actuated coordinates do not determine the motion")
+    good, S = good[~singular], S[~singular]
+    V = np.einsum("kij,kj->ki", S, R[good])
+    # pass 2: J̇ q̇ and the frames' accelerations at q̈ = 0 from Pinocchio, then q̈ of all samples at once
+    drift, accel0 = _drifts(solver, Q[good], V, H[good], Jf[good])
+    Aq = np.einsum("kij,kj->ki", S, A[good])
+    if len(dep) and system.nrows:
+        Jg = Jc[good]
+        rhs = np.einsum("kij,kj->ki", Jg[:, :, act], A[good]) + drift
+        Aq[:, dep] = -_batched_solve(Jg[:, :, dep], rhs)
+
+    frames = [system.index[name] for name in wanted]
+    Jw = Jf[good][:, frames]
+    twist = np.einsum("kfij,kj->kfi", Jw, V)
+    accel = accel0[:, frames] + np.einsum("kfij,kj->kfi", Jw, Aq)  # classical acceleration: at q̈ = 0 plus J q̈
+    failure_rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
+                    for k in sorted(failures)]
+    return _result(mech, U, good, Q[good], V, Aq, H[good][:, frames], twist, accel, wanted, points, links,
+                   measures, failure_rows, names)
 
 
-def _predict(q: np.ndarray, u: np.ndarray, history: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> np.ndarray:
-    """Starting point of Newton's method for the inputs u.
-
-    With one previous solution (u1, q1, S1): q1 + S1 (u − u1). With two, on a straight input path: the cubic Hermite
-    curve through (q0, S0) at u0 and (q1, S1) at u1, extrapolated to u, so the predicted closure residual is of
-    fourth order in the step and most samples need no Newton step at all.
-    """
-    if not history:
-        return q.copy()
-    u1, q1, S1 = history[-1]
-    delta = u - u1
-    if len(history) == 2:
-        u0, q0, S0 = history[0]
-        step = u1 - u0
-        r = float(delta @ step) / float(step @ step)
-        if np.abs(delta - r * step).max() <= 1e-12 * (1 + abs(r)) * np.abs(step).max():
-            s = 1.0 + r  # Hermite parameter: 0 at u0, 1 at u1
-            s2, s3 = s * s, s * s * s
-            return ((2 * s3 - 3 * s2 + 1) * q0 + (s3 - 2 * s2 + s) * (S0 @ step)
-                    + (3 * s2 - 2 * s3) * q1 + (s3 - s2) * (S1 @ step))
-    return q1 + S1 @ delta
+def _extrapolate(history: list[np.ndarray], q: np.ndarray) -> np.ndarray:
+    """Starting point of Newton's method: the polynomial through the last (up to four) solutions, reached in equal
+    input steps, extrapolated one more step (a cubic leaves a fourth-order error, so most samples need no Newton
+    step); ``q`` when there is no history."""
+    m = len(history)
+    if m >= 4:
+        return 4 * history[-1] - 6 * history[-2] + 4 * history[-3] - history[-4]
+    if m == 3:
+        return 3 * history[-1] - 3 * history[-2] + history[-3]
+    if m == 2:
+        return 2 * history[-1] - history[-2]
+    return (history[-1] if m else q).copy()
 
 
-def _result(mech, U, ok, Qs, Vs, As, position, angle, twist, accel, frame_names, points, links, measures, failures,
-            names) -> SweepResult:
+def _batched_solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Solve A_k x_k = b_k for a stack (least squares when A_k is not square)."""
+    if A.shape[1] == A.shape[2]:
+        return np.linalg.solve(A, b[..., None])[..., 0]
+    return np.einsum("kij,kj->ki", np.linalg.pinv(A), b)
+
+
+def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """S_k (n × nv × n_act) for a stack of closure Jacobians, and which samples are singular."""
+    n, nv, na = len(Jc), solver.mech.nv, len(solver.act)
+    S = np.broadcast_to(solver._identity, (n, nv, na)).copy()
+    singular = np.zeros(n, dtype=bool)
+    if not (len(solver.dep) and solver.nrows) or n == 0:
+        return S, singular
+    Jd, Ja = Jc[:, :, solver.dep], Jc[:, :, solver.act]
+    square = Jd.shape[1] == Jd.shape[2]
+    with np.errstate(all="ignore"):
+        try:
+            inverse = np.linalg.inv(Jd) if square else np.linalg.pinv(Jd)
+        except np.linalg.LinAlgError:  # some sample is exactly singular: invert one by one
+            inverse = np.full((n, Jd.shape[2], Jd.shape[1]), np.inf)
+            for k in range(n):
+                try:
+                    inverse[k] = np.linalg.inv(Jd[k])
+                except np.linalg.LinAlgError:
+                    pass
+        singular = ~(np.abs(inverse).max(axis=(1, 2)) <= SINGULAR_RATIO)
+        S[:, solver.dep] = -inverse @ Ja
+    return S, singular
+
+
+def _drifts(solver: LoopSolver, Q: np.ndarray, V: np.ndarray, H: np.ndarray, Jf: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """Closure drift J̇ q̇ and the frames' classical accelerations at q̈ = 0 of every sample."""
+    system = solver.system
+    states = system.states
+    n = len(Q)
+    accel0 = np.zeros((n, len(system.frame_names), 6))
+    drift = np.zeros((n, system.nrows))
+    for k in range(n):
+        states.restore(H[k], Jf[k])
+        drift[k] = system.drift(Q[k], V[k])
+        accel0[k] = states.acceleration0
+    return drift, accel0
+
+
+def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: np.ndarray, A: np.ndarray,
+            H: np.ndarray, twist: np.ndarray, accel: np.ndarray, frame_names: list[str], points: list[str],
+            links: list[str], measures: list[Measure], failures: list[dict], names: list[str]) -> SweepResult:
+    """The table of the samples ``good`` (their q, v, a; frame placements H, twists and accelerations)."""
     index = {name: j for j, name in enumerate(frame_names)}
-    columns: dict[str, np.ndarray] = {"sample": np.flatnonzero(ok)}
+    columns: dict[str, np.ndarray] = {"sample": good}
     for j, name in enumerate(names):
-        columns[name] = U[ok, j]
+        columns[name] = U[good, j]
     for i, joint in enumerate(mech.joint_names):
-        columns[f"q_{joint}"] = Qs[ok, i]
-        columns[f"v_{joint}"] = Vs[ok, i]
-        columns[f"a_{joint}"] = As[ok, i]
+        columns[f"q_{joint}"], columns[f"v_{joint}"], columns[f"a_{joint}"] = Q[:, i], V[:, i], A[:, i]
+    position = H[:, :, :2, 3]
     for p in points:
         j = index[p]
-        columns[f"{p}_x"], columns[f"{p}_y"] = position[ok, j, 0], position[ok, j, 1]
-        columns[f"{p}_vx"], columns[f"{p}_vy"] = twist[ok, j, 0], twist[ok, j, 1]
-        columns[f"{p}_v"] = np.hypot(twist[ok, j, 0], twist[ok, j, 1])
-        columns[f"{p}_ax"], columns[f"{p}_ay"] = accel[ok, j, 0], accel[ok, j, 1]
-        columns[f"{p}_a"] = np.hypot(accel[ok, j, 0], accel[ok, j, 1])
+        columns[f"{p}_x"], columns[f"{p}_y"] = position[:, j, 0], position[:, j, 1]
+        columns[f"{p}_vx"], columns[f"{p}_vy"] = twist[:, j, 0], twist[:, j, 1]
+        columns[f"{p}_v"] = np.hypot(twist[:, j, 0], twist[:, j, 1])
+        columns[f"{p}_ax"], columns[f"{p}_ay"] = accel[:, j, 0], accel[:, j, 1]
+        columns[f"{p}_a"] = np.hypot(accel[:, j, 0], accel[:, j, 1])
     for link in links:
         j = index[link]
-        columns[f"{link}_angle"] = np.unwrap(angle[ok, j])
-        columns[f"{link}_omega"], columns[f"{link}_epsilon"] = twist[ok, j, 5], accel[ok, j, 5]
-    positions = position[ok]
+        columns[f"{link}_angle"] = np.unwrap(np.arctan2(H[:, j, 1, 0], H[:, j, 0, 0]))
+        columns[f"{link}_omega"], columns[f"{link}_epsilon"] = twist[:, j, 5], accel[:, j, 5]
     for m in measures:
-        columns[m.name] = np.array([_measure_value(m, lambda p, row=row: row[index[p]]) for row in positions])
+        columns[m.name] = measure_values(m, {p: position[:, index[p]] for p in m.points})
     failure_columns = ["sample", *names, "reason"]
-    return SweepResult(mech, pd.DataFrame(columns), pd.DataFrame(failures, columns=failure_columns),
-                       Qs[ok], Vs[ok], As[ok], measures)
+    return SweepResult(mech, pd.DataFrame(columns), pd.DataFrame(failures, columns=failure_columns), Q, V, A,
+                       measures)

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..model import Mechanism
-from . import excavator, grab, textbook
+from . import bucket, excavator, grab, textbook
 
 
 @dataclass(frozen=True)
@@ -25,4 +25,5 @@ BUILTINS: dict[str, Builtin] = {
     "slotted_link": Builtin(textbook.slotted_link, textbook.slotted_link.__doc__.splitlines()[0]),
     "front_shovel": Builtin(excavator.front_shovel, excavator.front_shovel.__doc__.splitlines()[0]),
     "grab": Builtin(grab.grab, grab.grab.__doc__.splitlines()[0]),
+    "six_bar_bucket": Builtin(bucket.six_bar_bucket, bucket.six_bar_bucket.__doc__.splitlines()[0]),
 }
