@@ -290,6 +290,13 @@ def cmd_linkage(args: argparse.Namespace) -> int:
                    progress=progress_bar(f"{mech.name}: {args.samples} positions") if args.samples >= 2000 else None)
     summary = summarize_sweep(result)
     written: list[str] = []
+    if args.plans:
+        from .plots import plot_plans
+
+        at = parse_assignments(args.at) if args.at else {}
+        q = mech.assemble(at)
+        v = mech.velocity(q, {name: mech.input_rates.get(name, 1.0) for name in mech.actuated})
+        written.append(str(plot_plans(mech, q, v, mech.acceleration(q, v), args.plans)))
     if args.csv:
         written += [str(p) for p in result.to_csv(args.csv)]
     if args.plot:
@@ -489,6 +496,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--samples", type=int, default=200, help="number of positions (default 200)")
     p.add_argument("--csv", metavar="FILE", help="write the table of every position")
     p.add_argument("--plot", metavar="FILE", help="write a PNG: the linkage at several positions and its curves")
+    p.add_argument("--plans", metavar="FILE", help="write the velocity and acceleration plans (PNG) at one position")
+    p.add_argument("--at", action="append", metavar="INPUT=VALUE,...",
+                   help="the position of --plans (actuated coordinates, SI units; default: the reference position)")
     p.set_defaults(func=cmd_linkage)
 
     p = sub.add_parser("excavator", help="front-shovel working device: design table, special positions, envelope")

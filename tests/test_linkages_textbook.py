@@ -283,3 +283,18 @@ def test_linkage_command(tmp_path, capsys):
     assert (tmp_path / "s.csv").exists() and (tmp_path / "s.png").exists()
     assert main(["linkage", "puma560"]) == 2
     assert "no closed loops" in capsys.readouterr().err
+    assert main(["linkage", "crank_slider", "--samples", "20", "--plans", str(tmp_path / "plans.png"),
+                 "--at", "q1=0.5"]) == 0
+    assert (tmp_path / "plans.png").stat().st_size > 20_000
+
+
+@pytest.mark.parametrize("name", ["crank_slider", "scotch_yoke", "slotted_link", "six_bar_bucket", "front_shovel",
+                                  "seven_bar", "grab"])
+def test_every_builtin_mechanism_sweeps_from_the_command_line(name, capsys):
+    import json
+
+    from mechatron.cli import main
+
+    assert main(["linkage", name, "--samples", "25", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["assembled"] == 25 and summary["mobility"] == len(summary["actuated"])

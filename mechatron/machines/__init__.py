@@ -10,7 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..model import Mechanism
-from . import bucket, excavator, grab, textbook
+from . import bucket, excavator, grab, seven_bar, textbook
 
 
 @dataclass(frozen=True)
@@ -26,4 +26,5 @@ BUILTINS: dict[str, Builtin] = {
     "front_shovel": Builtin(excavator.front_shovel, excavator.front_shovel.__doc__.splitlines()[0]),
     "grab": Builtin(grab.grab, grab.grab.__doc__.splitlines()[0]),
     "six_bar_bucket": Builtin(bucket.six_bar_bucket, bucket.six_bar_bucket.__doc__.splitlines()[0]),
+    "seven_bar": Builtin(seven_bar.seven_bar, seven_bar.seven_bar.__doc__.splitlines()[0]),
 }
