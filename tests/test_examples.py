@@ -19,3 +19,13 @@ def test_arm_workspace_example(tmp_path):
     words = proc.stdout.split()
     assert float(words[words.index("…") + 1]) <= 0.9 + 1e-12
     assert float(words[words.index("manipulability") + 1].rstrip(";")) <= 0.2 + 1e-12
+
+
+def test_bucket_linkage_example(tmp_path):
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "bucket_linkage.py"), "--volume", "0.5",
+                           "--csv", str(tmp_path / "b.csv"), "--plot", str(tmp_path / "b.png")],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert "c = 0.4103 m, L2 = 0.4931 m" in proc.stdout  # as tests/test_bucket.py
+    assert "turns 160.000000°" in proc.stdout
+    assert (tmp_path / "b.png").exists() and (tmp_path / "b.csv").exists()
