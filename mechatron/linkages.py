@@ -54,8 +54,8 @@ class LoopSolver:
         self.dep = np.array([i for i in range(model.nq) if i not in set(self.act)], dtype=int)
         self.lower = model.lowerPositionLimit.copy()
         self.upper = model.upperPositionLimit.copy()
-        self._identity = np.zeros((model.nv, len(self.act)))  # S with the actuated rows filled
-        self._identity[self.act, np.arange(len(self.act))] = 1.0
+        self.selection = np.zeros((model.nv, len(self.act)))  # S with only the actuated rows (the identity) filled
+        self.selection[self.act, np.arange(len(self.act))] = 1.0
 
     # ------------------------------------------------------------------------------------------ helpers
     def _inputs(self, values: Mapping[str, float] | np.ndarray, what: str) -> dict[int, float]:
@@ -80,7 +80,9 @@ class LoopSolver:
             return 0
         return int(np.linalg.matrix_rank(J, tol=1e-9 * max(1.0, np.abs(J).max())))
 
-    def _solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    @staticmethod
+    def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """A x = b (least squares if A is not square or is singular)."""
         if A.shape[0] == A.shape[1]:
             try:
                 return np.linalg.solve(A, b)
@@ -156,11 +158,11 @@ class LoopSolver:
             if error < TOLERANCE:
                 if polish and error > 0.0:
                     q = q.copy()
-                    q[self.dep] += self._solve(J[:, self.dep], -phi)
+                    q[self.dep] += self.solve(J[:, self.dep], -phi)
                     phi, J = self.system.evaluate(q)
                     self.residual = phi
                 return q, J
-            step = self._solve(J[:, self.dep], -phi)
+            step = self.solve(J[:, self.dep], -phi)
             t = 1.0
             while True:  # halve the step while it makes the residual grow (keeps far guesses on their branch)
                 trial = q.copy()
@@ -196,7 +198,7 @@ class LoopSolver:
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(S, q̇, q̈) at an assembled q with closure Jacobian J, for actuated rates and accelerations in
         ``mech.actuated`` order: q̇ = S q̇_a, J_d q̈_d = −J_a q̈_a − J̇ q̇. Leaves J_d⁻¹ in :attr:`inverse`."""
-        S = self._identity.copy()
+        S = self.selection.copy()
         a = S @ accelerations
         if len(self.dep) and J.size:
             inverse = self.inverse = self._dependent_inverse(q, J)
@@ -298,7 +300,8 @@ def transfer_functions(mech: Mechanism, q: np.ndarray, input: str, *, point: str
 
 
 # ----------------------------------------------------------------------------------------- geometry checks
-def _positions(mech: Mechanism, q: np.ndarray, *points: str) -> list[np.ndarray]:
+def point_positions(mech: Mechanism, q: np.ndarray, *points: str) -> list[np.ndarray]:
+    """World (x, y) of the given points at q (m)."""
     pin.forwardKinematics(mech.model, mech.data, q)
     return [pin.updateFramePlacement(mech.model, mech.data, mech.frame_id(p)).translation[:2].copy()
             for p in points]
@@ -307,7 +310,7 @@ def _positions(mech: Mechanism, q: np.ndarray, *points: str) -> list[np.ndarray]
 def line_angle(mech: Mechanism, q: np.ndarray, a: str, b: str, c: str, d: str) -> float:
     """Angle (rad, in [0, π/2]) between the lines ab and cd: the transmission angle when ab is the coupler or
     cylinder and cd the driven lever (90° is ideal; designs require at least 30° or so)."""
-    pa, pb, pc, pd = _positions(mech, q, a, b, c, d)
+    pa, pb, pc, pd = point_positions(mech, q, a, b, c, d)
     u, w = pb - pa, pd - pc
     cosine = abs(u @ w) / (np.linalg.norm(u) * np.linalg.norm(w))
     return math.acos(min(1.0, cosine))
@@ -316,12 +319,12 @@ def line_angle(mech: Mechanism, q: np.ndarray, a: str, b: str, c: str, d: str) -
 def lever_arm(mech: Mechanism, q: np.ndarray, base: str, eye: str, pivot: str) -> float:
     """Distance (m) from ``pivot`` to the line of action base–eye of a cylinder: the arm of its force about the
     pivot; for a cylinder across a revolute joint it equals dL/dθ."""
-    pa, pb, pc = _positions(mech, q, base, eye, pivot)
+    pa, pb, pc = point_positions(mech, q, base, eye, pivot)
     axis = pb - pa
     return abs(axis[0] * (pc - pa)[1] - axis[1] * (pc - pa)[0]) / np.linalg.norm(axis)
 
 
 def distance(mech: Mechanism, q: np.ndarray, a: str, b: str) -> float:
     """Distance (m) between two points."""
-    pa, pb = _positions(mech, q, a, b)
+    pa, pb = point_positions(mech, q, a, b)
     return float(np.linalg.norm(pb - pa))

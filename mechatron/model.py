@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -129,6 +129,7 @@ class Mechanism:
         measures: Geometric quantities to report along a motion (transmission angles, lever arms).
         input_rates: Nominal rates of the actuated coordinates (m/s or rad/s) for sweeps; 1 where not given.
         cylinders: Hydraulic cylinders by coordinate name.
+        branches: Named assembled configurations, one per assembly branch (``reference`` is always one of them).
     """
 
     name: str
@@ -149,9 +150,12 @@ class Mechanism:
     measures: list[Measure] = field(default_factory=list)
     input_rates: dict[str, float] = field(default_factory=dict)
     cylinders: dict[str, Cylinder] = field(default_factory=dict)
+    branches: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.data = self.model.createData()
+        if self.reference_q is not None:
+            self.branches = {"reference": np.asarray(self.reference_q, dtype=float), **self.branches}
         if not self.actuated:
             self.actuated = self.joint_names
         self._loop_solver = None
@@ -213,6 +217,14 @@ class Mechanism:
         solver = self.loop_solver()
         return solver.nrows - solver.rank(self.reference_q if q is None else q)
 
+    def with_actuated(self, actuated: list[str]) -> Mechanism:
+        """The same mechanism driven by other coordinates (e.g. a crank-slider driven by its slider)."""
+        return replace(self, actuated=list(actuated))
+
+    def with_closures(self, closures: list[Any]) -> Mechanism:
+        """The same tree with other closures."""
+        return replace(self, closures=list(closures))
+
     def loop_solver(self):
         """The :class:`~mechatron.linkages.LoopSolver` of this mechanism (built once)."""
         if self._loop_solver is None:
@@ -222,12 +234,20 @@ class Mechanism:
         return self._loop_solver
 
     # ------------------------------------------------------------------------------- closed-loop analysis
-    def assemble(self, inputs: Mapping[str, float] | None = None, guess: np.ndarray | None = None) -> np.ndarray:
+    def assemble(self, inputs: Mapping[str, float] | None = None, guess: np.ndarray | None = None,
+                 branch: str | None = None) -> np.ndarray:
         """Configuration q (length nq) with the actuated coordinates at ``inputs`` and all closures satisfied.
 
-        Newton iterations start from ``guess`` (default: the reference configuration, i.e. its assembly branch).
+        The solution continues from ``guess`` (a previous solution) or from the named assembly ``branch`` (one of
+        :attr:`branches`; default the reference configuration) and stays on its branch.
         Raises :class:`~mechatron.errors.UnreachableError` if the loops cannot close.
         """
+        if branch is not None:
+            if branch not in self.branches:
+                raise unknown_name_error(f"assembly branch of {self.name}", branch, list(self.branches))
+            if guess is not None:
+                raise InputError("give a guess or a branch, not both")
+            guess = self.branches[branch]
         return self.loop_solver().assemble(inputs or {}, guess)
 
     def velocity(self, q: np.ndarray, rates: Mapping[str, float]) -> np.ndarray:

@@ -248,11 +248,15 @@ class PlanarBuilder:
             self._point(p)
         self.measures.append(Measure(name, "lever_arm", (base, eye, pivot)))
 
+    def reference_configuration(self) -> np.ndarray:
+        """The joint coordinates of the drawing."""
+        return np.array(self.reference, dtype=float)
+
     # ---------------------------------------------------------------------------------------------- build
     def build(self, *, actuated: Sequence[str], description: str = "", parameters: dict[str, Parameter] | None = None,
               rebuild: Callable[[dict[str, float]], Mechanism] | None = None, notes: Sequence[str] = (),
-              tool: str | None = None, check: bool = True, input_rates: dict[str, float] | None = None
-              ) -> Mechanism:
+              tool: str | None = None, check: bool = True, input_rates: dict[str, float] | None = None,
+              branches: dict[str, np.ndarray] | None = None) -> Mechanism:
         """The :class:`Mechanism`; checks that the drawing satisfies every closure (to 1e-9 m)."""
         mech = Mechanism(
             name=self.name, model=self.model, parameters=dict(parameters or {}), description=description,
@@ -260,7 +264,7 @@ class PlanarBuilder:
             reference_q=np.array(self.reference, dtype=float),
             points=[name for name, p in self.points.items() if p.report], sketch=list(self.sketch),
             notes=list(notes), measures=list(self.measures), input_rates=dict(input_rates or {}),
-            cylinders=dict(self.cylinders),
+            cylinders=dict(self.cylinders), branches=dict(branches or {}),
         )
         if check and mech.closures:
             residual, _ = mech.loop_solver().system.evaluate(mech.reference_q)

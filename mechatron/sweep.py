@@ -254,7 +254,7 @@ def _batched_solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
 def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """S_k (n × nv × n_act) for a stack of closure Jacobians, and which samples are singular."""
     n, nv, na = len(Jc), solver.mech.nv, len(solver.act)
-    S = np.broadcast_to(solver._identity, (n, nv, na)).copy()
+    S = np.broadcast_to(solver.selection, (n, nv, na)).copy()
     singular = np.zeros(n, dtype=bool)
     if not (len(solver.dep) and solver.nrows) or n == 0:
         return S, singular

@@ -215,9 +215,7 @@ def test_sweep_marks_unreachable_samples_instead_of_nan_rows(tmp_path):
 
 def test_singular_position_is_reported():
     # the crank-slider driven by its slider (xC) is singular at the dead centre (crank and rod aligned)
-    mech = mechatron.load("crank_slider")
-    mech.actuated = ["xC"]
-    mech._loop_solver = None
+    mech = mechatron.load("crank_slider").with_actuated(["xC"])
     dead_centre = np.array([0.0, 0.0, 0.5])  # crank and rod along +x: an exact solution of the closure
     assert np.abs(mech.loop_solver().system.evaluate(dead_centre)[0]).max() < 1e-15
     with pytest.raises(SingularityError, match="singular position"):
@@ -228,21 +226,24 @@ def test_branch_is_kept_and_chosen_by_guess():
     mech = mechatron.load("crank_slider")
     result = sweep(mech, samples=500)
     assert (result.table["C_x"] > 0.29).all()  # the slider stays on the +x branch over a full crank turn
-    # the other branch (slider at x = l1 cos q1 − √(…)) is reached from a guess on that side
-    q = mech.assemble({"q1": 0.3})
-    mirrored = q.copy()
-    mirrored[1] = math.pi - 2 * 0.3 - q[1]
-    mirrored[2] = 0.1 * math.cos(0.3) - math.sqrt(0.16 - 0.01 * math.sin(0.3) ** 2)
-    other = mech.assemble({"q1": 0.3}, guess=mirrored + 0.01)
-    assert mech.frame_placement(other, "C").translation[0] == pytest.approx(mirrored[2], abs=1e-12)
+    # the other branch (slider at x = l1 cos q1 − √(…)) by name, and from a rough guess on that side
+    left_x = 0.1 * math.cos(0.3) - math.sqrt(0.16 - 0.01 * math.sin(0.3) ** 2)
+    other = mech.assemble({"q1": 0.3}, branch="left")
+    assert mech.frame_placement(other, "C").translation[0] == pytest.approx(left_x, abs=1e-12)
+    rough = other + 0.01
+    rough[0] = 0.3
+    assert mech.frame_placement(mech.assemble({"q1": 0.3}, guess=rough), "C").translation[0] == pytest.approx(
+        left_x, abs=1e-12)
+    assert sweep(mech, samples=200, guess=mech.branches["left"]).table["C_x"].max() < -0.29
+    with pytest.raises(InputError, match="unknown assembly branch of crank_slider 'up'"):
+        mech.assemble({"q1": 0.3}, branch="up")
 
 
 def test_mobility_and_redundancy_of_a_spatial_pin():
     from mechatron.closures import Pin
 
-    mech = mechatron.load("crank_slider")
-    mech.closures = [Pin("C=C_slider (3 rows)", a="C", b="C_slider", planar=False)]
-    mech._loop_solver = None
+    mech = mechatron.load("crank_slider").with_closures([Pin("C=C_slider (3 rows)", a="C", b="C_slider",
+                                                              planar=False)])
     assert mech.mobility() == 1 and mech.redundant_closure_equations() == 1  # the z row repeats 0 = 0
 
 

@@ -339,9 +339,9 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
 
 def joint_angles(mech: Mechanism, q: np.ndarray) -> tuple[float, float, float]:
     """The report's (θ1, θ2, θ3) of an assembled configuration (rad)."""
-    from ..linkages import _positions
+    from ..linkages import point_positions
 
-    C, F, Q, V = _positions(mech, q, "C", "F", "Q", "V")
+    C, F, Q, V = point_positions(mech, q, "C", "F", "Q", "V")
     a_cf = math.atan2(*(F - C)[::-1])
     a_fc, a_fq = math.atan2(*(C - F)[::-1]), math.atan2(*(Q - F)[::-1])
     a_qf, a_qv = math.atan2(*(F - Q)[::-1]), math.atan2(*(V - Q)[::-1])

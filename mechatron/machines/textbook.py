@@ -27,7 +27,8 @@ def crank_slider(l1: float = 0.1, l2: float = 0.4, q1: float = math.pi / 3) -> M
 
     Position (4.18 example): x_C = l1 cos q1 + sqrt(l2² − l1² sin² q1). Actuated coordinate ``q1`` (crank angle);
     ``xC`` is the slider coordinate. Points A, B, C (slider pin), S2 (middle of the rod); links ``crank``, ``rod``,
-    ``slider``. Drawn with the slider on the +x side of A (the assembly branch) at crank angle ``q1``.
+    ``slider``. Drawn with the slider on the +x side of A at crank angle ``q1`` (branch ``right``, the reference);
+    branch ``left`` has the slider on the other side.
     """
     _check_positive("crank_slider", l1=l1, l2=l2)
     if l2 <= l1:
@@ -51,8 +52,11 @@ def crank_slider(l1: float = 0.1, l2: float = 0.4, q1: float = math.pi / 3) -> M
     b.line("rod", "B", "C")
     b.line("slider", "C_slider", "C_slider", kind="slider")
     params = {"l1": Parameter("l1", l1, "length", "crank AB"), "l2": Parameter("l2", l2, "length", "rod BC")}
+    # the other assembly branch: the slider on the far side, at x = l1 cos q1 − √(l2² − l1² sin² q1)
+    left = np.array([q1, math.atan2(-B[1], -math.sqrt(l2**2 - B[1] ** 2)) - q1, B[0] - math.sqrt(l2**2 - B[1] ** 2)])
     return b.build(actuated=["q1"], description=f"central crank-slider, crank l1 = {l1:g} m, rod l2 = {l2:g} m",
-                   parameters=params, tool="C", rebuild=lambda v: crank_slider(v["l1"], v["l2"], q1))
+                   parameters=params, tool="C", rebuild=lambda v: crank_slider(v["l1"], v["l2"], q1),
+                   branches={"right": b.reference_configuration(), "left": left})
 
 
 def scotch_yoke(l1: float = 0.1, q1: float = math.pi / 3) -> Mechanism:
