@@ -436,6 +436,146 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     return 0
 
 
+def _trajectory(mech: Mechanism, args: argparse.Namespace):
+    from .motion import cycle, read_trajectory
+
+    if bool(args.trajectory) == bool(args.move):
+        raise InputError("give either --trajectory FILE or --move SPEC")
+    if args.trajectory:
+        trajectory = read_trajectory(args.trajectory, mech)
+        if mech.closures and trajectory.q.shape[1] != len(mech.actuated):
+            raise InputError(f"{mech.name}: a trajectory file gives the actuated coordinates "
+                             f"{', '.join(mech.actuated)}")
+        return trajectory
+    n = len(mech.actuated) if mech.closures else mech.nq
+    points = []
+    for k, part in enumerate(filter(None, (p.strip() for p in args.move.split(";")))):
+        values = _floats(part, f"--move point {k + 1}")
+        if values.shape != (n,):
+            raise InputError(f"--move point {k + 1} needs {n} values, got {len(values)}")
+        points.append(np.where(_revolute_mask(mech), np.radians(values), values) if args.deg and not mech.closures
+                      else values)
+    if len(points) < 2:
+        raise InputError("--move needs at least two points separated by ';'")
+    limits = {key: _floats(getattr(args, key), f"--{key}") if getattr(args, key) else None
+              for key in ("vmax", "amax", "jmax")}
+    return cycle(None if mech.closures else mech, points, dwell=args.dwell, profile=args.profile, dt=args.dt,
+                 **{k: (v if v is None or len(v) > 1 else float(v[0])) for k, v in limits.items()})
+
+
+def cmd_dynamics(args: argparse.Namespace) -> int:
+    from .dynamics import trajectory_loads, with_payload
+
+    mech = _load(args)
+    if args.payload:
+        if mech.closures:
+            raise InputError("--payload is for serial arms (it is carried at the tool)")
+        mech = with_payload(mech, args.payload)
+    trajectory = _trajectory(mech, args)
+    result = trajectory_loads(mech, trajectory)
+    written = []
+    if args.csv:
+        from pathlib import Path
+
+        try:
+            result.table.to_csv(args.csv, index=False, float_format="%.10g")
+        except OSError as exc:
+            raise InputError(f"cannot write: {exc.strerror}", file=args.csv) from None
+        written.append(str(Path(args.csv)))
+    if args.plot:
+        written.append(str(_plot_loads(result, args.plot, mech)))
+    summary = result.summary
+    if args.json:
+        _print_json({"mechanism": mech.name, "duration": float(trajectory.t[-1] - trajectory.t[0]),
+                     "samples": len(trajectory.t), "coordinates": summary.to_dict(orient="records"),
+                     "files": written})
+        return 0
+    kind = "actuator" if mech.closures else "joint"
+    print(f"{mech.name}: {kind} loads over {trajectory.t[-1] - trajectory.t[0]:.3f} s ({len(trajectory.t)} samples)")
+    print(summary.to_string(index=False, float_format=lambda x: f"{x:.5g}"))
+    print("units: N·m and rad/s for revolute joints, N and m/s for prismatic ones and cylinders; power W, work J")
+    for path in written:
+        print(f"wrote {path}")
+    return 0
+
+
+def _plot_loads(result, path, mech: Mechanism):
+    from matplotlib.figure import Figure
+
+    from .plots import _save
+
+    table = result.table
+    fig = Figure(figsize=(10, 7), layout="constrained")
+    axes = fig.subplots(3, 1, sharex=True)
+    for name in result.names:
+        axes[0].plot(table["t"], table[f"qd_{name}"], label=name)
+        axes[1].plot(table["t"], table[f"tau_{name}"], label=name)
+        axes[2].plot(table["t"], table[f"power_{name}"], label=name)
+    for ax, label in zip(axes, ("speed (rad/s, m/s)", "force (N·m, N)", "power (W)")):
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=8, ncol=min(6, len(result.names)))
+    axes[0].set_title(f"{mech.name}: loads along the motion")
+    axes[2].set_xlabel("t (s)")
+    from pathlib import Path
+
+    _save(fig, Path(path))
+    return path
+
+
+def cmd_reduced(args: argparse.Namespace) -> int:
+    from .reduced import reduced_table
+    from .sweep import default_inputs
+
+    mech = _load(args)
+    if len(mech.actuated) != 1 or mech.mobility() != 1:
+        raise InputError(f"{mech.name} has {mech.mobility()} degrees of mobility; the reduced (one-mass) model needs 1")
+    name = args.input or mech.actuated[0]
+    if name not in mech.actuated:
+        raise InputError(f"--input must be the actuated coordinate of {mech.name}: {mech.actuated[0]}")
+    values = default_inputs(mech, args.samples)[name] if mech.closures else np.linspace(
+        mech.model.lowerPositionLimit[0], mech.model.upperPositionLimit[0], args.samples)
+    table = reduced_table(mech, name, values)
+    linear = _joint_kind(mech, mech.joint_id(name)) == "prismatic"
+    written = []
+    if args.csv:
+        table.to_csv(args.csv, index=False, float_format="%.10g")
+        written.append(args.csv)
+    if args.plot:
+        from matplotlib.figure import Figure
+
+        from .plots import _save
+
+        fig = Figure(figsize=(8, 6), layout="constrained")
+        top, bottom = fig.subplots(2, 1, sharex=True)
+        top.plot(table[name], table["J_reduced"])
+        top.set_ylabel("reduced mass (kg)" if linear else "reduced inertia (kg·m²)")
+        bottom.plot(table[name], table["M_reduced"])
+        bottom.set_ylabel("reduced force of gravity (N)" if linear else "reduced moment of gravity (N·m)")
+        bottom.set_xlabel(f"{name} ({'m' if linear else 'rad'})")
+        for ax in (top, bottom):
+            ax.grid(True, alpha=0.3)
+        top.set_title(f"{mech.name}: one-mass model reduced to {name} (eq. 6.8, 6.20)")
+        from pathlib import Path
+
+        _save(fig, Path(args.plot))
+        written.append(args.plot)
+    if args.json:
+        _print_json({"mechanism": mech.name, "input": name, "kind": "mass" if linear else "inertia",
+                     "table": table.to_dict(orient="list"), "files": written})
+        return 0
+    unit = ("kg", "N") if linear else ("kg·m²", "N·m")
+    print(f"{mech.name}: reduced {'mass' if linear else 'moment of inertia'} and {'force' if linear else 'moment'} of"
+          f" gravity, input {name}")
+    print(f"  J_reduced {table['J_reduced'].min():.6g} … {table['J_reduced'].max():.6g} {unit[0]}; "
+          f"M_reduced {table['M_reduced'].min():.6g} … {table['M_reduced'].max():.6g} {unit[1]}")
+    step = max(1, len(table) // 12)
+    print(table.iloc[::step].to_string(index=False, float_format=lambda x: f"{x:.6g}"))
+    for path in written:
+        print(f"wrote {path}")
+    return 0
+
+
 def cmd_demo(args: argparse.Namespace) -> int:
     from .demo import run
 
@@ -507,6 +647,31 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE", help="write the working-range plot (PNG)")
     p.add_argument("--json", action="store_true", help="print machine-readable JSON")
     p.set_defaults(func=cmd_excavator)
+
+    p = sub.add_parser("dynamics", help="joint torques or cylinder forces, speeds, power and energy along a motion")
+    _robot_arguments(p)
+    p.add_argument("--trajectory", metavar="FILE", help="CSV with t and one column per joint (or actuated input)")
+    p.add_argument("--move", metavar="Q0;Q1[;Q2...]",
+                   help="points to move through, each comma-separated (rad, m); closed loops: actuated inputs")
+    p.add_argument("--deg", action="store_true", help="revolute values of --move are in degrees")
+    p.add_argument("--profile", default="trapezoidal", choices=["triangular", "trapezoidal", "scurve", "quintic"])
+    p.add_argument("--vmax", help="velocity limit(s), one value or one per axis (default: the model's or 1)")
+    p.add_argument("--amax", help="acceleration limit(s) (default 5)")
+    p.add_argument("--jmax", help="jerk limit(s) for --profile scurve (default 50)")
+    p.add_argument("--dwell", type=float, default=0.0, help="rest at every point after the first (s)")
+    p.add_argument("--dt", type=float, default=0.005, help="sampling step (s)")
+    p.add_argument("--payload", type=float, default=0.0, help="payload mass at the tool (kg)")
+    p.add_argument("--csv", metavar="FILE", help="write every sample")
+    p.add_argument("--plot", metavar="FILE", help="write speeds, forces and power against time (PNG)")
+    p.set_defaults(func=cmd_dynamics)
+
+    p = sub.add_parser("reduced", help="reduced inertia (or mass) and moment (or force) of a 1-DOF mechanism")
+    _robot_arguments(p)
+    p.add_argument("--input", help="the input coordinate (default: the actuated one)")
+    p.add_argument("--samples", type=int, default=73)
+    p.add_argument("--csv", metavar="FILE")
+    p.add_argument("--plot", metavar="FILE", help="write J and M against the input (PNG)")
+    p.set_defaults(func=cmd_reduced)
 
     p = sub.add_parser("demo", help="a short tour: load a robot and print its kinematics")
     p.set_defaults(func=cmd_demo)

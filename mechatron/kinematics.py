@@ -37,7 +37,7 @@ def reference_frame(reference: str) -> pin.ReferenceFrame:
         raise InputError(f"unknown reference {reference!r}; expected one of: {', '.join(REFERENCES)}") from None
 
 
-def _samples(mech: Mechanism, q, *rates) -> tuple[bool, np.ndarray, list[np.ndarray]]:
+def samples(mech: Mechanism, q, *rates) -> tuple[bool, np.ndarray, list[np.ndarray]]:
     """Validate shapes: (is a single sample, Q of shape (N, nq), each rate of shape (N, nv))."""
     q = mech.check_configuration(q)
     single = q.ndim == 1
@@ -77,7 +77,7 @@ def frame_placement(mech: Mechanism, q, frame: str = "tool") -> pin.SE3:
 
 
 def _placements(mech: Mechanism, q, frame: str) -> tuple[bool, np.ndarray, np.ndarray]:
-    single, Q, _ = _samples(mech, q)
+    single, Q, _ = samples(mech, q)
     fid = mech.frame_id(frame)
     model, data = mech.model, mech.data
     homogeneous = np.empty((len(Q), 4, 4))
@@ -108,7 +108,7 @@ def fk_and_jacobian(mech: Mechanism, q, frame: str = "tool", reference: Referenc
     maps q̇ to the frame's twist [v; ω] in ``reference`` (:func:`reference_frame`); its linear rows in
     ``"world_aligned"`` are ∂r/∂q of eq. 4.47.
     """
-    _, Q, _ = _samples(mech, q)
+    _, Q, _ = samples(mech, q)
     fid = mech.frame_id(frame)
     rf = reference_frame(reference)
     model, data = mech.model, mech.data
@@ -150,7 +150,7 @@ def _frame_motion(mech: Mechanism, q, v, a, frame: str, point=None):
     """World linear velocity of the point, angular velocity, and (if ``a`` is given) the point's classical linear
     acceleration and the angular acceleration of the body of ``frame``; each (N, 3)."""
     p = _point(point)
-    single, Q, rates = _samples(mech, q, v) if a is None else _samples(mech, q, v, a)
+    single, Q, rates = samples(mech, q, v) if a is None else samples(mech, q, v, a)
     fid = mech.frame_id(frame)
     model, data = mech.model, mech.data
     n = len(Q)
@@ -207,7 +207,7 @@ def angular_acceleration(mech: Mechanism, q, v, a, link: str) -> np.ndarray:
 
 def _link_motion(mech: Mechanism, q, v, a=None) -> tuple[bool, np.ndarray, np.ndarray | None]:
     """World angular velocity and acceleration of every joint's body: (N, njoints−1, 3) each."""
-    single, Q, rates = _samples(mech, q, v) if a is None else _samples(mech, q, v, a)
+    single, Q, rates = samples(mech, q, v) if a is None else samples(mech, q, v, a)
     model, data = mech.model, mech.data
     n, nb = len(Q), model.njoints - 1
     omega = np.empty((n, nb, 3))

@@ -138,12 +138,19 @@ class FrontShovelDesign:
     bucket_ratio: float = 1.7
     arm_ratio_k: float = 1.0  # k = e_start/e_end for boom and stick
     boom_cylinders: int = 2
+    # masses (kg), centres at mid-link; the report gives none: illustrative values for a 46 t front shovel
+    boom_mass: float = 4500.0
+    stick_mass: float = 2200.0
+    bucket_mass: float = 3800.0
 
     def __post_init__(self) -> None:
         for name in ("max_digging_radius", "max_digging_depth", "max_digging_height", "min_digging_radius", "boom",
                      "stick", "bucket", "boom_cylinder_lever", "stick_cylinder_lever", "bucket_cylinder_lever"):
             if not getattr(self, name) > 0:
                 raise InputError(f"front shovel design: {name} must be > 0 m, got {getattr(self, name)!r}")
+        for name in ("boom_mass", "stick_mass", "bucket_mass"):
+            if not getattr(self, name) >= 0:
+                raise InputError(f"front shovel design: {name} must be >= 0 kg, got {getattr(self, name)!r}")
 
 
 @dataclass(frozen=True)
@@ -303,13 +310,17 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
     b.point("C", GROUND, C)
     b.point("A", GROUND, A)
     b.point("ground_x", GROUND, (C[0] + 1.0, C[1]), report=False)
-    boom_body = b.revolute("boom", "C", toward=F, coordinate="theta1", limits=shovel.theta1)
+    def bar(mass: float, start: np.ndarray, end: np.ndarray) -> dict:
+        return {"mass": mass, "com": (start + end) / 2, "inertia": mass * float(np.sum((end - start) ** 2)) / 12}
+
+    boom_body = b.revolute("boom", "C", toward=F, coordinate="theta1", limits=shovel.theta1,
+                           **bar(d.boom_mass, C, F))
     for name, point in (("F", F), ("B", B), ("D", D)):
         b.point(name, boom_body, point)
-    stick_body = b.revolute("stick", "F", toward=Q, coordinate="stick_angle")
+    stick_body = b.revolute("stick", "F", toward=Q, coordinate="stick_angle", **bar(d.stick_mass, F, Q))
     for name, point in (("Q", Q), ("E", E), ("G", G)):
         b.point(name, stick_body, point)
-    bucket_body = b.revolute("bucket", "Q", toward=V, coordinate="bucket_angle")
+    bucket_body = b.revolute("bucket", "Q", toward=V, coordinate="bucket_angle", **bar(d.bucket_mass, Q, V))
     for name, point in (("V", V), ("K", K)):
         b.point(name, bucket_body, point)
     b.cylinder("L1", "A", "B", stroke=boom.stroke, count=d.boom_cylinders)
@@ -323,7 +334,7 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
         base, eye = b.cylinders[cyl].base, b.cylinders[cyl].eye
         b.transmission_angle(f"{name}_transmission_angle", base, eye, pivot, lever_end, minimum_deg=30.0)
         b.lever_arm(f"{name}_lever_arm", base, eye, pivot)
-    params = {name: Parameter(name, float(value), "ratio" if name.endswith(("_ratio", "_k")) else "length",
+    params = {name: Parameter(name, float(value), "ratio" if name.endswith(("_ratio", "_k", "_mass")) else "length",
                               f"design input {name}")
               for name, value in asdict(d).items() if isinstance(value, float) and not name.endswith("_deg")}
 
@@ -530,3 +541,86 @@ def report_comparison(shovel: FrontShovel | None = None) -> list[dict]:
         "over the printed triangle's 110° sweep the angle at K falls to 22.3°; the report itself concludes (line "
         "374) that the four-bar bucket linkage cannot turn the bucket the required 130° with γ >= 30°")
     return rows
+
+
+# ------------------------------------------------------------------------------------------------ loads
+@dataclass(frozen=True)
+class CylinderSpec:
+    """Bore and rod diameters (m) of one hydraulic cylinder; ``count`` of them act side by side."""
+
+    bore: float
+    rod: float
+    count: int = 1
+
+    def __post_init__(self) -> None:
+        if not (self.bore > self.rod > 0):
+            raise InputError(f"cylinder: need bore > rod > 0 m, got bore {self.bore:g}, rod {self.rod:g}")
+
+    @property
+    def piston_area(self) -> float:
+        return math.pi * self.bore**2 / 4
+
+    @property
+    def annulus_area(self) -> float:
+        return math.pi * (self.bore**2 - self.rod**2) / 4
+
+    def pressure(self, force: float) -> float:
+        """Pressure (Pa) that makes the total force ``force`` (N, > 0 pushing the rod out): on the piston side when
+        pushing, on the rod side when pulling."""
+        per_cylinder = force / self.count
+        return per_cylinder / self.piston_area if per_cylinder >= 0 else -per_cylinder / self.annulus_area
+
+    def force(self, pressure: float, extending: bool = True) -> float:
+        """Total force (N) at ``pressure`` (Pa) on the piston (extending) or the annulus (retracting)."""
+        return pressure * self.count * (self.piston_area if extending else self.annulus_area)
+
+
+#: Illustrative cylinders of a 46 t front shovel (the report gives none): twin boom, stick and bucket cylinders.
+DEFAULT_CYLINDERS = {"L1": CylinderSpec(0.180, 0.125, 2), "L2": CylinderSpec(0.200, 0.140),
+                     "L3": CylinderSpec(0.180, 0.125)}
+#: Relief pressure of the working circuits (Pa).
+RELIEF_PRESSURE = 32e6
+
+#: Which cylinder turns the bucket lip about which pivot (ISO 6015: arm and bucket cylinder tool forces).
+TOOL_FORCES = {"arm": ("L2", "F"), "bucket": ("L3", "Q")}
+
+
+def tool_forces(mech: Mechanism, q: np.ndarray, cylinders: dict[str, CylinderSpec] | None = None,
+                pressure: float = RELIEF_PRESSURE) -> dict[str, dict[str, float]]:
+    """Calculated tool forces at the lip V (N) in the manner of ISO 6015: one cylinder at ``pressure`` with the others
+    held, the force tangential to the arc the lip describes about the arm pivot F (stick cylinder) or the bucket
+    pivot Q (bucket cylinder). By virtual power F_tool = F_cylinder · L̇ / |v_V| for the motion of that cylinder
+    alone; gravity and friction are not included (the standard's calculation method). For extending (piston side)
+    and retracting (rod side)."""
+    cylinders = cylinders or DEFAULT_CYLINDERS
+    out = {}
+    for name, (cylinder, pivot) in TOOL_FORCES.items():
+        v = mech.velocity(q, {cylinder: 1.0})
+        lip_speed = float(np.linalg.norm(mech.point_velocity(q, v, "V")[:2]))
+        spec = cylinders[cylinder]
+        out[name] = {"cylinder": cylinder, "pivot": pivot,
+                     "extending": spec.force(pressure, True) / lip_speed,
+                     "retracting": spec.force(pressure, False) / lip_speed}
+    return out
+
+
+def cylinder_loads(mech: Mechanism, configurations: np.ndarray, tooth_force: tuple[float, float] = (0.0, 0.0),
+                   cylinders: dict[str, CylinderSpec] | None = None) -> "pd.DataFrame":
+    """Static cylinder forces (N, > 0 pushing) and pressures (Pa) holding the front shovel at each configuration
+    against gravity and a force on the tooth tip V (world N): from the closed-loop inverse dynamics at rest."""
+    import pandas as pd
+
+    from ..constrained import inverse
+
+    cylinders = cylinders or DEFAULT_CYLINDERS
+    rows = []
+    zero = np.zeros(mech.nv)
+    for q in configurations:
+        forces, _ = inverse(mech, q, zero, zero, loads=[("V", [tooth_force[0], tooth_force[1], 0.0])])
+        tip = mech.frame_placement(q, "V").translation
+        row = {"V_x": tip[0], "V_y": tip[1]}
+        for name, force in forces.items():
+            row[f"{name}_force"] = force
+            row[f"{name}_pressure"] = cylinders[name].pressure(force)
+        rows.append(row)
+    return pd.DataFrame(rows)
