@@ -9,6 +9,17 @@ Quick start::
 """
 
 from .dh import DHLink, DHTable, Drive, Inertial, dh_mechanism
+from .dynamics import (
+    bias_forces,
+    forward_dynamics,
+    gravity_torques,
+    inverse_dynamics,
+    joint_wrenches,
+    kinetic_energy,
+    mass_matrix,
+    motor_loads,
+    potential_energy,
+)
 from .errors import InputError, MechatronError, SingularityError, UnreachableError
 from .kinematics import (
     angular_acceleration,
@@ -26,6 +37,7 @@ from .kinematics import (
 )
 from .library import available_robots, load
 from .model import Mechanism, Parameter
+from .reduced import reduced_inertia, reduced_inertia_derivative, reduced_moment
 from .urdf import export_urdf, load_urdf
 
 __version__ = "0.1.0"
@@ -35,5 +47,7 @@ __all__ = [
     "SingularityError", "UnreachableError", "angular_acceleration", "angular_velocity", "available_robots",
     "dh_mechanism", "export_urdf", "fk_and_jacobian", "frame_jacobian", "frame_placement", "frame_position",
     "frame_rotation", "link_angular_accelerations", "link_angular_velocities", "load", "load_urdf",
-    "point_acceleration", "point_jacobian", "point_velocity",
+    "point_acceleration", "point_jacobian", "point_velocity", "bias_forces", "forward_dynamics", "gravity_torques",
+    "inverse_dynamics", "joint_wrenches", "kinetic_energy", "mass_matrix", "motor_loads", "potential_energy",
+    "reduced_inertia", "reduced_inertia_derivative", "reduced_moment",
 ]

@@ -396,11 +396,25 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     if args.plot:
         written.append(str(ex.plot_working_range(mech, working, shovel, args.plot)))
     comparison = ex.report_comparison(shovel)
+    tooth = tuple(float(x) for x in _floats(args.tooth_force, "--tooth-force")) if args.tooth_force else (0.0, 0.0)
+    if len(tooth) != 2:
+        raise InputError("--tooth-force needs two numbers: Fx,Fy (N)")
+    for name, p in special.items():
+        q = mech.assemble(p["cylinder_lengths"])
+        p["tool_forces"] = ex.tool_forces(mech, q)
+    from .sweep import sweep
+
+    grid = sweep(mech, samples=args.samples)
+    loads = ex.cylinder_loads(mech, grid.q, tooth_force=tooth)
+    pressures = {name: {"max_pressure": float(loads[f"{name}_pressure"].max()),
+                        "max_push": float(loads[f"{name}_force"].max()),
+                        "max_pull": float(-loads[f"{name}_force"].min())} for name in mech.actuated}
     out = {
         "design": {k: v for k, v in vars(design).items()},
         "joint_ranges_deg": {"theta1": [x * deg for x in shovel.theta1], "theta2": [x * deg for x in shovel.theta2],
                              "theta3": [x * deg for x in shovel.theta3]},
         "cylinders": cylinders, "special_positions": special, "working_range": working.summary,
+        "loads": {"tooth_force": list(tooth), "relief_pressure": ex.RELIEF_PRESSURE, "cylinders": pressures},
         "report_comparison": comparison, "files": written,
     }
     if args.json:
@@ -422,6 +436,16 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     for name, p in special.items():
         print(f"  {name:<20} ({', '.join(f'{a:.3f}' for a in p['theta_deg'])}) → "
               f"({p['tip'][0]:.4f}, {p['tip'][1]:.4f})")
+    print(f"\nISO 6015 tool forces at relief pressure {ex.RELIEF_PRESSURE / 1e6:g} MPa (kN, extending/retracting):")
+    for name, p in special.items():
+        forces = p["tool_forces"]
+        print(f"  {name:<20} arm {forces['arm']['extending'] / 1e3:7.1f} / {forces['arm']['retracting'] / 1e3:6.1f}"
+              f"   bucket {forces['bucket']['extending'] / 1e3:7.1f} / {forces['bucket']['retracting'] / 1e3:6.1f}")
+    print(f"holding loads along the strokes (gravity, tooth force {tooth} N): largest pressure per cylinder")
+    for name, p in pressures.items():
+        over = "  EXCEEDS the relief pressure" if p["max_pressure"] > ex.RELIEF_PRESSURE else ""
+        print(f"  {name}: {p['max_pressure'] / 1e6:7.2f} MPa (push up to {p['max_push'] / 1e3:.1f} kN, "
+              f"pull up to {p['max_pull'] / 1e3:.1f} kN){over}")
     w = working.summary
     print(f"\nworking range over all strokes ({args.samples} per stroke): reach {w['max_digging_radius']:.3f}, "
           f"height {w['max_digging_height']:.3f}, depth {w['max_digging_depth']:.3f}, "
@@ -645,6 +669,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--design", metavar="FILE", help="TOML file overriding fields of the design (see docs)")
     p.add_argument("--samples", type=int, default=31, help="grid points per cylinder stroke (default 31)")
     p.add_argument("--plot", metavar="FILE", help="write the working-range plot (PNG)")
+    p.add_argument("--tooth-force", metavar="FX,FY", help="force on the tooth tip for the holding loads (N)")
     p.add_argument("--json", action="store_true", help="print machine-readable JSON")
     p.set_defaults(func=cmd_excavator)
 

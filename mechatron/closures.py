@@ -48,6 +48,7 @@ class FrameStates:
         self.velocity = np.zeros((n, 6))
         self.acceleration0 = np.zeros((n, 6))
         self._zero = np.zeros(model.nv)
+        self.q = np.zeros(model.nq)
         # frames on the ground never move: their placement is computed once, their Jacobian and motion stay zero
         self._moving = [(k, fid) for k, fid in enumerate(frame_ids) if model.frames[fid].parentJoint != 0]
         pin.framesForwardKinematics(model, self.data, pin.neutral(model))
@@ -59,6 +60,7 @@ class FrameStates:
 
     def update(self, q: np.ndarray) -> None:
         model, data = self.model, self.data
+        self.q = q
         pin.computeJointJacobians(model, data, q)
         for k, fid in self._moving:
             self.homogeneous[k] = pin.updateFramePlacement(model, data, fid).homogeneous
@@ -231,6 +233,41 @@ class OnCurve(Closure):
         return f"{self.point} on {self.label}"
 
 
+@dataclass
+class Gear(Closure):
+    """A transmission between two joint coordinates (a gear pair, a belt): Φ = q_b − ratio·q_a − offset.
+
+    It needs frames only to find the joints: ``a`` and ``b`` name the BODY frames of the two joints' bodies.
+    The Jacobian row is constant and the drift is zero.
+    """
+
+    a: str = ""
+    b: str = ""
+    ratio: float = 1.0
+    offset: float = 0.0
+    columns: tuple[int, int] = (0, 0)  # velocity indices of the joints, set by :func:`bind_gear`
+
+    def __post_init__(self) -> None:
+        self.frames = ()
+        self.nrows = 1
+
+    def residual(self, s: FrameStates) -> np.ndarray:
+        q = s.q
+        return np.array([q[self.columns[1]] - self.ratio * q[self.columns[0]] - self.offset])
+
+    def jacobian(self, s: FrameStates) -> np.ndarray:
+        row = np.zeros((1, s.model.nv))
+        row[0, self.columns[0]] -= self.ratio
+        row[0, self.columns[1]] += 1.0
+        return row
+
+    def drift(self, s: FrameStates) -> np.ndarray:
+        return np.zeros(1)
+
+    def describe(self) -> str:
+        return f"gear {self.b} = {self.ratio:g}·{self.a}"
+
+
 def _wrap(angle: float) -> float:
     """Angle wrapped to (−π, π]."""
     return math.remainder(angle, 2 * math.pi)
@@ -251,6 +288,9 @@ class ClosureSystem:
         self.index = {n: i for i, n in enumerate(names)}
         for closure in self.closures:
             closure.bind(self.index)
+            if isinstance(closure, Gear):
+                closure.columns = tuple(model.joints[model.frames[frame_id(f)].parentJoint].idx_v
+                                        for f in (closure.a, closure.b))
         self.nrows = sum(c.nrows for c in self.closures)
         self.nv = model.nv
         self._empty = (np.zeros(0), np.zeros((0, self.nv)))

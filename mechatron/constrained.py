@@ -130,6 +130,7 @@ def reactions(mech: Mechanism, q, v, a, lam, loads: Sequence[Sequence] | None = 
         pin.rnea(model, data, q, v, a)
     else:
         pin.rnea(model, data, q, v, a, fext)
+    pin.updateGlobalPlacements(model, data)  # RNEA leaves the joints' world placements (oMi) as they were
     joints = np.empty((model.njoints - 1, 6))
     for j in range(1, model.njoints):
         R = data.oMi[j].rotation

@@ -170,6 +170,7 @@ def joint_wrenches(mech: Mechanism, q, v, a, loads: Sequence[Sequence] | None = 
         pin.rnea(model, data, Q[0], V[0], A[0])
     else:
         pin.rnea(model, data, Q[0], V[0], A[0], fext)
+    pin.updateGlobalPlacements(model, data)  # RNEA leaves the joints' world placements (oMi) as they were
     out = np.empty((model.njoints - 1, 6))
     for j in range(1, model.njoints):
         R = data.oMi[j].rotation
@@ -182,7 +183,7 @@ def joint_wrenches(mech: Mechanism, q, v, a, loads: Sequence[Sequence] | None = 
 # ---------------------------------------------------------------------------------------------- drive side
 @dataclass(frozen=True)
 class MotorLoads:
-    """Motor-side loads of every joint (arrays (N, nv)); joints without drive data are direct drives (u = 1, η = 1).
+    """Motor-side loads of every joint (arrays (N, nv), or (nv,) for one state); joints without drive data are direct drives (u = 1, η = 1).
 
     Attributes:
         torque: Motor torque τ_m (N·m), rotor inertia, transmission losses and friction included.
@@ -211,6 +212,7 @@ def motor_loads(mech: Mechanism, v, a, tau) -> MotorLoads:
     with τ_load = τ − J_rotor·u²·q̈ (the reflected rotor inertia is counted once: in τ through the armature, and
     taken back out of what the transmission carries).
     """
+    single = np.ndim(v) == 1
     V = np.atleast_2d(np.asarray(v, dtype=float))
     A = np.atleast_2d(np.asarray(a, dtype=float))
     T = np.atleast_2d(np.asarray(tau, dtype=float))
@@ -229,6 +231,8 @@ def motor_loads(mech: Mechanism, v, a, tau) -> MotorLoads:
     speed = ratio * V
     friction = viscous * speed + np.where(speed > 0, coulomb_pos, np.where(speed < 0, coulomb_neg, 0.0))
     torque = rotor * ratio * A + transmitted + friction
+    if single:
+        return MotorLoads(torque[0], speed[0], T[0], load[0], motoring[0])
     return MotorLoads(torque, speed, T, load, motoring)
 
 

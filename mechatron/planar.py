@@ -223,6 +223,14 @@ class PlanarBuilder:
         rotation = frame.placement.rotation
         return body.angle + math.atan2(rotation[1, 0], rotation[0, 0])
 
+    def gear(self, driver: str, driven: str, ratio: float, offset: float = 0.0) -> None:
+        """Couple two bodies' joint coordinates: q_driven = ratio·q_driver + offset (a gear pair or a belt)."""
+        from .closures import Gear
+
+        for body in (driver, driven):
+            self._body(body)
+        self.closures.append(Gear(f"gear {driven}/{driver}", a=driver, b=driven, ratio=ratio, offset=offset))
+
     def on_curve(self, point: str, f: Callable[[float], float], df: Callable[[float], float],
                  d2f: Callable[[float], float], label: str = "y = f(x)") -> None:
         """Point ``point`` stays on the world curve y = f(x) (with derivatives df, d2f)."""

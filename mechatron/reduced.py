@@ -187,14 +187,16 @@ def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, d
 def motion_regimes(t: np.ndarray, phi: np.ndarray, omega: np.ndarray, period: float = 2 * math.pi,
                    tolerance: float = 1e-3) -> pd.DataFrame:
     """Split a motion into cycles of the input (each ``period`` of φ from the start) and name each one's regime
-    (section 6.7). Over a cycle the mechanism returns to the same position, so J_пр is the same at both ends and the
+    (section 6.7); if the input turns back, the cycles end there. Over a cycle the mechanism returns to the same position, so J_пр is the same at both ends and the
     work of all forces ΣA = ½ J_пр (ω_end² − ω_start²) (6.53): ``run-up`` if the speed at the end of the cycle is
     higher by more than ``tolerance`` (relative), ``run-down`` if lower, ``steady`` otherwise. Each cycle also gets
     its mean speed and coefficient of speed fluctuation δ = (ω_max − ω_min)/ω_mean."""
     t, phi, omega = (np.asarray(x, dtype=float) for x in (t, phi, omega))
     travel = (phi - phi[0]) * np.sign(phi[-1] - phi[0] or 1.0)
-    if np.any(np.diff(travel) < 0):
-        raise InputError("motion_regimes needs an input that keeps turning one way")
+    backwards = np.flatnonzero(np.diff(travel) < 0)
+    if len(backwards):  # the input stopped and turned back: only the motion before that is in cycles
+        end = int(backwards[0]) + 1
+        t, travel, omega = t[:end], travel[:end], omega[:end]
     rows = []
     for k in range(int(travel[-1] // period)):
         start, end = k * period, (k + 1) * period
@@ -210,4 +212,6 @@ def motion_regimes(t: np.ndarray, phi: np.ndarray, omega: np.ndarray, period: fl
                      "omega_end": float(w_end), "omega_mean": mean, "omega_min": float(w.min()),
                      "omega_max": float(w.max()), "fluctuation": float((w.max() - w.min()) / abs(mean)),
                      "regime": regime})
-    return pd.DataFrame(rows)
+    columns = ["cycle", "t_start", "t_end", "omega_start", "omega_end", "omega_mean", "omega_min", "omega_max",
+               "fluctuation", "regime"]
+    return pd.DataFrame(rows, columns=columns)

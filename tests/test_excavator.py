@@ -182,3 +182,56 @@ def test_excavator_command(tmp_path, capsys):
     bad.write_text("boom = -1.0\n")
     assert main(["excavator", "--design", str(bad)]) == 2
     assert "bad.toml" in capsys.readouterr().err
+
+
+def test_iso6015_tool_forces_by_lever_arms(shovel, mech):
+    """With only the bucket cylinder moving, the bucket turns about Q, so F_tool = F_cyl · e3 / |QV| (e3 its arm about
+    Q); with only the stick cylinder, the stick and bucket turn about F: F_tool = F_cyl · e2 / |FV|."""
+    from mechatron.linkages import distance, lever_arm
+
+    spec = ex.DEFAULT_CYLINDERS
+    for angles in ex.special_positions(shovel).values():
+        q = mech.assemble(shovel.cylinder_lengths(*angles))
+        forces = ex.tool_forces(mech, q)
+        e3 = lever_arm(mech, q, "G", "K", "Q")
+        assert forces["bucket"]["extending"] == pytest.approx(
+            spec["L3"].force(ex.RELIEF_PRESSURE) * e3 / distance(mech, q, "Q", "V"), rel=1e-9)
+        e2 = lever_arm(mech, q, "D", "E", "F")
+        assert forces["arm"]["retracting"] == pytest.approx(
+            spec["L2"].force(ex.RELIEF_PRESSURE, extending=False) * e2 / distance(mech, q, "F", "V"), rel=1e-9)
+
+
+def test_static_cylinder_loads_balance_the_bucket(shovel, mech):
+    """The bucket cylinder holds the bucket: its force times its arm about Q equals the moment of the bucket's
+    weight (centre at the middle of QV) and of the tooth force about Q."""
+    from mechatron.linkages import lever_arm, point_positions
+
+    q = mech.assemble(shovel.cylinder_lengths(0.5, 1.6, 3.4))
+    tooth = np.array([-40e3, 15e3])
+    table = ex.cylinder_loads(mech, q[None, :], tooth_force=tuple(tooth))
+    Qp, V, G, K = point_positions(mech, q, "Q", "V", "G", "K")
+    weight = np.array([0.0, -9.81 * shovel.design.bucket_mass])
+
+    def moment(point, force):
+        r = point - Qp
+        return r[0] * force[1] - r[1] * force[0]
+
+    load_moment = moment((Qp + V) / 2, weight) + moment(V, tooth)
+    axis = (K - G) / np.linalg.norm(K - G)
+    cylinder_moment = moment(K, axis * table["L3_force"].iloc[0])  # the rod pushes K away from G when > 0
+    assert cylinder_moment + load_moment == pytest.approx(0.0, abs=1e-6 * abs(load_moment))
+    assert abs(table["L3_force"].iloc[0]) * lever_arm(mech, q, "G", "K", "Q") == pytest.approx(abs(load_moment),
+                                                                                                rel=1e-9)
+    # pressure: the piston side when pushing, the rod side when pulling
+    spec = ex.DEFAULT_CYLINDERS["L3"]
+    force = table["L3_force"].iloc[0]
+    area = spec.piston_area if force > 0 else spec.annulus_area
+    assert table["L3_pressure"].iloc[0] == pytest.approx(abs(force) / area)
+
+
+def test_twin_boom_cylinder_pressure():
+    spec = ex.CylinderSpec(0.18, 0.125, count=2)
+    assert spec.pressure(2 * 100e3) == pytest.approx(100e3 / (np.pi * 0.18**2 / 4))
+    assert spec.pressure(-2 * 50e3) == pytest.approx(50e3 / (np.pi * (0.18**2 - 0.125**2) / 4))
+    with pytest.raises(mechatron.InputError, match="bore > rod"):
+        ex.CylinderSpec(0.1, 0.12)
