@@ -17,6 +17,7 @@ from .dynamics import (
     joint_wrenches,
     kinetic_energy,
     mass_matrix,
+    mechanical_energy,
     motor_loads,
     potential_energy,
 )
@@ -48,6 +49,6 @@ __all__ = [
     "dh_mechanism", "export_urdf", "fk_and_jacobian", "frame_jacobian", "frame_placement", "frame_position",
     "frame_rotation", "link_angular_accelerations", "link_angular_velocities", "load", "load_urdf",
     "point_acceleration", "point_jacobian", "point_velocity", "bias_forces", "forward_dynamics", "gravity_torques",
-    "inverse_dynamics", "joint_wrenches", "kinetic_energy", "mass_matrix", "motor_loads", "potential_energy",
+    "inverse_dynamics", "joint_wrenches", "kinetic_energy", "mass_matrix", "mechanical_energy", "motor_loads", "potential_energy",
     "reduced_inertia", "reduced_inertia_derivative", "reduced_moment",
 ]

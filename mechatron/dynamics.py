@@ -157,6 +157,11 @@ def potential_energy(mech: Mechanism, q) -> np.ndarray | float:
     return float(out[0]) if single else out
 
 
+def mechanical_energy(mech: Mechanism, q, v) -> np.ndarray | float:
+    """T + V (J): constant along an unforced, undamped motion."""
+    return kinetic_energy(mech, q, v) + potential_energy(mech, q)
+
+
 def joint_wrenches(mech: Mechanism, q, v, a, loads: Sequence[Sequence] | None = None) -> np.ndarray:
     """Force (N) and moment (N·m) transmitted through every joint of the tree, from the parent body to the child
     subtree, in world axes about the joint's origin: array (njoints − 1, 6) = [force; moment] per joint (chapter 5,

@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
@@ -29,3 +31,15 @@ def test_bucket_linkage_example(tmp_path):
     assert "c = 0.4103 m, L2 = 0.4931 m" in proc.stdout  # as tests/test_bucket.py
     assert "turns 160.000000°" in proc.stdout
     assert (tmp_path / "b.png").exists() and (tmp_path / "b.csv").exists()
+
+
+def test_grab_scooping_example(tmp_path):
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "grab_scooping.py"), "--plot", str(tmp_path / "g.png")],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert "jaw closed after" in proc.stdout and (tmp_path / "g.png").exists()
+    import re
+
+    work, energy = (float(x) for x in re.search(r"resistance ([-\d.]+) kJ = change of kinetic \+ potential energy "
+                                                r"([-\d.]+) kJ", proc.stdout).groups())
+    assert work == pytest.approx(energy, abs=2e-3)

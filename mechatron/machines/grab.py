@@ -317,3 +317,41 @@ class PaperModel:
         potential = self.gravity * (X[:, [1, 4, 6]] @ np.diag(self.M)[[1, 4, 6]])
         return {"t": t, "X": X, "Xd": Xd, "Xdd": A, "multipliers": lam, "work": work, "kinetic": kinetic,
                 "potential": potential}
+
+
+def plot_scooping(result: dict, geometry: GrabGeometry, path) -> object:
+    """PNG of a scooping simulation (:meth:`PaperModel.simulate`): the jaw tip's path on the scooping curve, the
+    tip speed and the jaw's angular speed, and the pin forces (the multipliers: the hinge's horizontal force, the
+    material's normal force on the cutting edge, the jaw–rod and rod–crosshead pins)."""
+    from pathlib import Path
+
+    from matplotlib.figure import Figure
+
+    from ..plots import _save
+
+    model = PaperModel(geometry, ScoopingLoads())
+    tips = np.array([model.tip(X, Xd)[0] for X, Xd in zip(result["X"], result["Xd"])])
+    speeds = np.array([np.linalg.norm(model.tip(X, Xd)[1]) for X, Xd in zip(result["X"], result["Xd"])])
+    lam, t = result["multipliers"], result["t"]
+    fig = Figure(figsize=(12, 4.5), layout="constrained")
+    ax_path, ax_speed, ax_force = fig.subplots(1, 3)
+    x = np.linspace(-geometry.opening / 2, 0.0, 200)
+    ax_path.plot(x, [geometry.eta(v) for v in x], color="saddlebrown", lw=3, alpha=0.4, label="scooping curve")
+    ax_path.plot(tips[:, 0], tips[:, 1], color="tab:red", label="jaw tip")
+    ax_path.set(aspect="equal", xlabel="x (m)", ylabel="y (m)", title="jaw tip path")
+    ax_path.legend(fontsize=8)
+    ax_speed.plot(t, speeds, label="tip speed (m/s)")
+    ax_speed.plot(t, result["Xd"][:, 2], label="jaw ω (rad/s)")
+    ax_speed.set(xlabel="t (s)", title="speeds")
+    ax_speed.legend(fontsize=8)
+    for label, values in (("hinge, horizontal", np.abs(lam[:, 0])), ("cutting edge, normal", np.abs(lam[:, 1])),
+                          ("jaw–rods pin", np.hypot(lam[:, 2], lam[:, 3])),
+                          ("rods–crosshead pin", np.hypot(lam[:, 4], lam[:, 5]))):
+        ax_force.plot(t, values / 1e3, label=label)
+    ax_force.set(xlabel="t (s)", ylabel="kN", title="pin forces (multipliers)")
+    ax_force.legend(fontsize=8)
+    for ax in (ax_path, ax_speed, ax_force):
+        ax.grid(True, alpha=0.3)
+    path = Path(path)
+    _save(fig, path)
+    return path
