@@ -78,16 +78,7 @@ def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
 
 
 def _revolute_mask(mech: Mechanism) -> np.ndarray:
-    return np.array([_joint_kind(mech, j) == "revolute" for j in range(1, mech.model.njoints)])
-
-
-def _joint_kind(mech: Mechanism, joint_id: int) -> str:
-    short = mech.model.joints[joint_id].shortname()
-    if re.fullmatch(r"JointModel(R[XYZ]|RUB[XYZ]|RevoluteUnaligned|RevoluteUnboundedUnaligned)", short):
-        return "revolute"
-    if re.fullmatch(r"JointModel(P[XYZ]|PrismaticUnaligned)", short):
-        return "prismatic"
-    return short.removeprefix("JointModel")
+    return np.array([mech.joint_kind(j) == "revolute" for j in range(1, mech.model.njoints)])
 
 
 def _finite(x: float) -> float | None:
@@ -132,7 +123,7 @@ def describe(mech: Mechanism) -> dict[str, Any]:
     for j in range(1, model.njoints):
         iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
         joints.append({
-            "name": model.names[j], "kind": _joint_kind(mech, j),
+            "name": model.names[j], "kind": mech.joint_kind(j),
             "lower": _finite(model.lowerPositionLimit[iq]), "upper": _finite(model.upperPositionLimit[iq]),
             "max_velocity": _finite(model.velocityLimit[iv]), "max_effort": _finite(model.effortLimit[iv]),
             "armature": float(model.armature[iv]),
@@ -560,7 +551,7 @@ def cmd_reduced(args: argparse.Namespace) -> int:
     values = default_inputs(mech, args.samples)[name] if mech.closures else np.linspace(
         mech.model.lowerPositionLimit[0], mech.model.upperPositionLimit[0], args.samples)
     table = reduced_table(mech, name, values)
-    linear = _joint_kind(mech, mech.joint_id(name)) == "prismatic"
+    linear = mech.joint_kind(name) == "prismatic"
     written = []
     if args.csv:
         table.to_csv(args.csv, index=False, float_format="%.10g")
@@ -598,6 +589,38 @@ def cmd_reduced(args: argparse.Namespace) -> int:
     for path in written:
         print(f"wrote {path}")
     return 0
+
+
+def cmd_size(args: argparse.Namespace) -> int:
+    """Motor, gearbox (screw, cylinder) and ratio for every joint doing a task; exit 1 when a joint has no
+    feasible drive."""
+    from .drives.catalogs import read_catalog
+    from .drives.report import text_report, to_json, write_charts, write_csv
+    from .drives.sizing import size_mechanism
+    from .progress import progress_bar
+    from .tasks import default_task, read_task
+
+    mech = _load(args)
+    task = read_task(args.task, mech) if args.task else default_task(mech)
+    catalogs = {kind: read_catalog(path, kind) if path else None for kind, path in
+                (("motors", args.motors), ("gearboxes", args.gearboxes), ("screws", args.screws),
+                 ("cylinders", args.cylinders))}
+    if not args.pressure_mpa > 0:
+        raise InputError(f"--pressure-mpa must be > 0, got {args.pressure_mpa:g}")
+    result = size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=args.objective,
+                            inertia_ratio_max=args.inertia_ratio, loads=task.loads, task=task.name,
+                            direct=not args.no_direct, pressure=args.pressure_mpa * 1e6,
+                            progress=None if args.json else progress_bar(f"{mech.name}: sizing"))
+    written = [write_csv(result, args.csv)] if args.csv else []
+    if args.plots:
+        written += write_charts(result, args.plots)
+    if args.json:
+        print(to_json(result))
+    else:
+        print(text_report(result))
+        for path in written:
+            print(f"wrote {path}")
+    return 0 if result.feasible else 1
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
@@ -697,6 +720,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--csv", metavar="FILE")
     p.add_argument("--plot", metavar="FILE", help="write J and M against the input (PNG)")
     p.set_defaults(func=cmd_reduced)
+
+    p = sub.add_parser("size", help="choose motor, gearbox and ratio (or screw, or cylinder) for every joint "
+                                    "doing a task; exit 1 if a joint has no feasible drive")
+    _robot_arguments(p)
+    p.add_argument("--task", metavar="FILE", help="task TOML (waypoints, payload, loads) or trajectory CSV "
+                                                  "(default: the robot's own task, else a generic out-and-back)")
+    p.add_argument("--motors", metavar="CSV", help="servo motor catalog (default: catalogs/servo_motors.csv)")
+    p.add_argument("--gearboxes", metavar="CSV", help="gearbox catalog (default: catalogs/gearboxes.csv)")
+    p.add_argument("--screws", metavar="CSV", help="ball screw catalog for prismatic joints")
+    p.add_argument("--cylinders", metavar="CSV", help="hydraulic cylinder catalog for closed-loop mechanisms")
+    p.add_argument("--objective", default="mass", choices=["mass", "cost", "margin", "time"],
+                   help="rank feasible drives by mass, cost, margin (largest smallest margin) or time (fastest "
+                        "task, then mass); default mass")
+    p.add_argument("--inertia-ratio", type=float, default=10.0, help="largest load/motor inertia ratio (default 10)")
+    p.add_argument("--no-direct", action="store_true", help="do not consider direct drive (gearless) motors")
+    p.add_argument("--pressure-mpa", type=float, default=32.0, help="hydraulic system pressure (default 32 MPa)")
+    p.add_argument("--csv", metavar="FILE", help="write every check of every joint")
+    p.add_argument("--plots", metavar="DIR", help="write a speed–torque chart per chosen motor (PNG)")
+    p.set_defaults(func=cmd_size)
 
     p = sub.add_parser("demo", help="a short tour: load a robot and print its kinematics")
     p.set_defaults(func=cmd_demo)

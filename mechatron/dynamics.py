@@ -269,6 +269,35 @@ class TrajectoryLoads:
     names: list[str]
 
 
+def actuator_forces(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None = None
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """(Q, F): the joint positions (N, nq) of a closed-loop mechanism along a trajectory of its actuated
+    coordinates and the actuator forces (N, n_actuated; N for a cylinder, N·m for a crank) that drive it
+    (constrained inverse dynamics)."""
+    from .sweep import sweep
+
+    inputs = {name: trajectory.q[:, i] for i, name in enumerate(mech.actuated)}
+    rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}
+    accels = {name: trajectory.a[:, i] for i, name in enumerate(mech.actuated)}
+    result = sweep(mech, inputs, rates=rates, accelerations=accels, points=[], measures=[])
+    if len(result.failures):
+        raise InputError(f"{mech.name}: the trajectory leaves the reachable range: "
+                         f"{result.failures['reason'].iloc[0]}")
+    return result.q, _forces(mech, result.q, result.v, result.a, loads)
+
+
+def holding_forces(mech: Mechanism, Q: np.ndarray, loads: Sequence[Sequence] | None = None) -> np.ndarray:
+    """Actuator forces (N, n_actuated) that hold a closed-loop mechanism at rest in each assembled position of Q."""
+    return _forces(mech, Q, np.zeros((len(Q), mech.nv)), np.zeros((len(Q), mech.nv)), loads)
+
+
+def _forces(mech: Mechanism, Q, V, A, loads) -> np.ndarray:
+    from .constrained import inverse
+
+    return np.array([[f[n] for n in mech.actuated] for f in
+                     (inverse(mech, q, v, a, loads)[0] for q, v, a in zip(Q, V, A))])
+
+
 def trajectory_loads(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None = None) -> TrajectoryLoads:
     """Joint (or, for a closed-loop mechanism, actuator) forces along ``trajectory`` (a
     :class:`~mechatron.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
@@ -277,18 +306,7 @@ def trajectory_loads(mech: Mechanism, trajectory, loads: Sequence[Sequence] | No
 
     t = np.asarray(trajectory.t, dtype=float)
     if mech.closures:
-        from .constrained import inverse
-        from .sweep import sweep
-
-        inputs = {name: trajectory.q[:, i] for i, name in enumerate(mech.actuated)}
-        rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}
-        accels = {name: trajectory.a[:, i] for i, name in enumerate(mech.actuated)}
-        result = sweep(mech, inputs, rates=rates, accelerations=accels, points=[], measures=[])
-        if len(result.failures):
-            raise InputError(f"{mech.name}: the trajectory leaves the reachable range: "
-                             f"{result.failures['reason'].iloc[0]}")
-        forces = np.array([[f[n] for n in mech.actuated] for f in
-                           (inverse(mech, q, v, a, loads)[0] for q, v, a in zip(result.q, result.v, result.a))])
+        forces = actuator_forces(mech, trajectory, loads)[1]
         names, qs, vs, accs, taus = list(mech.actuated), trajectory.q, trajectory.v, trajectory.a, forces
         motor = None
     else:

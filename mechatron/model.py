@@ -9,6 +9,7 @@ package takes a ``Mechanism``; Pinocchio does all rigid-body computations.
 from __future__ import annotations
 
 import difflib
+import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
@@ -202,6 +203,16 @@ class Mechanism:
         if not self.model.existJointName(name):
             raise unknown_name_error(f"joint of {self.name}", name, self.joint_names)
         return self.model.getJointId(name)
+
+    def joint_kind(self, joint: str | int) -> str:
+        """``"revolute"`` or ``"prismatic"`` for one-axis joints (any axis), else Pinocchio's joint type name."""
+        index = self.joint_id(joint) if isinstance(joint, str) else joint
+        short = self.model.joints[index].shortname()
+        if re.fullmatch(r"JointModel(R[XYZ]|RUB[XYZ]|RevoluteUnaligned|RevoluteUnboundedUnaligned)", short):
+            return "revolute"
+        if re.fullmatch(r"JointModel(P[XYZ]|PrismaticUnaligned)", short):
+            return "prismatic"
+        return short.removeprefix("JointModel")
 
     def mobility(self, q: np.ndarray | None = None) -> int:
         """Degree of mobility W = nv − rank(closure Jacobian) at a regular configuration (default

@@ -240,7 +240,8 @@ def _drop_first(trajectory: Trajectory) -> Trajectory:
 
 
 def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
-    """A trajectory CSV: columns ``t`` and one per joint (named as the joints, or q1…qn), optional ``qd_<joint>``
+    """A trajectory CSV: columns ``t`` and one per joint (named as the joints, or q1…qn; for a closed-loop mechanism
+    one per actuated coordinate), optional ``qd_<joint>``
     and ``qdd_<joint>``; missing velocities and accelerations are differentiated (second-order central
     differences, which need increasing times)."""
     path = Path(path)
@@ -252,8 +253,8 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
         raise InputError(f"not a readable CSV file: {str(exc).splitlines()[0]}", file=path) from None
     if "t" not in frame.columns:
         raise InputError("missing column", file=path, field="t")
-    names = mech.joint_names
-    aliases = [f"q{i + 1}" for i in range(mech.nq)]
+    names = list(mech.actuated) if mech.closures else mech.joint_names  # a closed loop: its inputs
+    aliases = [f"q{i + 1}" for i in range(len(names))]
     columns = names if all(n in frame.columns for n in names) else aliases
     missing = [c for c in columns if c not in frame.columns]
     if missing:

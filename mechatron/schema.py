@@ -62,6 +62,14 @@ class FieldReader:
             raise self.error(key, "missing required field")
         return default
 
+    def raw(self, key: str, default: Any = _MISSING) -> Any:
+        """The field's value as parsed, unchecked (marked as used)."""
+        return self._take(key, default)
+
+    def to_float(self, key: str, value: Any) -> float:
+        """``value`` (found under ``key``) as a finite float, or an error naming the field."""
+        return self._as_float(key, value)
+
     def _as_float(self, key: str, value: Any) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise self.error(key, f"expected a number, got {type(value).__name__} {value!r}")

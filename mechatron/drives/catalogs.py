@@ -1,0 +1,179 @@
+"""Catalogs of drive components in CSV files (schemas in ``catalogs/README.md``).
+
+Each catalog kind has a schema: its fields, their kind of quantity (which fixes the accepted unit suffixes, see
+:mod:`mechatron.drives.units`), whether they are required, and their bounds. Reading a file checks every row and
+every value and converts to SI; a problem raises :class:`~mechatron.errors.InputError` naming the file, the row
+(as in a spreadsheet: the header is row 1) and the column.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+
+from ..errors import InputError
+from ..library import data_dir
+from .units import UNITS
+
+
+@dataclass(frozen=True)
+class Field:
+    name: str
+    kind: str
+    required: bool = True
+    positive: bool = True  # > 0 (else >= 0)
+    maximum: float | None = None
+
+
+SCHEMAS: dict[str, tuple[Field, ...]] = {
+    "motors": (
+        Field("key", "text"), Field("maker", "text", False), Field("series", "text", False),
+        Field("rated_torque", "torque"), Field("peak_torque", "torque"), Field("rated_speed", "speed"),
+        Field("max_speed", "speed"), Field("rotor_inertia", "inertia"),
+        Field("torque_constant", "torque_constant", False), Field("rated_current", "current", False),
+        Field("rated_power", "power", False), Field("mass", "mass", False), Field("price", "money", False),
+    ),
+    "gearboxes": (
+        Field("key", "text"), Field("maker", "text", False), Field("type", "text"),
+        Field("stages", "count", False), Field("ratio", "ratio"), Field("rated_torque", "torque"),
+        Field("peak_torque", "torque"), Field("emergency_torque", "torque"), Field("max_input_speed", "speed"),
+        Field("rated_input_speed", "speed"), Field("efficiency", "fraction", maximum=1.0),
+        Field("input_inertia", "inertia"), Field("backlash", "angle", False, positive=False),
+        Field("mass", "mass", False), Field("price", "money", False),
+    ),
+    "screws": (
+        Field("key", "text"), Field("maker", "text", False), Field("type", "text"), Field("diameter", "length"),
+        Field("lead", "length"), Field("efficiency", "fraction", maximum=1.0),
+        Field("inertia_per_length", "inertia_per_length", False), Field("max_speed", "speed"),
+        Field("dynamic_load", "force", False), Field("mass_per_length", "linear_density", False), Field("price", "money", False),
+    ),
+    "cylinders": (
+        Field("key", "text"), Field("maker", "text", False), Field("bore", "length"), Field("rod", "length"),
+        Field("max_stroke", "length"), Field("max_pressure", "pressure"), Field("mass", "mass", False),
+        Field("mass_per_stroke", "linear_density", False),
+        Field("price", "money", False),
+    ),
+    "rotary_tables": (
+        Field("key", "text"), Field("torque_30min", "torque"), Field("torque_5min", "torque"),
+        Field("diameter", "length"), Field("height", "length"), Field("positioning_error", "angle"),
+    ),
+    "gearmotor_ranges": (
+        Field("maker", "text"), Field("family", "text"), Field("codes", "text"), Field("stages", "text", False),
+        Field("ratio_min", "ratio", False), Field("ratio_max", "ratio", False),
+        Field("output_speed_min", "speed", False), Field("output_speed_max", "speed", False),
+        Field("output_torque_min", "torque", False), Field("output_torque_max", "torque", False),
+        Field("input_power_min", "power", False), Field("input_power_max", "power", False),
+        Field("source_line", "count", False),
+    ),
+}
+
+#: The example catalogs shipped in ``catalogs/``.
+DEFAULT_FILES = {"motors": "servo_motors.csv", "gearboxes": "gearboxes.csv", "screws": "ball_screws.csv",
+                 "cylinders": "hydraulic_cylinders.csv", "rotary_tables": "rotary_tables_table_2_11.csv",
+                 "gearmotor_ranges": "gearmotor_ranges_section_2_2.csv"}
+
+
+def _column_field(column: str, schema: tuple[Field, ...], path: Path) -> tuple[Field, float] | None:
+    """The field a column holds and its unit factor, ``None`` for an extra column; an error for a known field in an
+    unknown unit."""
+    for field in sorted(schema, key=lambda f: -len(f.name)):
+        if column == field.name:
+            units = UNITS[field.kind]
+            if "" not in units:
+                raise InputError(f"give the unit in the column name, one of: "
+                                 f"{', '.join(field.name + '_' + u for u in units)}", file=path, field=column)
+            return field, units[""]
+        if column.startswith(field.name + "_"):
+            suffix = column[len(field.name) + 1:]
+            units = UNITS[field.kind]
+            if suffix in units:
+                return field, units[suffix]
+            raise InputError(f"unknown unit {suffix!r} for {field.name} (known: "
+                             f"{', '.join(u for u in units if u) or 'SI only'})", file=path, field=column)
+    return None
+
+
+def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
+    """A validated catalog as a DataFrame in SI units with the schema's field names (extra columns kept as text)."""
+    if kind not in SCHEMAS:
+        raise InputError(f"unknown catalog kind {kind!r}; expected one of: {', '.join(SCHEMAS)}")
+    path = Path(path)
+    try:
+        raw = pd.read_csv(path, dtype=str, keep_default_na=False, comment="#")
+    except FileNotFoundError:
+        raise InputError("no such file", file=path) from None
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise InputError(f"not a readable CSV file: {str(exc).splitlines()[0]}", file=path) from None
+    schema = SCHEMAS[kind]
+    columns: dict[str, tuple[str, float]] = {}
+    for column in raw.columns:
+        found = _column_field(column.strip(), schema, path)
+        if found is not None:
+            field, factor = found
+            if field.name in {name for name, _ in columns.values()}:
+                raise InputError(f"{field.name} is given twice", file=path, field=column)
+            columns[column] = (field.name, factor)
+    present = {name for name, _ in columns.values()}
+    for field in schema:
+        if field.required and field.name not in present:
+            raise InputError(f"missing column {field.name!r}", file=path, field=field.name)
+    if raw.empty:
+        raise InputError("the catalog has no rows", file=path)
+    by_name = {f.name: f for f in schema}
+    out: dict[str, list] = {}
+    for column, (name, factor) in columns.items():
+        field = by_name[name]
+        values = []
+        for i, text in enumerate(raw[column], start=2):
+            text = text.strip()
+            if field.kind in ("text",):
+                if not text and field.required:
+                    raise InputError("missing value", file=path, row=i, field=column)
+                values.append(text)
+                continue
+            if not text:
+                if field.required:
+                    raise InputError("missing value", file=path, row=i, field=column)
+                values.append(math.nan)
+                continue
+            try:
+                value = float(text) * factor
+            except ValueError:
+                raise InputError(f"not a number: {text!r}", file=path, row=i, field=column) from None
+            if not math.isfinite(value):
+                raise InputError(f"not a finite number: {text!r}", file=path, row=i, field=column)
+            if value < 0 or (field.positive and value == 0):
+                raise InputError(f"must be {'> 0' if field.positive else '>= 0'}, got {text}", file=path, row=i,
+                                 field=column)
+            if field.maximum is not None and value > field.maximum:
+                raise InputError(f"must be <= {field.maximum:g}, got {text}", file=path, row=i, field=column)
+            values.append(value)
+        out[name] = values
+    table = pd.DataFrame(out)
+    if "key" in table:
+        duplicated = table["key"][table["key"].duplicated()]
+        if len(duplicated):
+            row = int(duplicated.index[0]) + 2
+            raise InputError(f"key {duplicated.iloc[0]!r} repeats an earlier row", file=path, row=row, field="key")
+    _check_consistency(table, kind, path, {name: column for column, (name, _) in columns.items()})
+    return table
+
+
+def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: dict[str, str]) -> None:
+    """Relations between columns: peak ≥ rated, max speed ≥ rated speed, rod < bore…"""
+    rules = {"motors": [("peak_torque", "rated_torque"), ("max_speed", "rated_speed")],
+             "gearboxes": [("peak_torque", "rated_torque"), ("emergency_torque", "peak_torque"),
+                           ("max_input_speed", "rated_input_speed")],
+             "cylinders": [("bore", "rod")], "rotary_tables": [("torque_5min", "torque_30min")]}
+    for high, low in rules.get(kind, []):
+        bad = table.index[table[high] < table[low]]
+        if len(bad):
+            raise InputError(f"{high} is below {low}", file=path, row=int(bad[0]) + 2, field=column_of[high])
+
+
+def default_catalog(kind: str) -> pd.DataFrame:
+    """The example catalog of ``kind`` shipped with mechatron."""
+    return read_catalog(data_dir("catalogs") / DEFAULT_FILES[kind], kind)

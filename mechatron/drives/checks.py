@@ -1,0 +1,153 @@
+r"""The checks vendor sizing tools run, for every motor × converter pair of a joint at once.
+
+A converter of ratio u, efficiency η and motor-side inertia J_c (gearbox input, screw) between a motor of rotor
+inertia J_m and a joint with the duty ω(t), ω̇(t), τ(t) (see :mod:`mechatron.drives.duty`) gives the motor
+
+    n = u ω,    T_m = (J_m + J_c) u ω̇ + τ* / u,    τ* = τ/η if τ ω ≥ 0 (the load takes power), else τ η,
+
+so the rotor and gearbox inertia are counted exactly once (the duty has none). The checks, each a value against a
+limit (margin = 1 − value/limit):
+
+====================================  ==============================================================  ==========
+check                                 value                                                           limit
+====================================  ==============================================================  ==========
+peak torque                           max |T_m|                                                       T_peak
+speed-torque curve                    max |T_m| / T_int(|n|), the intermittent curve of               1
+                                      :func:`~mechatron.drives.motor.peak_torque_limit`
+RMS torque (thermal)                  √⟨T_m²⟩                                                         T_S1 at the mean |n|
+max speed                             max |n|                                                         n_max
+inertia ratio                         (J_L/u² + J_c) / J_m, J_L the largest load inertia              10 (option)
+transmission equivalent torque        (Σ |ω| |τ|³ Δt / Σ |ω| Δt)^(1/3)                                T2N
+transmission peak torque              max |τ|                                                         T2B
+transmission emergency torque         T_peak u (the motor's peak torque through the gear)             T2Stop
+transmission max input speed          max |n|                                                         n1max
+transmission mean input speed         ⟨|n|⟩                                                           n1N
+====================================  ==============================================================  ==========
+
+⟨·⟩ is the time mean over the task (trapezoidal rule). The S1 torque at the mean speed follows Siemens'
+configuration manuals; the speed-weighted cubic mean is the gearbox makers' equivalent output torque (Neugart,
+Wittenstein); the emergency check is Siemens' M_max,gear ≥ M_0 i with the peak torque for M_0.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from .converters import Converters
+from .duty import JointDuty
+from .motor import continuous_torque, peak_torque_limit
+
+CHECKS = ("peak torque", "speed-torque curve", "RMS torque", "max speed", "inertia ratio",
+          "transmission equivalent torque", "transmission peak torque", "transmission emergency torque",
+          "transmission max input speed", "transmission mean input speed")
+UNITS = ("N·m", "-", "N·m", "rad/s", "-", "N·m", "N·m", "N·m", "rad/s", "rad/s")
+#: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
+PASS_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class Check:
+    """One check of one drive: value and limit in ``unit``; margin = 1 − value/limit."""
+
+    name: str
+    value: float
+    limit: float
+    unit: str
+
+    @property
+    def margin(self) -> float:
+        return 1.0 - _load_factor(self.value, self.limit)
+
+    @property
+    def passed(self) -> bool:
+        return _load_factor(self.value, self.limit) <= 1 + PASS_TOLERANCE
+
+    def as_dict(self) -> dict:
+        return {"name": self.name, "value": float(self.value), "limit": float(self.limit), "unit": self.unit,
+                "margin": float(self.margin), "pass": bool(self.passed)}
+
+
+def _load_factor(value, limit):
+    """value / limit with 0/0 = 0, x/0 = inf and x/inf = 0."""
+    value, limit = np.asarray(value, dtype=float), np.asarray(limit, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(value <= 0, 0.0, np.where(limit > 0, value / limit, np.inf))
+    return out if out.ndim else float(out)
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Values and limits of every check for motors × converters: arrays (N_m, N_c, len(CHECKS))."""
+
+    values: np.ndarray
+    limits: np.ndarray
+
+    def load_factors(self) -> np.ndarray:
+        """value/limit of every check, (N_m, N_c, len(CHECKS)); > 1 fails."""
+        return _load_factor(self.values, self.limits)
+
+    def worst(self) -> np.ndarray:
+        """The largest load factor of every pair, (N_m, N_c)."""
+        return self.load_factors().max(axis=2)
+
+    def checks(self, m: int, c: int) -> list[Check]:
+        """The checks of one pair that apply (finite limit)."""
+        return [Check(name, float(self.values[m, c, k]), float(self.limits[m, c, k]), UNITS[k])
+                for k, name in enumerate(CHECKS) if math.isfinite(self.limits[m, c, k])]
+
+
+def motor_side(duty: JointDuty, u, eta, inertia):
+    """(n, a, b): motor speed u ω (rad/s), motor acceleration u ω̇ and the motor torque without the rotor,
+    J_c u ω̇ + τ*/u (N·m); ``u``, ``eta``, ``inertia`` broadcast against the samples (give them as columns)."""
+    motoring = duty.torque * duty.speed >= 0
+    load = np.where(motoring, duty.torque / (u * eta), duty.torque * eta / u)
+    accel = u * duty.acceleration
+    return u * duty.speed, accel, inertia * accel + load
+
+
+def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0
+             ) -> Evaluation:
+    """Every check of every motor × converter pair (see the module docstring)."""
+    weights = duty.time_weights()
+    u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
+    n, accel, base = motor_side(duty, u, eta, Jc)  # (N_c, T)
+    Jm = motors["rotor_inertia"].to_numpy()
+    rated, peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
+    n_rated, n_top = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
+    shape = (len(motors), len(conv))
+    values, limits = np.empty(shape + (len(CHECKS),)), np.empty(shape + (len(CHECKS),))
+
+    # per-sample checks on the samples that can decide them
+    keep = duty.envelope()
+    torque = np.abs(Jm[:, None, None] * accel[None, :, keep] + base[None, :, keep])  # (N_m, N_c, K)
+    values[..., 0], limits[..., 0] = torque.max(axis=2), peak[:, None]
+    available = peak_torque_limit(n[None, :, keep], peak[:, None, None], rated[:, None, None],
+                                  n_rated[:, None, None], n_top[:, None, None])
+    values[..., 1], limits[..., 1] = _load_factor(torque, available).max(axis=2), 1.0
+
+    # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩
+    m_aa, m_ab, m_bb = (accel**2) @ weights, (accel * base) @ weights, (base**2) @ weights
+    values[..., 2] = np.sqrt(np.maximum(np.outer(Jm**2, m_aa) + 2 * np.outer(Jm, m_ab) + m_bb, 0.0))
+    mean_speed = np.abs(n) @ weights
+    limits[..., 2] = continuous_torque(mean_speed[None, :], rated[:, None], n_rated[:, None], n_top[:, None])
+    top_speed = np.abs(n).max(axis=1)
+    values[..., 3], limits[..., 3] = top_speed[None, :], n_top[:, None]
+    values[..., 4] = (duty.load_inertia / conv.ratio**2 + conv.inertia)[None, :] / Jm[:, None]
+    limits[..., 4] = inertia_ratio_max
+
+    # transmission (output side)
+    motion = np.abs(duty.speed) * weights
+    if motion.sum() == 0:
+        motion = weights
+    values[..., 5] = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
+    values[..., 6] = np.abs(duty.torque).max()
+    values[..., 7] = np.outer(peak, conv.ratio)
+    values[..., 8], values[..., 9] = top_speed[None, :], mean_speed[None, :]
+    for k, limit in zip(range(5, 10), (conv.rated_torque, conv.peak_torque, conv.emergency_torque,
+                                       conv.max_input_speed, conv.rated_input_speed)):
+        limits[..., k] = limit[None, :]
+    return Evaluation(values, limits)

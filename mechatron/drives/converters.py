@@ -1,0 +1,90 @@
+"""The motion converters a joint can be driven through, as arrays: direct drive, the gearboxes of a catalog for a
+revolute joint, the ball screws of a catalog for a prismatic one (ratio u = 2π / lead, rad/m)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+from .duty import JointDuty
+
+#: Extra screw length beyond the stroke for bearings and nut (m), for the screw's inertia and mass.
+SCREW_ALLOWANCE = 0.2
+
+
+@dataclass(frozen=True)
+class Converters:
+    """Converters of one joint: key, kind, ratio u (motor speed / joint speed), efficiency η, motor-side inertia
+    J_c (kg·m²), output torque limits (N·m; rated T2N, peak T2B, emergency T2Stop), input speed limits (rad/s; max
+    n1max, rated mean n1N), mass (kg) and price; a limit that does not apply is inf."""
+
+    key: np.ndarray
+    kind: np.ndarray
+    ratio: np.ndarray
+    efficiency: np.ndarray
+    inertia: np.ndarray
+    rated_torque: np.ndarray
+    peak_torque: np.ndarray
+    emergency_torque: np.ndarray
+    max_input_speed: np.ndarray
+    rated_input_speed: np.ndarray
+    mass: np.ndarray
+    price: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.key)
+
+    def subset(self, index) -> Converters:
+        return Converters(**{f.name: getattr(self, f.name)[index] for f in fields(self)})
+
+
+def _number(value) -> float:
+    return 0.0 if value is None or (isinstance(value, float) and math.isnan(value)) else float(value)
+
+
+def _direct() -> dict:
+    inf = math.inf
+    return dict(key="direct", kind="direct", ratio=1.0, efficiency=1.0, inertia=0.0, rated_torque=inf,
+                peak_torque=inf, emergency_torque=inf, max_input_speed=inf, rated_input_speed=inf, mass=0.0,
+                price=0.0)
+
+
+def _gearbox(row: dict) -> dict:
+    return dict(key=row["key"], kind=row["type"], ratio=row["ratio"], efficiency=row["efficiency"],
+                inertia=row["input_inertia"], rated_torque=row["rated_torque"], peak_torque=row["peak_torque"],
+                emergency_torque=row["emergency_torque"], max_input_speed=row["max_input_speed"],
+                rated_input_speed=row["rated_input_speed"], mass=_number(row.get("mass")),
+                price=_number(row.get("price")))
+
+
+def _screw(row: dict, length: float) -> dict:
+    inf = math.inf
+    return dict(key=row["key"], kind=row["type"], ratio=2 * math.pi / row["lead"], efficiency=row["efficiency"],
+                inertia=_number(row.get("inertia_per_length")) * length, rated_torque=inf, peak_torque=inf,
+                emergency_torque=inf, max_input_speed=row["max_speed"], rated_input_speed=inf,
+                mass=_number(row.get("mass_per_length")) * length, price=_number(row.get("price")))
+
+
+def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, screws: pd.DataFrame | None = None,
+                   direct: bool = True) -> Converters:
+    """The converters to try on ``duty``'s joint: direct drive (if ``direct``) and every gearbox for a revolute
+    joint; every screw, ``stroke + SCREW_ALLOWANCE`` long, for a prismatic joint."""
+    rows: list[dict] = []
+    if duty.kind == "revolute":
+        if direct:
+            rows.append(_direct())
+        if gearboxes is not None:
+            rows += [_gearbox(g) for g in gearboxes.to_dict(orient="records")]
+    elif duty.kind == "prismatic":
+        if screws is None:
+            raise InputError(f"joint {duty.name} is prismatic: give a screw catalog")
+        rows += [_screw(s, duty.stroke + SCREW_ALLOWANCE) for s in screws.to_dict(orient="records")]
+    else:
+        raise InputError(f"joint {duty.name}: cannot size a {duty.kind} joint (only revolute and prismatic)")
+    if not rows:
+        raise InputError(f"joint {duty.name}: no converter to try (give a gearbox catalog or allow direct drive)")
+    return Converters(**{name: np.array([r[name] for r in rows]) for name in rows[0]})

@@ -1,0 +1,110 @@
+r"""Hydraulic cylinders of a closed-loop mechanism chosen from a catalog.
+
+For a cylinder coordinate with force F(t) (N, > 0 pushes: extends the cylinder), speed v(t) (m/s) shared by
+``count`` cylinders side by side, and a catalog cylinder of bore D and rod d (piston area A_p = π D²/4, annulus
+A_a = A_p − π d²/4):
+
+- push pressure  p = max F⁺ / (count A_p)  ≤ min(rated pressure, system pressure);
+- pull pressure  p = max F⁻ / (count A_a)  ≤ the same;
+- stroke         L_max − L_min ≤ the catalog's maximum stroke;
+- rod buckling   max F⁺ / count ≤ F_E / S, F_E = π² E (π d⁴/64) / L_max² (Euler, pinned ends, the whole cylinder
+  taken as a rod of diameter d at full extension — the makers' conservative simplification), S = 3.5;
+- flow           Q = count · max(A_p v⁺, A_a v⁻) (m³/s), reported (the pump is a system choice).
+
+The feasible cylinders are ranked by mass (``mass + mass_per_stroke · stroke``), cost or margin.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+from ..model import Cylinder
+from .checks import PASS_TOLERANCE, Check, _load_factor
+from .duty import JointDuty
+
+STEEL_MODULUS = 2.1e11  # Pa
+BUCKLING_SAFETY = 3.5
+CYLINDER_CHECKS = ("push pressure", "pull pressure", "stroke", "rod buckling")
+
+
+@dataclass
+class CylinderSizing:
+    """The chosen catalog cylinder of one cylinder coordinate (or the closest one when none is feasible)."""
+
+    joint: str
+    objective: str
+    feasible: bool
+    cylinder: str
+    count: int
+    checks: list[Check]
+    peak_flow: float
+    ranking: pd.DataFrame
+    closest: pd.DataFrame
+    duty: JointDuty
+    cylinder_data: dict
+
+    kind = "cylinder"
+
+    @property
+    def failed(self) -> list[Check]:
+        return [c for c in self.checks if not c.passed]
+
+    def as_dict(self) -> dict:
+        return {"joint": self.joint, "kind": "cylinder", "feasible": self.feasible, "motor": None, "gearbox": None,
+                "ratio": None, "cylinder": self.cylinder, "count": self.count,
+                "bore": self.cylinder_data["bore"], "rod": self.cylinder_data["rod"],
+                "peak_flow": self.peak_flow, "peak_flow_l_min": self.peak_flow * 60e3,
+                "checks": [c.as_dict() for c in self.checks],
+                "alternatives": self.ranking.head(5).to_dict(orient="records"),
+                "closest": [] if self.feasible else self.closest.to_dict(orient="records")}
+
+
+def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pressure: float = 32e6,
+                  objective: str = "mass") -> CylinderSizing:
+    """Choose a catalog cylinder for the coordinate ``spec`` (its stroke and count) doing ``duty``; ``pressure``
+    is the system's relief pressure (Pa)."""
+    if objective not in ("mass", "cost", "margin"):
+        raise InputError(f"cylinders are ranked by mass, cost or margin, not {objective!r}")
+    if not pressure > 0:
+        raise InputError(f"the system pressure must be > 0 Pa, got {pressure!r}")
+    bore, rod = catalog["bore"].to_numpy(), catalog["rod"].to_numpy()
+    piston = math.pi * bore**2 / 4
+    annulus = piston - math.pi * rod**2 / 4
+    stroke = spec.stroke[1] - spec.stroke[0]
+    push = max(float(duty.torque.max()), 0.0) / spec.count
+    pull = max(float(-duty.torque.min()), 0.0) / spec.count
+    limit = np.minimum(catalog["max_pressure"].to_numpy(), pressure)
+    euler = math.pi**2 * STEEL_MODULUS * (math.pi * rod**4 / 64) / spec.stroke[1] ** 2
+    values = np.stack([push / piston, pull / annulus, np.full(len(catalog), stroke),
+                       np.full(len(catalog), push)], axis=1)
+    limits = np.stack([limit, limit, catalog["max_stroke"].to_numpy(), euler / BUCKLING_SAFETY], axis=1)
+    units = ("Pa", "Pa", "m", "N")
+    factors = _load_factor(values, limits)
+    worst = factors.max(axis=1)
+    feasible = worst <= 1 + PASS_TOLERANCE
+    mass = catalog["mass"].fillna(0).to_numpy() if "mass" in catalog else np.zeros(len(catalog))
+    if "mass_per_stroke" in catalog:
+        mass = mass + catalog["mass_per_stroke"].fillna(0).to_numpy() * stroke
+    price = catalog["price"].fillna(0).to_numpy() if "price" in catalog else np.zeros(len(catalog))
+    score = {"mass": mass, "cost": price, "margin": worst}[objective]
+    flow = spec.count * np.maximum(piston * max(float(duty.speed.max()), 0.0),
+                                   annulus * max(float(-duty.speed.min()), 0.0))
+    index = np.flatnonzero(feasible)
+    ranking = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[index], "bore": bore[index], "rod": rod[index],
+                            "mass": mass[index] * spec.count, "price": price[index] * spec.count,
+                            "smallest_margin": 1 - worst[index], "peak_flow": flow[index], "score": score[index]})
+    ranking = ranking.sort_values(["score", "mass"], kind="stable").reset_index(drop=True)
+    order = np.argsort(worst, kind="stable")[:5]
+    closest = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[order], "worst_load_factor": worst[order],
+                            "failed": ["; ".join(f"{n} ×{factors[i, k]:.2f}" for k, n in enumerate(CYLINDER_CHECKS)
+                                                 if factors[i, k] > 1 + PASS_TOLERANCE) or "none" for i in order]})
+    i = int(np.flatnonzero(catalog["key"].to_numpy() == ranking["cylinder"].iloc[0])[0]) if len(ranking) \
+        else int(order[0])
+    checks = [Check(name, float(values[i, k]), float(limits[i, k]), units[k]) for k, name in enumerate(CYLINDER_CHECKS)]
+    return CylinderSizing(duty.name, objective, bool(len(ranking)), str(catalog["key"].iloc[i]), spec.count, checks,
+                          float(flow[i]), ranking, closest, duty, catalog.iloc[i].to_dict())

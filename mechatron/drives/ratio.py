@@ -1,0 +1,219 @@
+r"""Transmission ratio of a motion converter (textbook section 4.4), u = Ω_motor / Ω_output (4.58).
+
+Ω is an angular (rad/s) or linear (m/s) speed, M a torque (N·m) or force (N), P an inertia (kg·m²) or mass (kg),
+γ an angle (rad) or distance (m): the same formulas serve rotary, rotary→linear and linear→rotary converters
+(u then has units: rad/m or m/rad).
+
+- static (load-dominated) choice (4.59–4.62): u = M_h / (M_d,tr η);
+- minimum-time choice when the dynamic load dominates (4.63, 4.65, 4.70, 4.71): u = ∛(2 Ω_d² P_h / (γ M_i η)) with
+  γ = γ_max/2 by default (4.64); valid while the load inertia dominates, J_h / (u² J_d) > 1 (4.66) with
+  J_d = (1.1…1.3) J_rotor (4.67); otherwise inertia matching u = √(J_h / J_d) (4.68–4.69);
+- a load that changes over a cycle of n segments (4.72–4.75): u = ∛(2 Ω_d² Σ P_hj / (Σ γ_j M_i η)).
+
+Where the cube root comes from: a rest-to-rest move of γ with the motor limited to the speed Ω_d and accelerating
+with the torque M_i takes t(u) = γ u / Ω_d + Ω_d J_d / M_i + Ω_d P_h / (u² M_i η) when it reaches the speed limit
+(output acceleration a = M_i / (J_d u + P_h / (u η))); dt/du = 0 gives (4.63) and, at that ratio, the profile
+accelerates over a quarter of the distance. The motor inertia only adds a constant, as long as the profile stays
+trapezoidal; when the speed limit is not reached (a large J_d) the move is triangular, t = 2 √(γ / a), and its optimum
+is inertia matching with the efficiency, u = √(P_h / (η J_d)). :func:`optimal_ratio` minimizes the exact piecewise
+t(u) with CasADi (Ipopt), so each formula can be checked against it.
+
+For duty cycles where the RMS torque decides, :func:`rms_ratio_band` gives the ratios for which a motor's RMS torque
+stays within its rating (van de Straete et al. 1998; Giberti et al. 2010) and the RMS-optimal ratio.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ..errors import InputError
+
+
+def _positive(**values: float) -> None:
+    for name, value in values.items():
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise InputError(f"{name} must be a finite number > 0, got {value!r}")
+
+
+def static_ratio(load: float, motor_effort: float, efficiency: float = 1.0) -> float:
+    """u = M_h / (M_d,tr η) (4.59–4.62): the ratio at which the motor's required torque (force) M_d,tr holds the
+    resisting load M_h through a converter of efficiency η."""
+    _positive(load=load, motor_effort=motor_effort, efficiency=efficiency)
+    return load / (motor_effort * efficiency)
+
+
+def design_displacement(maximum: float) -> float:
+    """γ = γ_max / 2 (4.64): the displacement to size for when the task moves vary."""
+    _positive(maximum=maximum)
+    return maximum / 2
+
+
+def minimum_time_ratio(motor_speed: float, load_inertia: float, displacement: float, dynamic_effort: float,
+                       efficiency: float = 1.0) -> float:
+    """u = ∛(2 Ω_d² P_h / (γ M_i η)) (4.63; rotary 4.65, rotary→linear 4.70, linear→rotary 4.71)."""
+    _positive(motor_speed=motor_speed, load_inertia=load_inertia, displacement=displacement,
+              dynamic_effort=dynamic_effort, efficiency=efficiency)
+    return (2 * motor_speed**2 * load_inertia / (displacement * dynamic_effort * efficiency)) ** (1 / 3)
+
+
+def cycle_ratio(motor_speed: float, load_inertias: Sequence[float], displacements: Sequence[float],
+                dynamic_effort: float, efficiency: float = 1.0) -> float:
+    """u = ∛(2 Ω_d² Σ P_hj / (Σ γ_j M_i η)) (4.72–4.75) for a cycle whose segments j move different loads."""
+    if len(load_inertias) != len(displacements) or not load_inertias:
+        raise InputError("give one load inertia per displacement of the cycle")
+    for k, (p, g) in enumerate(zip(load_inertias, displacements)):
+        _positive(**{f"load_inertias[{k}]": p, f"displacements[{k}]": g})
+    return minimum_time_ratio(motor_speed, float(sum(load_inertias)), float(sum(displacements)), dynamic_effort,
+                              efficiency)
+
+
+def motor_side_inertia(rotor_inertia: float, factor: float = 1.2) -> float:
+    """J_d = (1.1…1.3) J_rotor (4.67): the rotor plus the converter reflected to the motor shaft."""
+    if not 1.0 <= factor <= 1.5:
+        raise InputError(f"the factor of (4.67) is 1.1…1.3, got {factor:g}")
+    _positive(rotor_inertia=rotor_inertia)
+    return factor * rotor_inertia
+
+
+def load_dominance(load_inertia: float, ratio: float, drive_inertia: float) -> float:
+    """J_h / (u² J_d) (4.66): > 1 when the load's inertia dominates (the minimum-time formula applies)."""
+    _positive(load_inertia=load_inertia, ratio=ratio, drive_inertia=drive_inertia)
+    return load_inertia / (ratio**2 * drive_inertia)
+
+
+def inertia_matching_ratio(load_inertia: float, drive_inertia: float, efficiency: float = 1.0) -> float:
+    """u = √(J_h / (η J_d)); the book's (4.69) is the lossless case √(J_h / J_d)."""
+    _positive(load_inertia=load_inertia, drive_inertia=drive_inertia, efficiency=efficiency)
+    return math.sqrt(load_inertia / (efficiency * drive_inertia))
+
+
+@dataclass(frozen=True)
+class RatioChoice:
+    """The textbook's choice: the minimum-time ratio (4.63) if the load dominates there (4.66), else inertia
+    matching (4.69); ``dominance`` is J_h/(u² J_d) at the minimum-time ratio."""
+
+    ratio: float
+    rule: str
+    minimum_time: float
+    inertia_matching: float
+    dominance: float
+
+
+def textbook_ratio(motor_speed: float, load_inertia: float, displacement: float, dynamic_effort: float,
+                   rotor_inertia: float, efficiency: float = 1.0, factor: float = 1.2) -> RatioChoice:
+    """Section 4.4's procedure: (4.63), checked by (4.66) with J_d from (4.67), else (4.69)."""
+    u = minimum_time_ratio(motor_speed, load_inertia, displacement, dynamic_effort, efficiency)
+    drive = motor_side_inertia(rotor_inertia, factor)
+    dominance = load_dominance(load_inertia, u, drive)
+    matching = math.sqrt(load_inertia / drive)  # (4.69) as printed
+    if dominance > 1:
+        return RatioChoice(u, "minimum time (4.63)", u, matching, dominance)
+    return RatioChoice(matching, "inertia matching (4.69)", u, matching, dominance)
+
+
+def move_time(ratio, motor_speed: float, load_inertia: float, displacement: float, dynamic_effort: float,
+              efficiency: float = 1.0, drive_inertia: float = 0.0, *, backend=math):
+    """Time (s) of a rest-to-rest move of ``displacement`` through the ratio u: the motor accelerates and brakes
+    with the torque M_i and runs at most at Ω_d; trapezoidal if it reaches that speed, triangular otherwise."""
+    u = ratio
+    acceleration = dynamic_effort / (drive_inertia * u + load_inertia / (u * efficiency))
+    speed = motor_speed / u
+    trapezoid = displacement / speed + speed / acceleration
+    triangle = 2 * backend.sqrt(displacement / acceleration)
+    reaches = speed**2 <= displacement * acceleration  # accelerate + brake within the distance
+    if backend is math:
+        return trapezoid if reaches else triangle
+    return ca.if_else(reaches, trapezoid, triangle)
+
+
+def optimal_ratio(motor_speed: float, load_inertia: float | Sequence[float], displacement: float | Sequence[float],
+                  dynamic_effort: float, efficiency: float = 1.0, drive_inertia: float = 0.0) -> tuple[float, float]:
+    """(u, t): the ratio that minimizes the time of a move (:func:`move_time`), or of a cycle of moves j with
+    their own load inertias and displacements (sequences: the sum of their times), found with CasADi/Ipopt on
+    log u from the textbook's formula and the inertia-matching ratio (and a decade either side); t in s."""
+    loads = np.atleast_1d(np.asarray(load_inertia, dtype=float))
+    moves = np.atleast_1d(np.asarray(displacement, dtype=float))
+    if loads.shape != moves.shape:
+        raise InputError("give one load inertia per displacement")
+    for k, (p, g) in enumerate(zip(loads, moves)):
+        _positive(**{f"load_inertia[{k}]": float(p), f"displacement[{k}]": float(g)})
+    _positive(motor_speed=motor_speed, dynamic_effort=dynamic_effort, efficiency=efficiency)
+
+    def total(u, backend=math):
+        return sum(move_time(u, motor_speed, float(p), float(g), dynamic_effort, efficiency, drive_inertia,
+                             backend=backend) for p, g in zip(loads, moves))
+
+    x = ca.SX.sym("log_u")
+    solver = ca.nlpsol("ratio", "ipopt", {"x": x, "f": total(ca.exp(x), ca)},
+                       {"ipopt.print_level": 0, "print_time": False, "ipopt.tol": 1e-12,
+                        "ipopt.sb": "yes", "ipopt.max_iter": 200})
+    formula = cycle_ratio(motor_speed, list(loads), list(moves), dynamic_effort, efficiency)
+    starts = [formula, formula / 10, formula * 10]
+    if drive_inertia > 0:
+        starts.append(inertia_matching_ratio(float(loads.sum()), drive_inertia * len(loads), efficiency))
+    best = None
+    for start in starts:
+        solution = solver(x0=math.log(start), lbx=math.log(formula) - 12, ubx=math.log(formula) + 12)
+        u = math.exp(float(solution["x"]))
+        t = total(u)
+        if best is None or t < best[1]:
+            best = (u, t)
+    return best
+
+
+@dataclass(frozen=True)
+class RatioBand:
+    """Ratios for which a motor's RMS torque over a duty cycle stays within its rated torque: [lower, upper]
+    (empty if ``feasible`` is false), the RMS-optimal ratio and the RMS torque there (N·m)."""
+
+    lower: float
+    upper: float
+    optimal: float
+    rms_at_optimal: float
+    feasible: bool
+
+
+def rms_ratio_band(rotor_inertia: float, rated_torque: float, times: np.ndarray, load_acceleration: np.ndarray,
+                   load_torque: np.ndarray, efficiency: float = 1.0, max_motor_speed: float | None = None,
+                   load_speed: np.ndarray | None = None) -> RatioBand:
+    """The feasible ratio band of a motor for a load cycle (RMS torque criterion).
+
+    With the motor torque T_m = J_m u ω̇_L + T*/u (T* = T_L/η when the load takes power, T_L·η when it returns it),
+    T_rms²(u) = J_m² u² ⟨ω̇_L²⟩ + 2 J_m ⟨ω̇_L T*⟩ + ⟨T*²⟩ / u², the band is where T_rms ≤ T_rated — a quadratic in u²;
+    the RMS-optimal ratio is u* = (⟨T*²⟩ / (J_m² ⟨ω̇_L²⟩))^{1/4}. A motor speed limit caps the band at
+    ω_m,max / max |ω_L|.
+    """
+    t = np.asarray(times, dtype=float)
+    acc, torque = np.asarray(load_acceleration, dtype=float), np.asarray(load_torque, dtype=float)
+    duration = t[-1] - t[0]
+    if not duration > 0:
+        raise InputError("the duty cycle must last longer than 0 s")
+    speed = np.asarray(load_speed, dtype=float) if load_speed is not None else np.gradient(np.zeros_like(t), t)
+    effective = np.where(torque * speed >= 0, torque / efficiency, torque * efficiency)
+
+    def mean(x: np.ndarray) -> float:
+        return float(np.trapezoid(x, t) / duration)
+
+    a2, at, t2 = mean(acc**2), mean(acc * effective), mean(effective**2)
+    J = rotor_inertia
+    optimal = (t2 / (J**2 * a2)) ** 0.25 if a2 > 0 else math.inf
+    rms_at = math.sqrt(J**2 * optimal**2 * a2 + 2 * J * at + t2 / optimal**2) if math.isfinite(optimal) else \
+        math.sqrt(max(t2, 0.0))
+    # J²a2 x² + (2 J at − T_r²) x + t2 ≤ 0, x = u²
+    A, B, C = J**2 * a2, 2 * J * at - rated_torque**2, t2
+    discriminant = B * B - 4 * A * C
+    if A == 0:
+        lower, upper = (math.sqrt(-C / B), math.inf) if B < 0 else (math.inf, 0.0)
+    elif discriminant < 0:
+        lower, upper = math.inf, 0.0
+    else:
+        roots = sorted(((-B - math.sqrt(discriminant)) / (2 * A), (-B + math.sqrt(discriminant)) / (2 * A)))
+        lower, upper = (math.sqrt(max(roots[0], 0.0)), math.sqrt(roots[1])) if roots[1] > 0 else (math.inf, 0.0)
+    if max_motor_speed is not None and load_speed is not None and np.abs(speed).max() > 0:
+        upper = min(upper, max_motor_speed / float(np.abs(speed).max()))
+    return RatioBand(lower, upper, optimal, rms_at, lower <= upper)

@@ -1,0 +1,258 @@
+r"""Motor, converter and ratio selection for every driven joint of a mechanism doing a task.
+
+For each joint: its duty from the dynamics (:mod:`~mechatron.drives.duty`), every motor × converter pair checked
+at once (:mod:`~mechatron.drives.checks`), the feasible pairs ranked by an objective and the best one chosen:
+
+- ``mass``: the lightest motor + converter (then the cheapest);
+- ``cost``: the cheapest (then the lightest);
+- ``margin``: the largest smallest margin over all checks (the most reserve);
+- ``time``: the shortest execution of the task. The task is replayed k times slower (k < 1: faster; speeds × 1/k,
+  accelerations × 1/k², gravity and external loads unchanged); for each coordinate the smallest k at which some
+  drive passes every check is found by bisection, the slowest coordinate sets k for the whole task, and every
+  coordinate then gets its lightest drive at that pace.
+
+When no pair passes, the closest pairs (smallest worst load factor) are reported with the checks they fail.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+from ..model import Mechanism
+from .checks import CHECKS, PASS_TOLERANCE, Check, evaluate, motor_side
+from .converters import Converters, converters_for
+from .duty import JointDuty, joint_duties
+
+OBJECTIVES = ("mass", "cost", "margin", "time")
+#: Number of closest pairs reported when none is feasible, and of alternatives kept in reports.
+REPORTED = 5
+
+
+@dataclass
+class JointSizing:
+    """The sizing of one joint.
+
+    Attributes:
+        feasible: whether any pair passes every check.
+        motor, converter, converter_kind, ratio: the chosen pair (or, if none is feasible, the closest one).
+        checks: every applicable check of that pair.
+        ranking: the feasible pairs, best first (motor, converter, kind, ratio, mass, price, smallest margin, score,
+            and ``task_time`` (s) for the ``time`` objective).
+        closest: the pairs with the smallest worst load factor and the checks they fail.
+        motor_data, converter_data: the chosen pair's catalog data (SI).
+        time_scale: the task was replayed this many times slower (``time`` objective; < 1: faster); ``duty`` is
+            the replayed one.
+    """
+
+    joint: str
+    kind: str
+    objective: str
+    feasible: bool
+    motor: str
+    converter: str
+    converter_kind: str
+    ratio: float
+    checks: list[Check]
+    ranking: pd.DataFrame
+    closest: pd.DataFrame
+    duty: JointDuty
+    motor_data: dict = field(default_factory=dict)
+    converter_data: dict = field(default_factory=dict)
+    time_scale: float = 1.0
+
+    @property
+    def failed(self) -> list[Check]:
+        return [c for c in self.checks if not c.passed]
+
+    def operating_points(self) -> tuple[np.ndarray, np.ndarray]:
+        """Motor speed (rad/s) and torque (N·m) at every sample of the task with the chosen pair."""
+        c = self.converter_data
+        n, accel, base = motor_side(self.duty, c["ratio"], c["efficiency"], c["inertia"])
+        return n, self.motor_data["rotor_inertia"] * accel + base
+
+    def as_dict(self) -> dict:
+        return {"joint": self.joint, "kind": self.kind, "feasible": self.feasible, "motor": self.motor,
+                "gearbox": self.converter, "converter_kind": self.converter_kind, "ratio": self.ratio,
+                "time_scale": self.time_scale,
+                "checks": [c.as_dict() for c in self.checks],
+                "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
+                "closest": [] if self.feasible else self.closest.to_dict(orient="records")}
+
+
+def fastest_scale(passes: Callable[[float], bool], k_min: float = 0.02, k_max: float = 50.0,
+                  tolerance: float = 1e-3) -> float:
+    """The smallest time scale k ∈ [k_min, k_max] for which ``passes(k)`` (some drive passes every check with the
+    task replayed k times slower), by bisection on log k to a relative ``tolerance``; the value returned is a
+    tested, passing k, or inf if nothing passes even at k_max (the static load — gravity, external forces — does
+    not scale, so a drive that cannot hold it fails at every k)."""
+    if passes(1.0):
+        if passes(k_min):
+            return k_min
+        low, high = k_min, 1.0
+    else:
+        if not passes(k_max):
+            return math.inf
+        low, high = 1.0, k_max
+    while high / low > 1 + tolerance:
+        middle = math.sqrt(low * high)
+        if passes(middle):
+            high = middle
+        else:
+            low = middle
+    return high
+
+
+def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float
+                  ) -> Callable[[float], bool]:
+    def passes(k: float) -> bool:
+        worst = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max).worst()
+        return bool((worst <= 1 + PASS_TOLERANCE).any())
+
+    return passes
+
+
+def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
+               screws: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
+               direct: bool = True, time_scale: float | None = None) -> JointSizing:
+    """Check every motor × converter pair for one joint and choose the best feasible one by ``objective``.
+
+    With ``objective="time"`` the task is first replayed at ``time_scale`` (default: the fastest scale this joint
+    allows, :func:`fastest_scale`) and the lightest feasible pair at that pace is chosen."""
+    if objective not in OBJECTIVES:
+        raise InputError(f"unknown objective {objective!r}; expected one of: {', '.join(OBJECTIVES)}")
+    if not inertia_ratio_max > 0:
+        raise InputError(f"the inertia ratio limit must be > 0, got {inertia_ratio_max!r}")
+    if len(motors) == 0:
+        raise InputError("the motor catalog is empty")
+    conv = converters_for(duty, gearboxes, screws, direct)
+    scale = 1.0
+    if objective == "time":
+        scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max))
+        scale = scale if math.isfinite(scale) else 1.0
+        duty = duty.scaled(scale)
+    evaluation = evaluate(duty, motors, conv, inertia_ratio_max)
+    factors = evaluation.load_factors()
+    worst = factors.max(axis=2)
+    feasible = worst <= 1 + PASS_TOLERANCE
+    motor_mass = motors["mass"].fillna(0).to_numpy() if "mass" in motors else np.zeros(len(motors))
+    motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
+    mass = motor_mass[:, None] + conv.mass[None, :]
+    price = motor_price[:, None] + conv.price[None, :]
+    score = {"mass": mass, "cost": price, "margin": worst, "time": mass}[objective]
+    im, ic = np.nonzero(feasible)
+    ranking = pd.DataFrame({
+        "motor": motors["key"].to_numpy()[im], "converter": conv.key[ic], "kind": conv.kind[ic],
+        "ratio": conv.ratio[ic], "mass": mass[im, ic], "price": price[im, ic],
+        "smallest_margin": 1 - worst[im, ic], "score": score[im, ic], "_m": im, "_c": ic})
+    tie_break = {"mass": ["price"], "cost": ["mass"], "margin": ["mass"], "time": ["price"]}[objective]
+    ranking = ranking.sort_values(["score", *tie_break], kind="stable").reset_index(drop=True)
+    closest = _closest(worst, factors, motors, conv)
+    if len(ranking):
+        m, c = int(ranking["_m"].iloc[0]), int(ranking["_c"].iloc[0])
+    else:
+        m, c = np.unravel_index(int(np.argmin(worst)), worst.shape)
+    return JointSizing(duty.name, duty.kind, objective, bool(len(ranking)), str(motors["key"].iloc[m]),
+                       str(conv.key[c]), str(conv.kind[c]), float(conv.ratio[c]), evaluation.checks(m, c),
+                       ranking.drop(columns=["_m", "_c"]), closest, duty, motors.iloc[m].to_dict(),
+                       {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale)
+
+
+def _closest(worst: np.ndarray, factors: np.ndarray, motors: pd.DataFrame, conv: Converters) -> pd.DataFrame:
+    rows = []
+    for flat in np.argsort(worst, axis=None, kind="stable")[:REPORTED]:
+        m, c = np.unravel_index(flat, worst.shape)
+        failed = [f"{name} ×{factors[m, c, k]:.2f}" for k, name in enumerate(CHECKS)
+                  if factors[m, c, k] > 1 + PASS_TOLERANCE]
+        rows.append({"motor": str(motors["key"].iloc[m]), "converter": str(conv.key[c]), "ratio": float(conv.ratio[c]),
+                     "worst_load_factor": float(worst[m, c]), "failed": "; ".join(failed) or "none"})
+    return pd.DataFrame(rows)
+
+
+@dataclass
+class SizingResult:
+    """The sizing of every driven coordinate of a mechanism for a task: ``joints`` holds a
+    :class:`JointSizing` per motor-driven joint and a :class:`~mechatron.drives.cylinders.CylinderSizing` per
+    hydraulic cylinder; ``time_scale`` < 1 when the ``time`` objective found the task can run faster."""
+
+    mechanism: str
+    task: str
+    objective: str
+    joints: list
+    time_scale: float = 1.0
+
+    @property
+    def feasible(self) -> bool:
+        return all(j.feasible for j in self.joints)
+
+    def as_dict(self) -> dict:
+        return {"mechanism": self.mechanism, "task": self.task, "objective": self.objective,
+                "feasible": self.feasible, "time_scale": self.time_scale,
+                "task_time": self.time_scale * self.joints[0].duty.duration if self.joints else None,
+                "joints": [j.as_dict() for j in self.joints]}
+
+    def table(self) -> pd.DataFrame:
+        """One row per joint and check: joint, motor, converter, ratio, check, value, limit, unit, margin, pass."""
+        rows = [{"joint": j.joint, "motor": getattr(j, "motor", None),
+                 "converter": getattr(j, "converter", getattr(j, "cylinder", None)), "ratio": getattr(j, "ratio", None),
+                 **{("check" if k == "name" else k): v for k, v in c.as_dict().items()}}
+                for j in self.joints for c in j.checks]
+        return pd.DataFrame(rows)
+
+
+def size_mechanism(mech: Mechanism, trajectory, motors: pd.DataFrame | None = None,
+                   gearboxes: pd.DataFrame | None = None, screws: pd.DataFrame | None = None,
+                   cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
+                   loads: Sequence[Sequence] | None = None, task: str = "task", direct: bool = True,
+                   pressure: float = 32e6, progress: Callable[[int, int], None] | None = None) -> SizingResult:
+    """Size every coordinate of ``mech`` that moves or carries load along ``trajectory`` (a
+    :class:`~mechatron.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
+    mechanism): motors with gearboxes (revolute) or screws (prismatic), catalog cylinders for hydraulic cylinders
+    (``pressure``: the system's relief pressure, Pa). Payloads go into ``mech``
+    (:func:`mechatron.dynamics.with_payload`); ``loads`` are external forces as in
+    :func:`mechatron.dynamics.inverse_dynamics`. A catalog left out is the example one shipped in ``catalogs/``."""
+    from .catalogs import default_catalog
+    from .cylinders import size_cylinder
+
+    duties = [d for d in joint_duties(mech, trajectory, loads)
+              if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0]
+    if not duties:
+        raise InputError(f"no joint of {mech.name} moves or carries load in the task")
+    kinds = {d.kind for d in duties}
+    motors = motors if motors is not None or kinds <= {"cylinder"} else default_catalog("motors")
+    gearboxes = gearboxes if gearboxes is not None or "revolute" not in kinds else default_catalog("gearboxes")
+    screws = screws if screws is not None or "prismatic" not in kinds else default_catalog("screws")
+    cylinders = cylinders if cylinders is not None or "cylinder" not in kinds else default_catalog("cylinders")
+    def size(duty: JointDuty, scale: float | None = None):
+        if duty.kind == "cylinder":
+            spec = mech.cylinders[duty.name]
+            if objective == "time":
+                return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass")
+            return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective)
+        return size_joint(duty, motors, gearboxes, screws, objective=objective, inertia_ratio_max=inertia_ratio_max,
+                          direct=direct, time_scale=scale)
+
+    scale = None
+    if objective == "time":  # the slowest coordinate sets the pace of the whole task
+        scales = [fastest_scale(_cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure))
+                  if d.kind == "cylinder" else
+                  fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, screws, direct),
+                                              inertia_ratio_max)) for d in duties]
+        scale = max(scales) if all(math.isfinite(x) for x in scales) else 1.0
+    out: list = []
+    for k, duty in enumerate(duties):
+        out.append(size(duty, scale))
+        if progress:
+            progress(k + 1, len(duties))
+    return SizingResult(mech.name, task, objective, out, scale or 1.0)
+
+
+def _cylinder_passes(duty: JointDuty, spec, catalog: pd.DataFrame, pressure: float) -> Callable[[float], bool]:
+    from .cylinders import size_cylinder
+
+    return lambda k: size_cylinder(duty.scaled(k), spec, catalog, pressure=pressure).feasible

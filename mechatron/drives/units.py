@@ -1,0 +1,31 @@
+"""Units of catalog columns: a column is named ``<field>_<unit>`` when its unit is not SI (``rated_speed_rpm``,
+``bore_mm``, ``rotor_inertia_kgcm2``) and ``<field>`` when it is; every value is converted to SI on reading."""
+
+from __future__ import annotations
+
+import math
+
+#: unit suffix → factor to SI, by kind of quantity
+UNITS: dict[str, dict[str, float]] = {
+    "torque": {"": 1.0, "Nm": 1.0, "mNm": 1e-3, "kNm": 1e3},
+    "force": {"": 1.0, "N": 1.0, "kN": 1e3},
+    "speed": {"": 1.0, "rad_s": 1.0, "rpm": 2 * math.pi / 60},
+    "linear_speed": {"": 1.0, "m_s": 1.0, "mm_s": 1e-3, "m_min": 1 / 60},
+    "inertia": {"": 1.0, "kgm2": 1.0, "kgcm2": 1e-4, "gcm2": 1e-7},
+    "inertia_per_length": {"": 1.0, "kgm2_m": 1.0, "kgcm2_m": 1e-4},
+    "linear_density": {"": 1.0, "kg_m": 1.0},
+    "mass": {"": 1.0, "kg": 1.0, "g": 1e-3},
+    "length": {"": 1.0, "m": 1.0, "mm": 1e-3, "cm": 1e-2},
+    "angle": {"": 1.0, "rad": 1.0, "deg": math.pi / 180, "arcmin": math.pi / 10800, "arcsec": math.pi / 648000},
+    "power": {"": 1.0, "W": 1.0, "kW": 1e3},
+    "pressure": {"": 1.0, "Pa": 1.0, "MPa": 1e6, "bar": 1e5},
+    "current": {"": 1.0, "A": 1.0},
+    "voltage": {"": 1.0, "V": 1.0},
+    "torque_constant": {"": 1.0, "Nm_A": 1.0},
+    "ratio": {"": 1.0},
+    "fraction": {"": 1.0, "percent": 0.01},
+    "money": {"eur": 1.0, "usd": 1.0},
+    "time": {"": 1.0, "s": 1.0, "min": 60.0, "h": 3600.0},
+    "text": {"": 1.0},
+    "count": {"": 1.0},
+}

@@ -1,0 +1,195 @@
+"""Tasks: what a mechanism must do — a motion (waypoints with a profile, or a trajectory CSV), a payload and
+external loads — read from a TOML file, or a default one for every robot.
+
+A task file (TOML; every field optional except the motion)::
+
+    name = "pick and place"
+    payload = 2.5                     # kg, carried at the tool frame
+    payload_com = [0.0, 0.0, 0.05]    # m in the tool frame (or payload_com_mm)
+    profile = "trapezoidal"           # triangular, trapezoidal, scurve, quintic
+    dwell = 0.25                      # s of rest at every waypoint after the first
+    dt = 0.005                        # s, sampling step
+    vmax_deg = [100, 100, 100, 200, 200, 200]   # per joint or one value (or vmax in rad/s and m/s)
+    amax_deg = [300, 300, 300, 600, 600, 600]   # (or amax)
+    jmax_deg = 3000                   # for the scurve profile (or jmax)
+    waypoints_deg = [[0, 0, 0, 0, 0, 0], [45, -30, 20, 0, 30, 90]]   # (or waypoints in rad and m)
+    # trajectory = "motion.csv"       # instead of waypoints: a trajectory CSV, relative to this file
+
+    [[loads]]                         # constant external forces, world axes
+    frame = "tool"
+    force = [0.0, 0.0, -50.0]         # N
+    moment = [0.0, 0.0, 0.0]          # N·m
+
+With ``_deg`` the values of revolute joints are in degrees and those of prismatic joints in metres. For a
+closed-loop mechanism the waypoints and limits are its actuated coordinates (cylinder lengths in m).
+The default task of a robot is ``robots/tasks/<name>.toml`` if there is one, else :func:`generic_task`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+from .model import Mechanism
+from .motion import PROFILES, Trajectory, cycle, read_trajectory
+from .schema import FieldReader
+
+
+@dataclass
+class Task:
+    """A task ready for analysis: the mechanism with the payload attached, the trajectory, external loads."""
+
+    name: str
+    mechanism: Mechanism
+    trajectory: Trajectory
+    loads: list = field(default_factory=list)
+    payload: float = 0.0
+    source: str = ""
+
+    @property
+    def duration(self) -> float:
+        return float(self.trajectory.t[-1] - self.trajectory.t[0])
+
+
+def _coordinates(mech: Mechanism) -> tuple[list[str], np.ndarray]:
+    """Names of the coordinates a task moves and which of them are angles."""
+    names = list(mech.actuated) if mech.closures else mech.joint_names
+    return names, np.array([mech.joint_kind(n) == "revolute" for n in names])
+
+
+def _per_axis(reader: FieldReader, key: str, angular: np.ndarray) -> np.ndarray | None:
+    """A scalar or per-coordinate list from ``key`` (SI) or ``key_deg`` (revolute in degrees, others SI)."""
+    if reader.has(key) and reader.has(key + "_deg"):
+        raise reader.error(key, f"give only one of {key} and {key}_deg")
+    for name, degrees in ((key, False), (key + "_deg", True)):
+        if reader.has(name):
+            raw = reader.raw(name)
+            values = np.atleast_1d(np.asarray(raw, dtype=object))
+            if values.ndim != 1 or len(values) not in (1, len(angular)):
+                raise reader.error(name, f"give one value or {len(angular)} (one per coordinate)")
+            out = np.array([reader.to_float(name, v) for v in values], dtype=float)
+            out = np.broadcast_to(out, angular.shape).copy()
+            if np.any(out <= 0):
+                raise reader.error(name, "every value must be > 0")
+            return np.where(angular, np.radians(out), out) if degrees else out
+    return None
+
+
+def _waypoints(reader: FieldReader, angular: np.ndarray) -> list[np.ndarray] | None:
+    if reader.has("waypoints") and reader.has("waypoints_deg"):
+        raise reader.error("waypoints", "give only one of waypoints and waypoints_deg")
+    for name, degrees in (("waypoints", False), ("waypoints_deg", True)):
+        if not reader.has(name):
+            continue
+        raw = reader.raw(name)
+        if not isinstance(raw, list) or len(raw) < 2:
+            raise reader.error(name, "give a list of at least two waypoints")
+        points = []
+        for k, point in enumerate(raw):
+            where = f"{name}[{k + 1}]"
+            if not isinstance(point, list) or len(point) != len(angular):
+                raise InputError(f"expected {len(angular)} numbers (one per coordinate)", file=reader.file,
+                                 field=reader.field(where))
+            values = np.array([reader.to_float(where, v) for v in point], dtype=float)
+            points.append(np.where(angular, np.radians(values), values) if degrees else values)
+        return points
+    return None
+
+
+def read_task(path: str | Path, mech: Mechanism) -> Task:
+    """A task from a TOML file (see the module docstring) or a trajectory CSV, for ``mech``."""
+    from .robotfile import read_toml
+
+    path = Path(path)
+    if path.suffix.lower() == ".csv":
+        return Task(path.stem, mech, read_trajectory(path, mech), source=str(path))
+    reader = FieldReader(read_toml(path), file=path)
+    name = reader.string("name", path.stem)
+    reader.string("description", "")
+    names, angular = _coordinates(mech)
+    payload = reader.number("payload", 0.0, minimum=0.0)
+    com = reader.lengths("payload_com", 3, np.zeros(3))
+    if payload and mech.closures:
+        raise reader.error("payload", "a payload is carried at the tool of a serial arm; give loads instead")
+    loaded = mech
+    if payload:
+        from .dynamics import with_payload
+
+        loaded = with_payload(mech, payload, com=com)
+    loads = []
+    for load in reader.tables("loads") if reader.has("loads") else []:
+        frame = load.string("frame")
+        try:
+            mech.frame_id(frame)
+        except InputError as exc:
+            raise load.error("frame", exc.message) from None
+        loads.append((frame, load.vector("force", 3, np.zeros(3)), load.vector("moment", 3, np.zeros(3))))
+        load.finish()
+    if reader.has("trajectory"):
+        if reader.has("waypoints") or reader.has("waypoints_deg"):
+            raise reader.error("trajectory", "give either a trajectory file or waypoints, not both")
+        csv = Path(reader.string("trajectory"))
+        trajectory = read_trajectory(csv if csv.is_absolute() else path.parent / csv, mech)
+        reader.finish()
+        return Task(name, loaded, trajectory, loads, payload, str(path))
+    points = _waypoints(reader, angular)
+    if points is None:
+        raise reader.error("waypoints", "missing the motion: give waypoints, waypoints_deg or trajectory")
+    profile = reader.string("profile", "trapezoidal", choices=PROFILES)
+    dwell = reader.number("dwell", 0.0, minimum=0.0)
+    dt = reader.number("dt", 0.005, positive=True)
+    limits = {k: _per_axis(reader, k, angular) for k in ("vmax", "amax", "jmax")}
+    reader.finish()
+    trajectory = cycle(None if mech.closures else mech, points, dwell=dwell, profile=profile, dt=dt, **limits)
+    if mech.closures:
+        trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names)
+    return Task(name, loaded, trajectory, loads, payload, str(path))
+
+
+def task_file(mech: Mechanism) -> Path | None:
+    """The default task file of a robot, ``robots/tasks/<name>.toml``, if there is one."""
+    from .library import data_dir
+
+    path = data_dir("robots") / "tasks" / f"{mech.name}.toml"
+    return path if path.is_file() else None
+
+
+def generic_task(mech: Mechanism, dwell: float = 0.2, dt: float = 0.005) -> Task:
+    """A task for any mechanism: from the reference position, every coordinate moves by 40 % of its range (at
+    most 90° or 0.5 m; the sign that stays inside the limits) and back, with a trapezoidal profile at the model's
+    velocity limits (1 rad/s or 0.25 m/s where it has none; the nominal rates of a closed loop's inputs) reached
+    in 0.25 s, resting ``dwell`` s at each end."""
+    names, angular = _coordinates(mech)
+    if mech.closures:
+        solver = mech.loop_solver()
+        index = [solver.index[n] for n in names]
+        start = np.asarray(mech.reference_q if mech.reference_q is not None else mech.neutral(), float)[index]
+        lower, upper = mech.model.lowerPositionLimit[index], mech.model.upperPositionLimit[index]
+        speed = np.array([mech.input_rates.get(n, 1.0 if a else 0.1) for n, a in zip(names, angular)])
+    else:
+        start = mech.neutral()
+        lower, upper = mech.model.lowerPositionLimit, mech.model.upperPositionLimit
+        speed = mech.model.velocityLimit.copy()
+        bad = ~np.isfinite(speed) | (speed <= 0) | (speed > 1e30)
+        speed[bad] = np.where(angular, 1.0, 0.25)[bad]
+    finite = np.isfinite(lower) & np.isfinite(upper) & (upper - lower < 1e10)
+    start = np.where(finite, np.clip(start, lower, upper), start)
+    span = np.where(finite, 0.4 * (upper - lower), np.where(angular, math.pi / 2, 0.5))
+    step = np.minimum(span, np.where(angular, math.pi / 2, 0.5))
+    room_up = np.where(finite, upper - start, np.inf)
+    end = np.where(room_up >= step, start + step, start - step)
+    end = np.where(finite, np.clip(end, lower, upper), end)
+    trajectory = cycle(None if mech.closures else mech, [start, end, start], dwell=dwell, vmax=speed,
+                       amax=speed / 0.25, dt=dt)
+    trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names)
+    return Task("generic out-and-back", mech, trajectory, source="generic")
+
+
+def default_task(mech: Mechanism) -> Task:
+    """The robot's own task file if it has one, else :func:`generic_task`."""
+    path = task_file(mech)
+    return read_task(path, mech) if path else generic_task(mech)

@@ -1,0 +1,274 @@
+"""Drive sizing: a hand-checked one-joint case, no double counting of the rotor inertia (against the dynamics'
+own motor model), the sample envelope is exact, vectorized checks equal one-pair checks, ranking by each
+objective, the time objective, infeasible joints and cylinders."""
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import mechatron
+from mechatron.dh import DHLink, DHTable, Drive, Inertial, dh_mechanism
+from mechatron.drives.catalogs import default_catalog
+from mechatron.drives.checks import CHECKS, evaluate
+from mechatron.drives.converters import converters_for
+from mechatron.drives.cylinders import BUCKLING_SAFETY, STEEL_MODULUS, size_cylinder
+from mechatron.drives.duty import JointDuty, joint_duties
+from mechatron.drives.sizing import size_joint, size_mechanism
+from mechatron.dynamics import inverse_dynamics, motor_loads
+from mechatron.errors import InputError
+from mechatron.motion import Trajectory, move
+from mechatron.tasks import default_task
+
+# ------------------------------------------------------------------------------------------ the hand case
+# A disc of 0.5 kg·m² on a vertical axis (no gravity torque) moves 2 rad: trapezoid, 2 rad/s, 10 rad/s².
+# Motor: T_r 0.1, T_p 0.3 N·m, n_r 300, n_max 500 rad/s, J_m 1e-4 kg·m². Gearbox: u 50, η 0.9, J_c 2e-5 kg·m².
+# By hand: accelerating 0.2 s with τ = 5 N·m (motoring): T_m = 1.2e-4·50·10 + 5/(50·0.9) = 0.171111 N·m;
+# braking 0.2 s with τ = −5 N·m (the load drives the gear): T_m = −0.06 − 5·0.9/50 = −0.15 N·m; cruising 0.8 s
+# with 0. RMS = √((0.171111²·0.2 + 0.15²·0.2)/1.2) = 0.092897 N·m against T_r at the mean speed 50·2/1.2 =
+# 83.3 rad/s; inertia ratio (0.5/50² + 2e-5)/1e-4 = 2.2; output equivalent torque (speed-weighted cubic mean)
+# (125·(0.2 + 0.2)/2)^(1/3) = 2.9240 N·m; emergency 0.3·50 = 15 N·m.
+
+MOTOR = pd.DataFrame([{"key": "M", "rated_torque": 0.1, "peak_torque": 0.3, "rated_speed": 300.0,
+                       "max_speed": 500.0, "rotor_inertia": 1e-4, "mass": 1.0, "price": 100.0}])
+GEARBOX = pd.DataFrame([{"key": "G50", "type": "planetary", "ratio": 50.0, "rated_torque": 5.0, "peak_torque": 10.0,
+                         "emergency_torque": 20.0, "max_input_speed": 600.0, "rated_input_speed": 400.0,
+                         "efficiency": 0.9, "input_inertia": 2e-5, "mass": 1.0, "price": 100.0}])
+
+
+def disc():
+    link = DHLink("revolute", name="q1", inertial=Inertial(0.0, np.zeros(3), np.diag([0.25, 0.25, 0.5])))
+    return dh_mechanism(DHTable((link,)), "disc")
+
+
+def disc_move(dt=1e-4):
+    return move(disc(), [0.0], [2.0], profile="trapezoidal", vmax=2.0, amax=10.0, dt=dt)
+
+
+def test_hand_checked_one_joint_one_motor_one_gearbox():
+    mech = disc()
+    result = size_mechanism(mech, disc_move(), MOTOR, GEARBOX, direct=False)
+    (joint,) = result.joints
+    assert joint.feasible and joint.motor == "M" and joint.converter == "G50" and joint.ratio == 50
+    checks = {c.name: c for c in joint.checks}
+    assert set(checks) == set(CHECKS)
+    expected = {
+        "peak torque": (0.171111, 0.3), "speed-torque curve": (0.171111 / 0.3, 1.0),
+        "RMS torque": (math.sqrt((0.171111**2 * 0.2 + 0.15**2 * 0.2) / 1.2), 0.1), "max speed": (100.0, 500.0),
+        "inertia ratio": (2.2, 10.0), "transmission equivalent torque": (25 ** (1 / 3), 5.0),
+        "transmission peak torque": (5.0, 10.0), "transmission emergency torque": (15.0, 20.0),
+        "transmission max input speed": (100.0, 600.0), "transmission mean input speed": (50 * 2 / 1.2, 400.0),
+    }
+    for name, (value, limit) in expected.items():
+        assert checks[name].value == pytest.approx(value, rel=2e-3), name
+        assert checks[name].limit == pytest.approx(limit, rel=1e-12), name
+        assert checks[name].margin == pytest.approx(1 - checks[name].value / limit)
+        assert checks[name].passed
+    # the motor side over time, at one accelerating and one braking sample
+    n, torque = joint.operating_points()
+    t = joint.duty.t
+    assert torque[np.searchsorted(t, 0.1)] == pytest.approx(0.06 + 5 / 45, rel=1e-9)
+    assert torque[np.searchsorted(t, 1.1)] == pytest.approx(-0.06 - 0.09, rel=1e-9)
+    assert n.max() == pytest.approx(100.0)
+
+
+def test_hand_case_fails_the_right_checks_with_a_weaker_drive():
+    weak = MOTOR.assign(rated_torque=0.08, peak_torque=0.16)  # RMS 0.093 > 0.08; peak 0.171 > 0.16
+    (joint,) = size_mechanism(disc(), disc_move(dt=1e-3), weak, GEARBOX, direct=False).joints
+    assert not joint.feasible
+    failed = {c.name for c in joint.failed}
+    assert failed == {"peak torque", "speed-torque curve", "RMS torque"}
+    assert "peak torque" in joint.closest["failed"].iloc[0] and "RMS torque" in joint.closest["failed"].iloc[0]
+
+
+# ------------------------------------------------------------------------------------ no double counting
+@pytest.fixture(scope="module")
+def puma_task():
+    return default_task(mechatron.load("puma560"))
+
+
+@pytest.fixture(scope="module")
+def puma_sizing(puma_task):
+    return size_mechanism(puma_task.mechanism, puma_task.trajectory, loads=puma_task.loads, task=puma_task.name)
+
+
+def test_duty_has_no_drive_inertia(puma_task):
+    mech, tr = puma_task.mechanism, puma_task.trajectory
+    assert np.any(mech.model.armature > 0)  # the PUMA model carries its own motors' J·u²
+    duties = joint_duties(mech, tr)
+    full = inverse_dynamics(mech, tr.q, tr.v, tr.a)
+    for j, duty in enumerate(duties):
+        assert np.allclose(duty.torque, full[:, j] - mech.model.armature[j] * tr.a[:, j], atol=1e-9)
+
+
+def test_motor_torque_matches_the_dynamics_motor_model(puma_task, puma_sizing):
+    """Put the chosen motors and gearboxes into the DH model as drives (armature (J_m + J_c) u²) and compare
+    dynamics.motor_loads with the sizing's motor torques: the rotor inertia is counted exactly once."""
+    mech = puma_task.mechanism
+    table = mech.dh
+    drives = {}
+    for j in puma_sizing.joints:
+        c = j.converter_data
+        drives[j.joint] = Drive(rotor_inertia=j.motor_data["rotor_inertia"] + c["inertia"], gear_ratio=c["ratio"],
+                                efficiency=c["efficiency"])
+    links = tuple(replace(link, drive=drives[link.name]) for link in table.links)
+    geared = mechatron.dynamics.with_payload(dh_mechanism(replace(table, links=links), "puma_geared"), 2.5,
+                                             com=(0.0, 0.0, 0.05))
+    tr = puma_task.trajectory
+    motors = motor_loads(geared, tr.v, tr.a, inverse_dynamics(geared, tr.q, tr.v, tr.a))
+    for k, j in enumerate(puma_sizing.joints):
+        speed, torque = j.operating_points()
+        assert np.allclose(speed, motors.speed[:, k], rtol=1e-12)
+        assert np.allclose(torque, motors.torque[:, k], rtol=1e-9, atol=1e-12)
+
+
+# ------------------------------------------------------------------------------- vectorization and pruning
+def random_duty(rng, n=600):
+    t = np.linspace(0, 3, n)
+    speed = np.cumsum(rng.normal(size=n)) * 0.05
+    acceleration = np.gradient(speed, t)
+    static = 3 * np.sin(2 * t + rng.uniform(0, 6))
+    return JointDuty("j", "revolute", t, speed, acceleration, static + 0.8 * acceleration + 0.1 * speed, static,
+                     0.8, 1.0)
+
+
+def test_envelope_is_exact(monkeypatch, puma_sizing, rng):
+    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    duties = [j.duty for j in puma_sizing.joints] + [random_duty(rng) for _ in range(3)]
+    pruned = [evaluate(d, motors, converters_for(d, gearboxes)) for d in duties]
+    assert any(len(d.envelope()) < len(d.t) / 10 for d in duties)
+    monkeypatch.setattr(JointDuty, "envelope", lambda self: np.arange(len(self.t)))
+    for d, fast in zip(duties, pruned):
+        full = evaluate(d, motors, converters_for(d, gearboxes))
+        assert np.array_equal(fast.values, full.values)
+
+
+def test_matrix_evaluation_equals_one_pair_at_a_time(puma_sizing, rng):
+    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    duty = puma_sizing.joints[1].duty
+    conv = converters_for(duty, gearboxes)
+    matrix = evaluate(duty, motors, conv)
+    for m, c in zip(rng.integers(0, len(motors), 25), rng.integers(0, len(conv), 25)):
+        single = evaluate(duty, motors.iloc[[m]], conv.subset([c]))
+        assert np.allclose(single.values[0, 0], matrix.values[m, c], rtol=1e-12)
+        assert np.allclose(single.limits[0, 0], matrix.limits[m, c], rtol=1e-12)
+
+
+# --------------------------------------------------------------------------------------- ranking
+@pytest.mark.parametrize("objective", ["mass", "cost", "margin"])
+def test_objective_picks_the_best_feasible_pair(puma_sizing, objective):
+    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    duty = puma_sizing.joints[2].duty
+    result = size_joint(duty, motors, gearboxes, objective=objective)
+    conv = converters_for(duty, gearboxes)
+    worst = evaluate(duty, motors, conv).worst()
+    feasible = worst <= 1 + 1e-9
+    mass = motors["mass"].to_numpy()[:, None] + conv.mass[None, :]
+    price = motors["price"].to_numpy()[:, None] + conv.price[None, :]
+    m = int(np.flatnonzero(motors["key"] == result.motor)[0])
+    c = int(np.flatnonzero(conv.key == result.converter)[0])
+    assert feasible[m, c] and len(result.ranking) == feasible.sum()
+    score = {"mass": mass, "cost": price, "margin": worst}[objective]
+    assert score[m, c] == pytest.approx(score[feasible].min())
+    assert result.ranking["score"].is_monotonic_increasing
+    assert min(ch.margin for ch in result.checks) == pytest.approx(1 - worst[m, c])
+
+
+def test_objectives_trade_off(puma_sizing):
+    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    duty = puma_sizing.joints[1].duty
+    by = {o: size_joint(duty, motors, gearboxes, objective=o) for o in ("mass", "cost", "margin")}
+    mass = {o: r.ranking.set_index(["motor", "converter"]).loc[(r.motor, r.converter), "mass"] for o, r in by.items()}
+    assert mass["mass"] <= mass["cost"] and mass["mass"] <= mass["margin"]
+    margin = {o: min(c.margin for c in r.checks) for o, r in by.items()}
+    assert margin["margin"] >= margin["mass"] and margin["margin"] >= margin["cost"]
+
+
+def test_time_objective_finds_the_fastest_feasible_pace(puma_task):
+    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    result = size_mechanism(puma_task.mechanism, puma_task.trajectory, motors, gearboxes, objective="time",
+                            loads=puma_task.loads)
+    k = result.time_scale
+    assert 0.02 < k < 1  # the catalog allows a faster cycle than the task's
+    assert result.feasible and all(j.time_scale == k for j in result.joints)
+    duties = joint_duties(puma_task.mechanism, puma_task.trajectory)
+
+    def anything_passes(duty, scale):
+        return (evaluate(duty.scaled(scale), motors, converters_for(duty, gearboxes)).worst() <= 1 + 1e-9).any()
+
+    assert all(anything_passes(d, k) for d in duties)
+    assert not all(anything_passes(d, k / 1.003) for d in duties)  # a little faster and some joint fails
+    for j in result.joints:  # and the lightest pair at that pace was chosen
+        assert j.ranking["mass"].iloc[0] == j.ranking["mass"].min()
+
+
+def test_scaled_duty_equals_the_dynamics_of_the_replayed_trajectory(puma_task):
+    mech, tr = puma_task.mechanism, puma_task.trajectory
+    k = 0.6
+    faster = Trajectory(tr.t * k, tr.q, tr.v / k, tr.a / k**2, tr.names)
+    for scaled, direct in zip((d.scaled(k) for d in joint_duties(mech, tr)), joint_duties(mech, faster)):
+        assert np.allclose(scaled.torque, direct.torque, atol=1e-9)
+        assert np.allclose(scaled.t, direct.t) and np.allclose(scaled.speed, direct.speed)
+
+
+# ------------------------------------------------------------------------------------- bad input
+def test_bad_sizing_input():
+    duty = joint_duties(disc(), disc_move(dt=1e-2))[0]
+    with pytest.raises(InputError, match="unknown objective"):
+        size_joint(duty, MOTOR, GEARBOX, objective="speed")
+    with pytest.raises(InputError, match="inertia ratio"):
+        size_joint(duty, MOTOR, GEARBOX, inertia_ratio_max=0)
+    with pytest.raises(InputError, match="no converter"):
+        size_joint(duty, MOTOR, None, direct=False)
+    prismatic = replace(duty, kind="prismatic")
+    with pytest.raises(InputError, match="screw catalog"):
+        size_joint(prismatic, MOTOR, GEARBOX)
+    rest = np.zeros((len(duty.t), 1))
+    with pytest.raises(InputError, match="no joint of disc moves"):
+        size_mechanism(disc(), Trajectory(duty.t, rest, rest, rest, ["q1"]), MOTOR, GEARBOX)
+
+
+# ------------------------------------------------------------------------------------- screws, cylinders
+def test_prismatic_joint_gets_a_ball_screw():
+    mech = mechatron.load("cylindrical_rpp")
+    task = default_task(mech)
+    result = size_mechanism(mech, task.trajectory)
+    kinds = {j.joint: j.converter_kind for j in result.joints}
+    assert kinds["q2"] == "ball screw" and kinds["q3"] == "ball screw"
+    screw = next(j for j in result.joints if j.joint == "q2")
+    row = default_catalog("screws").set_index("key").loc[screw.converter]
+    u = 2 * math.pi / row["lead"]  # rad/m
+    assert screw.ratio == pytest.approx(u)
+    checks = {c.name: c for c in screw.checks}
+    assert checks["max speed"].value == pytest.approx(u * np.abs(screw.duty.speed).max())
+    length = screw.duty.stroke + 0.2
+    reflected = screw.duty.load_inertia / u**2 + row["inertia_per_length"] * length  # kg/u² + screw, kg·m²
+    assert checks["inertia ratio"].value == pytest.approx(reflected / screw.motor_data["rotor_inertia"])
+    assert checks["transmission max input speed"].limit == pytest.approx(row["max_speed"])
+
+
+def test_cylinder_hand_check():
+    spec = mechatron.model.Cylinder("L", "A", "B", (1.0, 1.8), count=2)
+    t = np.linspace(0, 2, 201)
+    force = 2e5 * np.sin(np.pi * t)  # pushes 200 kN (100 kN per cylinder), pulls 200 kN
+    speed = 0.2 * np.cos(np.pi * t)
+    duty = JointDuty("L", "cylinder", t, speed, np.gradient(speed, t), force, force, 0.0, 0.8)
+    catalog = default_catalog("cylinders")
+    sized = size_cylinder(duty, spec, catalog, pressure=25e6)
+    bore, rod = sized.cylinder_data["bore"], sized.cylinder_data["rod"]
+    piston, annulus = math.pi * bore**2 / 4, math.pi * (bore**2 - rod**2) / 4
+    checks = {c.name: c for c in sized.checks}
+    assert checks["push pressure"].value == pytest.approx(1e5 / piston)
+    assert checks["pull pressure"].value == pytest.approx(1e5 / annulus)
+    assert checks["rod buckling"].limit == pytest.approx(
+        math.pi**2 * STEEL_MODULUS * math.pi * rod**4 / 64 / 1.8**2 / BUCKLING_SAFETY)
+    assert sized.peak_flow == pytest.approx(2 * piston * 0.2, rel=1e-6)
+    assert sized.feasible and all(c.passed for c in sized.checks)
+    # the lightest feasible one: every lighter catalog cylinder fails a check
+    mass = catalog["mass"] + catalog["mass_per_stroke"] * 0.8
+    chosen = mass[catalog["key"] == sized.cylinder].iloc[0]
+    for key in catalog["key"][mass < chosen]:
+        assert not size_cylinder(duty, spec, catalog[catalog["key"] == key].reset_index(drop=True),
+                                 pressure=25e6).feasible
