@@ -169,9 +169,16 @@ def test_objective_picks_the_best_feasible_pair(puma_sizing, objective):
     price = motors["price"].to_numpy()[:, None] + conv.price[None, :]
     m = int(np.flatnonzero(motors["key"] == result.motor)[0])
     c = int(np.flatnonzero(conv.key == result.converter)[0])
-    assert feasible[m, c] and len(result.ranking) == feasible.sum()
+    assert feasible[m, c] and 5 <= len(result.ranking) <= feasible.sum()
     score = {"mass": mass, "cost": price, "margin": worst}[objective]
     assert score[m, c] == pytest.approx(score[feasible].min())
+    # the ranking is the best feasible pairs, exact, in order: the head of the sorted feasible scores
+    best = np.sort(score[feasible])[: len(result.ranking)]
+    assert np.allclose(result.ranking["score"], best, rtol=1e-12)
+    ranked = [(int(np.flatnonzero(motors["key"] == a)[0]), int(np.flatnonzero(conv.key == b)[0]))
+              for a, b in zip(result.ranking["motor"], result.ranking["converter"])]
+    assert all(feasible[i, j] for i, j in ranked)
+    assert np.allclose(result.ranking["smallest_margin"], [1 - worst[i, j] for i, j in ranked], rtol=1e-12)
     assert result.ranking["score"].is_monotonic_increasing
     assert min(ch.margin for ch in result.checks) == pytest.approx(1 - worst[m, c])
 
@@ -272,3 +279,24 @@ def test_cylinder_hand_check():
     for key in catalog["key"][mass < chosen]:
         assert not size_cylinder(duty, spec, catalog[catalog["key"] == key].reset_index(drop=True),
                                  pressure=25e6).feasible
+
+
+def test_lazy_evaluation_bounds_and_closest_pairs(puma_sizing):
+    """The per-sample checks start as lower bounds; the closest infeasible pairs found by branch and bound are the
+    true five smallest worst load factors."""
+    motors = default_catalog("motors")
+    small = motors[motors["rated_torque"] < 0.4].reset_index(drop=True)
+    gearboxes = default_catalog("gearboxes")
+    duty = puma_sizing.joints[1].duty
+    conv = converters_for(duty, gearboxes)
+    for sample in (duty, random_duty(np.random.default_rng(3))):  # a trapezoidal cycle, a smooth random motion
+        lazy, full = evaluate(sample, motors, conv, exact=False), evaluate(sample, motors, conv)
+        bounds, values = lazy.values[..., :2], full.values[..., :2]  # peak torque, speed-torque curve
+        assert np.all(bounds <= values * (1 + 1e-12))
+        assert np.array_equal(lazy.values[..., 2:], full.values[..., 2:])
+    assert not lazy.exact.any() and full.exact.all()
+    exact = evaluate(duty, small, conv).worst()
+    result = size_joint(duty, small, gearboxes)
+    assert not result.feasible and exact.min() > 1
+    assert np.allclose(result.closest["worst_load_factor"], np.sort(exact, axis=None)[:5], rtol=1e-12)
+    assert result.motor == result.closest["motor"].iloc[0] and result.failed

@@ -43,3 +43,37 @@ def test_grab_scooping_example(tmp_path):
     work, energy = (float(x) for x in re.search(r"resistance ([-\d.]+) kJ = change of kinetic \+ potential energy "
                                                 r"([-\d.]+) kJ", proc.stdout).groups())
     assert work == pytest.approx(energy, abs=2e-3)
+
+
+def test_puma_pick_and_place_example(tmp_path):
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "puma_pick_and_place.py"), "--charts", str(tmp_path),
+                           "--csv", str(tmp_path / "checks.csv")], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert "every joint has a feasible drive" in proc.stdout
+    assert len(list(tmp_path.glob("puma560_q*.png"))) == 6
+    lines = {line.split()[0]: line for line in proc.stdout.splitlines()[-4:]}
+    mass = {k: float(v.split()[1]) for k, v in lines.items()}
+    price = {k: float(v.split()[3]) for k, v in lines.items()}
+    assert mass["mass"] == min(mass.values()) and price["cost"] == min(price.values())
+
+
+def test_cylindrical_robot_ratios_example(tmp_path):
+    for motor, rule in (("SM60-0.64-30", "min. time"), ("SM130-11-30", "inertia matching")):
+        proc = subprocess.run([sys.executable, str(EXAMPLES / "cylindrical_robot_ratios.py"), "--motor", motor,
+                               "--plot", str(tmp_path / "r.png")], capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stderr
+        rows = {line.split()[0]: line.split() for line in proc.stdout.splitlines() if line.startswith("q")}
+        assert set(rows) == {"q1", "q2", "q3"} and (tmp_path / "r.png").stat().st_size > 10_000
+        # the numerical optimum never takes longer than the book's choice
+        for row in rows.values():
+            assert float(row[-1]) <= float(row[-2]) + 1e-12
+        assert rule in proc.stdout
+
+
+def test_front_shovel_cylinders_example(tmp_path):
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "front_shovel_cylinders.py"), "--charts", str(tmp_path)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.count("every joint has a feasible drive") == 2
+    assert "L1: 2 × HC" in proc.stdout and "pump flow" in proc.stdout
+    assert len(list(tmp_path.glob("front_shovel_L*.png"))) == 3

@@ -79,27 +79,6 @@ def _load_factor(value, limit):
     return out if out.ndim else float(out)
 
 
-@dataclass(frozen=True)
-class Evaluation:
-    """Values and limits of every check for motors × converters: arrays (N_m, N_c, len(CHECKS))."""
-
-    values: np.ndarray
-    limits: np.ndarray
-
-    def load_factors(self) -> np.ndarray:
-        """value/limit of every check, (N_m, N_c, len(CHECKS)); > 1 fails."""
-        return _load_factor(self.values, self.limits)
-
-    def worst(self) -> np.ndarray:
-        """The largest load factor of every pair, (N_m, N_c)."""
-        return self.load_factors().max(axis=2)
-
-    def checks(self, m: int, c: int) -> list[Check]:
-        """The checks of one pair that apply (finite limit)."""
-        return [Check(name, float(self.values[m, c, k]), float(self.limits[m, c, k]), UNITS[k])
-                for k, name in enumerate(CHECKS) if math.isfinite(self.limits[m, c, k])]
-
-
 def motor_side(duty: JointDuty, u, eta, inertia):
     """(n, a, b): motor speed u ω (rad/s), motor acceleration u ω̇ and the motor torque without the rotor,
     J_c u ω̇ + τ*/u (N·m); ``u``, ``eta``, ``inertia`` broadcast against the samples (give them as columns)."""
@@ -109,45 +88,107 @@ def motor_side(duty: JointDuty, u, eta, inertia):
     return u * duty.speed, accel, inertia * accel + load
 
 
-def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0
-             ) -> Evaluation:
-    """Every check of every motor × converter pair (see the module docstring)."""
-    weights = duty.time_weights()
-    u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
-    n, accel, base = motor_side(duty, u, eta, Jc)  # (N_c, T)
-    Jm = motors["rotor_inertia"].to_numpy()
-    rated, peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
-    n_rated, n_top = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
-    shape = (len(motors), len(conv))
-    values, limits = np.empty(shape + (len(CHECKS),)), np.empty(shape + (len(CHECKS),))
+class Evaluation:
+    """The checks of every motor × converter pair of one joint: ``values`` and ``limits`` (N_m, N_c, len(CHECKS)).
 
-    # per-sample checks on the samples that can decide them
-    keep = duty.envelope()
-    torque = np.abs(Jm[:, None, None] * accel[None, :, keep] + base[None, :, keep])  # (N_m, N_c, K)
-    values[..., 0], limits[..., 0] = torque.max(axis=2), peak[:, None]
-    available = peak_torque_limit(n[None, :, keep], peak[:, None, None], rated[:, None, None],
-                                  n_rated[:, None, None], n_top[:, None, None])
-    values[..., 1], limits[..., 1] = _load_factor(torque, available).max(axis=2), 1.0
+    The two per-sample checks (peak torque, speed–torque curve) cost a pass over the samples per pair; they start
+    as lower bounds from a few decisive samples (:meth:`JointDuty.strong_samples`) and are made exact for the
+    pairs given to :meth:`refine` (``exact`` marks them). Every other check is exact from the start (time means
+    over the samples per converter, combined per motor). A lower bound never passes a pair that fails.
+    """
 
-    # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩
-    m_aa, m_ab, m_bb = (accel**2) @ weights, (accel * base) @ weights, (base**2) @ weights
-    values[..., 2] = np.sqrt(np.maximum(np.outer(Jm**2, m_aa) + 2 * np.outer(Jm, m_ab) + m_bb, 0.0))
-    mean_speed = np.abs(n) @ weights
-    limits[..., 2] = continuous_torque(mean_speed[None, :], rated[:, None], n_rated[:, None], n_top[:, None])
-    top_speed = np.abs(n).max(axis=1)
-    values[..., 3], limits[..., 3] = top_speed[None, :], n_top[:, None]
-    values[..., 4] = (duty.load_inertia / conv.ratio**2 + conv.inertia)[None, :] / Jm[:, None]
-    limits[..., 4] = inertia_ratio_max
+    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0):
+        weights = duty.time_weights()
+        u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
+        n, accel, base = motor_side(duty, u, eta, Jc)  # (N_c, T)
+        self.rotor = motors["rotor_inertia"].to_numpy()
+        self.rated, self.peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
+        self.rated_speed, self.top_speed = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
+        shape = (len(motors), len(conv))
+        self.values, self.limits = np.empty(shape + (len(CHECKS),)), np.empty(shape + (len(CHECKS),))
+        self.exact = np.zeros(shape, dtype=bool)
+        values, limits, Jm = self.values, self.limits, self.rotor
 
-    # transmission (output side)
-    motion = np.abs(duty.speed) * weights
-    if motion.sum() == 0:
-        motion = weights
-    values[..., 5] = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
-    values[..., 6] = np.abs(duty.torque).max()
-    values[..., 7] = np.outer(peak, conv.ratio)
-    values[..., 8], values[..., 9] = top_speed[None, :], mean_speed[None, :]
-    for k, limit in zip(range(5, 10), (conv.rated_torque, conv.peak_torque, conv.emergency_torque,
-                                       conv.max_input_speed, conv.rated_input_speed)):
-        limits[..., k] = limit[None, :]
-    return Evaluation(values, limits)
+        # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩
+        m_aa, m_ab, m_bb = (accel**2) @ weights, (accel * base) @ weights, (base**2) @ weights
+        values[..., 2] = np.sqrt(np.maximum(np.outer(Jm**2, m_aa) + 2 * np.outer(Jm, m_ab) + m_bb, 0.0))
+        mean_speed = np.abs(n) @ weights
+        limits[..., 2] = continuous_torque(mean_speed[None, :], self.rated[:, None], self.rated_speed[:, None],
+                                           self.top_speed[:, None])
+        top_speed = np.abs(n).max(axis=1)
+        values[..., 3], limits[..., 3] = top_speed[None, :], self.top_speed[:, None]
+        values[..., 4] = (duty.load_inertia / conv.ratio**2 + conv.inertia)[None, :] / Jm[:, None]
+        limits[..., 4] = inertia_ratio_max
+        # transmission (output side)
+        motion = np.abs(duty.speed) * weights
+        if motion.sum() == 0:
+            motion = weights
+        values[..., 5] = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
+        values[..., 6] = np.abs(duty.torque).max()
+        values[..., 7] = np.outer(self.peak, conv.ratio)
+        values[..., 8], values[..., 9] = top_speed[None, :], mean_speed[None, :]
+        for k, limit in zip(range(5, 10), (conv.rated_torque, conv.peak_torque, conv.emergency_torque,
+                                           conv.max_input_speed, conv.rated_input_speed)):
+            limits[..., k] = limit[None, :]
+        limits[..., 0], limits[..., 1] = self.peak[:, None], 1.0
+
+        # the per-sample checks: lower bounds now, exact on demand
+        strong = duty.strong_samples(2)
+        rows, cols = np.indices(shape)
+        values[..., 0], values[..., 1] = (x.reshape(shape) for x in self._per_sample(
+            rows.ravel(), cols.ravel(), n[:, strong], accel[:, strong], base[:, strong]))
+        keep = duty.envelope()
+        self._n, self._accel, self._base = n[:, keep], accel[:, keep], base[:, keep]
+
+    def _per_sample(self, m: np.ndarray, c: np.ndarray, n, accel, base) -> tuple[np.ndarray, np.ndarray]:
+        """(max |T_m|, max |T_m| / T_intermittent(|n|)) of the pairs (m[i], c[i]) over the given samples."""
+        torque = np.abs(self.rotor[m, None] * accel[c] + base[c])
+        available = peak_torque_limit(n[c], self.peak[m, None], self.rated[m, None], self.rated_speed[m, None],
+                                      self.top_speed[m, None])
+        return torque.max(axis=1), _load_factor(torque, available).max(axis=1)
+
+    def refine(self, m: np.ndarray, c: np.ndarray, batch: int = 512) -> None:
+        """Make the per-sample checks exact for the pairs (m[i], c[i])."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        todo = ~self.exact[m, c]
+        m, c = m[todo], c[todo]
+        for start in range(0, len(m), batch):
+            mb, cb = m[start:start + batch], c[start:start + batch]
+            self.values[mb, cb, 0], self.values[mb, cb, 1] = self._per_sample(mb, cb, self._n, self._accel,
+                                                                              self._base)
+            self.exact[mb, cb] = True
+
+    def refine_all(self) -> Evaluation:
+        m, c = np.nonzero(~self.exact)
+        self.refine(m, c)
+        return self
+
+    def load_factors(self) -> np.ndarray:
+        """value/limit of every check, (N_m, N_c, len(CHECKS)); > 1 fails."""
+        return _load_factor(self.values, self.limits)
+
+    def load_factors_of(self, m, c) -> np.ndarray:
+        """value/limit of every check of the pairs (m, c): (..., len(CHECKS))."""
+        return _load_factor(self.values[m, c], self.limits[m, c])
+
+    def worst_of(self, m, c) -> np.ndarray:
+        """The largest load factor of the pairs (m, c)."""
+        return self.load_factors_of(m, c).max(axis=-1)
+
+    def worst(self) -> np.ndarray:
+        """The largest load factor of every pair, (N_m, N_c): exact where :attr:`exact`, else a lower bound."""
+        return self.load_factors().max(axis=2)
+
+    def checks(self, m: int, c: int) -> list[Check]:
+        """The checks of one pair that apply (finite limit), made exact first."""
+        self.refine([m], [c])
+        return [Check(name, float(self.values[m, c, k]), float(self.limits[m, c, k]), UNITS[k])
+                for k, name in enumerate(CHECKS) if math.isfinite(self.limits[m, c, k])]
+
+
+def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
+             exact: bool = True) -> Evaluation:
+    """Every check of every motor × converter pair (see the module docstring); with ``exact=False`` the
+    per-sample checks are lower bounds until :meth:`Evaluation.refine` is called."""
+    evaluation = Evaluation(duty, motors, conv, inertia_ratio_max)
+    return evaluation.refine_all() if exact else evaluation

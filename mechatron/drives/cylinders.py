@@ -92,8 +92,8 @@ def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pre
         mass = mass + catalog["mass_per_stroke"].fillna(0).to_numpy() * stroke
     price = catalog["price"].fillna(0).to_numpy() if "price" in catalog else np.zeros(len(catalog))
     score = {"mass": mass, "cost": price, "margin": worst}[objective]
-    flow = spec.count * np.maximum(piston * max(float(duty.speed.max()), 0.0),
-                                   annulus * max(float(-duty.speed.min()), 0.0))
+    extending, retracting = max(float(duty.speed.max()), 0.0), max(-float(duty.speed.min()), 0.0) + 0.0
+    flow = spec.count * np.maximum(piston * extending, annulus * retracting)
     index = np.flatnonzero(feasible)
     ranking = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[index], "bore": bore[index], "rod": rod[index],
                             "mass": mass[index] * spec.count, "price": price[index] * spec.count,

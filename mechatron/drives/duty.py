@@ -64,6 +64,18 @@ class JointDuty:
         w[:-1] += step / 2
         return w / self.duration
 
+    def strong_samples(self, count: int = 4, among: np.ndarray | None = None) -> np.ndarray:
+        """Indices of samples likely to decide the peak motor torque whatever the drive: the ``count`` largest of
+        several weighted sums of |ω|, |ω̇| and |τ| (each scaled to its maximum), ``among`` the given samples."""
+        among = np.arange(len(self.t)) if among is None else among
+        if len(among) == 0:
+            return among
+        magnitudes = [np.abs(x[among]) for x in (self.speed, self.acceleration, self.torque)]
+        scaled = np.stack([x / x.max() if x.max() > 0 else x for x in magnitudes], axis=1)
+        weights = np.array([[1, 1, 1], [2, 1, 1], [1, 2, 1], [1, 1, 2], [1, 0, 0], [0, 1, 0], [0, 0, 1],
+                            [1, 1, 0], [1, 0, 1], [0, 1, 1], [0, 1, 3], [0, 3, 1]], dtype=float)
+        return np.unique(among[np.argsort(-(scaled @ weights.T), axis=0, kind="stable")[:count].ravel()])
+
     def envelope(self) -> np.ndarray:
         """Indices of the samples that can decide a per-sample motor check, for *every* converter and motor.
 
@@ -72,8 +84,9 @@ class JointDuty:
         load takes power and τ η when it returns it. Sample j makes sample i redundant when |ω_j| ≥ |ω_i|,
         |ω̇_j| ≥ |ω̇_i|, |τ_j| ≥ |τ_i|, ω̇_j and τ_j do not oppose each other (so |x ω̇_j + τ*_j| grows with x as fast
         as possible) and j motors if i does: then for every x ≥ 0 and η ≤ 1, sample j needs at least the torque of
-        sample i at a speed at least as high, and every limit curve falls with speed. Exact; typically a few dozen
-        of thousands of samples remain.
+        sample i at a speed at least as high, and every limit curve falls with speed. Exact (a superset of the
+        undominated samples): a few dozen of thousands remain for moves with constant-acceleration phases; a smooth
+        motion (sinusoids) keeps most of its samples.
         """
         s, A, M = np.abs(self.speed), np.abs(self.acceleration), np.abs(self.torque)
         aligned = self.acceleration * self.torque >= 0
@@ -92,12 +105,10 @@ class JointDuty:
         candidates = index[aligned]
         if len(candidates) == 0:
             return index
-        # a few strong dominators first (largest weighted sums of the scaled magnitudes), then all of them
-        scaled = np.stack([x / x.max() if x.max() > 0 else x for x in (s, A, M)], axis=1)[candidates]
-        weights = np.array([[1, 1, 1], [2, 1, 1], [1, 2, 1], [1, 1, 2], [1, 0, 0], [0, 1, 0], [0, 0, 1],
-                            [1, 1, 0], [1, 0, 1], [0, 1, 1]], dtype=float)
-        strong = np.unique(candidates[np.argsort(-(scaled @ weights.T), axis=0)[:16].ravel()])
-        left = index[~dominated(index, strong)]
+        # a few strong dominators first, then all of them
+        left = index[~dominated(index, self.strong_samples(16, candidates))]
+        if len(left) > len(index) // 2:  # smooth motions: few samples are dominated, the full pass would not pay
+            return left
         survivors = np.intersect1d(left, candidates)
         return np.concatenate([part[~dominated(part, survivors)]
                                for part in np.array_split(left, max(1, len(left) // 1024))])

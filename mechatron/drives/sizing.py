@@ -25,7 +25,7 @@ import pandas as pd
 
 from ..errors import InputError
 from ..model import Mechanism
-from .checks import CHECKS, PASS_TOLERANCE, Check, evaluate, motor_side
+from .checks import CHECKS, PASS_TOLERANCE, Check, Evaluation, evaluate, motor_side
 from .converters import Converters, converters_for
 from .duty import JointDuty, joint_duties
 
@@ -108,11 +108,60 @@ def fastest_scale(passes: Callable[[float], bool], k_min: float = 0.02, k_max: f
     return high
 
 
+BATCH = 256  # pairs made exact at a time
+
+
+def _first_feasible(evaluation: Evaluation, m: np.ndarray, c: np.ndarray, count: int
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """The first ``count`` pairs (in the given order) that pass every check, making pairs exact a batch at a time
+    (the pairs of the last batch that pass are all kept)."""
+    found_m, found_c = [], []
+    for start in range(0, len(m), BATCH):
+        mb, cb = m[start:start + BATCH], c[start:start + BATCH]
+        evaluation.refine(mb, cb)
+        ok = evaluation.worst_of(mb, cb) <= 1 + PASS_TOLERANCE
+        found_m.append(mb[ok])
+        found_c.append(cb[ok])
+        if sum(len(x) for x in found_m) >= count:
+            break
+    return (np.concatenate(found_m), np.concatenate(found_c)) if found_m else (m[:0], c[:0])
+
+
+def _smallest_worst(evaluation: Evaluation, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` pairs with the smallest exact worst load factor (branch and bound on the lower bounds: a pair
+    whose bound exceeds the count-th best exact value cannot enter)."""
+    bound = evaluation.worst()
+    order = np.argsort(bound, axis=None, kind="stable")
+    m_all, c_all = np.unravel_index(order, bound.shape)
+    done = 0
+    while done < len(order):
+        evaluation.refine(m_all[done:done + BATCH], c_all[done:done + BATCH])
+        done += BATCH
+        exact = evaluation.worst_of(m_all[:done], c_all[:done])
+        best = np.sort(exact)[:count]
+        if len(best) == count and (done >= len(order) or bound.flat[order[min(done, len(order) - 1)]] >= best[-1]):
+            break
+    exact = evaluation.worst_of(m_all[:done], c_all[:done])
+    keep = np.argsort(exact, kind="stable")[:count]
+    return m_all[:done][keep], c_all[:done][keep]
+
+
+def _feasible_by_score(evaluation: Evaluation, score: np.ndarray, tie: np.ndarray, count: int
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """The best ``count`` feasible pairs by (score, tie), lowest first."""
+    m, c = np.nonzero(evaluation.worst() <= 1 + PASS_TOLERANCE)  # the bounds: a superset of the feasible pairs
+    order = np.lexsort((tie[m, c], score[m, c]))
+    return _first_feasible(evaluation, m[order], c[order], count)
+
+
 def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float
                   ) -> Callable[[float], bool]:
     def passes(k: float) -> bool:
-        worst = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max).worst()
-        return bool((worst <= 1 + PASS_TOLERANCE).any())
+        evaluation = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max, exact=False)
+        bound = evaluation.worst()
+        m, c = np.nonzero(bound <= 1 + PASS_TOLERANCE)
+        order = np.argsort(bound[m, c], kind="stable")
+        return len(_first_feasible(evaluation, m[order], c[order], 1)[0]) > 0
 
     return passes
 
@@ -120,10 +169,13 @@ def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inert
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
                screws: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                direct: bool = True, time_scale: float | None = None) -> JointSizing:
-    """Check every motor × converter pair for one joint and choose the best feasible one by ``objective``.
+    """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
 
-    With ``objective="time"`` the task is first replayed at ``time_scale`` (default: the fastest scale this joint
-    allows, :func:`fastest_scale`) and the lightest feasible pair at that pace is chosen."""
+    Every pair is checked; the per-sample checks are made exact in the order of the objective until the best
+    pairs are certain (:class:`~mechatron.drives.checks.Evaluation`), so the ranking lists the best feasible
+    pairs (at least :data:`REPORTED` when there are that many), exact. With ``objective="time"`` the task is first
+    replayed at ``time_scale`` (default: the fastest scale this joint allows, :func:`fastest_scale`) and the
+    lightest feasible pair at that pace is chosen."""
     if objective not in OBJECTIVES:
         raise InputError(f"unknown objective {objective!r}; expected one of: {', '.join(OBJECTIVES)}")
     if not inertia_ratio_max > 0:
@@ -136,41 +188,48 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max))
         scale = scale if math.isfinite(scale) else 1.0
         duty = duty.scaled(scale)
-    evaluation = evaluate(duty, motors, conv, inertia_ratio_max)
-    factors = evaluation.load_factors()
-    worst = factors.max(axis=2)
-    feasible = worst <= 1 + PASS_TOLERANCE
+    evaluation = evaluate(duty, motors, conv, inertia_ratio_max, exact=False)
     motor_mass = motors["mass"].fillna(0).to_numpy() if "mass" in motors else np.zeros(len(motors))
     motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
     mass = motor_mass[:, None] + conv.mass[None, :]
     price = motor_price[:, None] + conv.price[None, :]
-    score = {"mass": mass, "cost": price, "margin": worst, "time": mass}[objective]
-    im, ic = np.nonzero(feasible)
+    if objective == "margin":
+        im, ic = _smallest_worst(evaluation, REPORTED)
+        ok = evaluation.worst_of(im, ic) <= 1 + PASS_TOLERANCE
+        im, ic = im[ok], ic[ok]
+        score = evaluation.worst_of(im, ic)
+    else:
+        primary, tie = (price, mass) if objective == "cost" else (mass, price)
+        im, ic = _feasible_by_score(evaluation, primary, tie, REPORTED)
+        score = primary[im, ic]
+    worst = evaluation.worst_of(im, ic)
     ranking = pd.DataFrame({
         "motor": motors["key"].to_numpy()[im], "converter": conv.key[ic], "kind": conv.kind[ic],
-        "ratio": conv.ratio[ic], "mass": mass[im, ic], "price": price[im, ic],
-        "smallest_margin": 1 - worst[im, ic], "score": score[im, ic], "_m": im, "_c": ic})
-    tie_break = {"mass": ["price"], "cost": ["mass"], "margin": ["mass"], "time": ["price"]}[objective]
+        "ratio": conv.ratio[ic], "mass": mass[im, ic], "price": price[im, ic], "smallest_margin": 1 - worst,
+        "score": score, "_m": im, "_c": ic})
+    tie_break = ["price"] if objective in ("mass", "time") else ["mass"]
     ranking = ranking.sort_values(["score", *tie_break], kind="stable").reset_index(drop=True)
-    closest = _closest(worst, factors, motors, conv)
-    if len(ranking):
+    feasible = bool(len(ranking))
+    closest = pd.DataFrame() if feasible else _closest(evaluation, motors, conv)
+    if feasible:
         m, c = int(ranking["_m"].iloc[0]), int(ranking["_c"].iloc[0])
     else:
-        m, c = np.unravel_index(int(np.argmin(worst)), worst.shape)
-    return JointSizing(duty.name, duty.kind, objective, bool(len(ranking)), str(motors["key"].iloc[m]),
+        m = int(np.flatnonzero(motors["key"].to_numpy() == closest["motor"].iloc[0])[0])
+        c = int(np.flatnonzero(conv.key == closest["converter"].iloc[0])[0])
+    return JointSizing(duty.name, duty.kind, objective, feasible, str(motors["key"].iloc[m]),
                        str(conv.key[c]), str(conv.kind[c]), float(conv.ratio[c]), evaluation.checks(m, c),
                        ranking.drop(columns=["_m", "_c"]), closest, duty, motors.iloc[m].to_dict(),
                        {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale)
 
 
-def _closest(worst: np.ndarray, factors: np.ndarray, motors: pd.DataFrame, conv: Converters) -> pd.DataFrame:
+def _closest(evaluation: Evaluation, motors: pd.DataFrame, conv: Converters) -> pd.DataFrame:
+    """The pairs with the smallest worst load factor and the checks they fail."""
     rows = []
-    for flat in np.argsort(worst, axis=None, kind="stable")[:REPORTED]:
-        m, c = np.unravel_index(flat, worst.shape)
-        failed = [f"{name} ×{factors[m, c, k]:.2f}" for k, name in enumerate(CHECKS)
-                  if factors[m, c, k] > 1 + PASS_TOLERANCE]
+    for m, c in zip(*_smallest_worst(evaluation, REPORTED)):
+        factors = evaluation.load_factors_of(m, c)
+        failed = [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
         rows.append({"motor": str(motors["key"].iloc[m]), "converter": str(conv.key[c]), "ratio": float(conv.ratio[c]),
-                     "worst_load_factor": float(worst[m, c]), "failed": "; ".join(failed) or "none"})
+                     "worst_load_factor": float(factors.max()), "failed": "; ".join(failed) or "none"})
     return pd.DataFrame(rows)
 
 

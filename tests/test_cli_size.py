@@ -1,0 +1,166 @@
+"""The size command and task files: the public JSON contract, outputs, exit codes and bad input."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import mechatron
+from mechatron.cli import main
+from mechatron.drives.sizing import size_mechanism
+from mechatron.errors import InputError
+from mechatron.tasks import default_task, generic_task, read_task
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+REQUIRED_CHECKS = {"peak torque", "RMS torque", "max speed", "inertia ratio"}
+
+
+@pytest.fixture(scope="module")
+def puma_json():
+    import contextlib
+    import io
+
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        code = main(["size", "puma560", "--json"])
+    return code, json.loads(buffer.getvalue())
+
+
+def test_size_puma_json_contract(puma_json):
+    code, result = puma_json
+    assert code == 0 and result["feasible"]
+    joints = result["joints"]
+    assert [j["joint"] for j in joints] == [f"q{i}" for i in range(1, 7)]
+    for j in joints:
+        assert {"joint", "motor", "gearbox", "ratio", "checks"} <= set(j)
+        assert isinstance(j["motor"], str) and isinstance(j["gearbox"], str) and j["ratio"] > 0
+        names = {c["name"] for c in j["checks"]}
+        assert REQUIRED_CHECKS <= names
+        for c in j["checks"]:
+            assert {"name", "value", "limit", "margin", "pass"} <= set(c)
+            assert c["pass"] is (c["value"] <= c["limit"] * (1 + 1e-9))
+            assert c["margin"] == pytest.approx(1 - c["value"] / c["limit"])
+
+
+def test_size_json_equals_the_api(puma_json):
+    _, result = puma_json
+    task = default_task(mechatron.load("puma560"))
+    api = size_mechanism(task.mechanism, task.trajectory, loads=task.loads)
+    for j, joint in zip(result["joints"], api.joints):
+        assert (j["motor"], j["gearbox"], j["ratio"]) == (joint.motor, joint.converter, joint.ratio)
+        peak = next(c for c in j["checks"] if c["name"] == "peak torque")
+        assert peak["value"] == pytest.approx(np.abs(joint.operating_points()[1]).max(), rel=1e-12)
+
+
+def test_size_text_csv_and_charts(tmp_path, capsys):
+    code, out, _ = run(capsys, "size", "planar_2r", "--objective", "cost", "--csv", str(tmp_path / "s.csv"),
+                       "--plots", str(tmp_path / "charts"))
+    assert code == 0
+    assert "q1: motor" in out and "PASS" in out and "every joint has a feasible drive" in out
+    table = (tmp_path / "s.csv").read_text().splitlines()
+    assert table[0].startswith("joint,motor,converter,ratio,check,value,limit,unit,margin,pass")
+    assert len(table) == 1 + 2 * 10
+    charts = sorted(p.name for p in (tmp_path / "charts").iterdir())
+    assert charts == ["planar_2r_q1.png", "planar_2r_q2.png"]
+    assert all((tmp_path / "charts" / c).stat().st_size > 10_000 for c in charts)
+
+
+def test_infeasible_sizing_exits_1_and_names_failed_checks(tmp_path, capsys):
+    tiny = tmp_path / "tiny.csv"
+    tiny.write_text("key,rated_torque,peak_torque,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2\n"
+                    "T1,0.01,0.03,3000,5000,0.01\nT2,0.02,0.06,3000,5000,0.02\n")
+    code, out, _ = run(capsys, "size", "puma560", "--motors", str(tiny))
+    assert code == 1
+    assert "NO FEASIBLE DRIVE" in out and "closest candidates" in out and "FAIL" in out
+    assert "NOT FEASIBLE" in out
+    code, out, _ = run(capsys, "size", "puma560", "--motors", str(tiny), "--json")
+    result = json.loads(out)
+    assert code == 1 and not result["feasible"]
+    failing = [j for j in result["joints"] if not j["feasible"]]
+    assert failing and all(j["closest"] and any(not c["pass"] for c in j["checks"]) for j in failing)
+    assert all("×" in row["failed"] for row in failing[0]["closest"])
+
+
+def test_bad_catalog_exits_2_naming_file_and_row(tmp_path, capsys):
+    bad = tmp_path / "motors.csv"
+    bad.write_text("key,rated_torque,peak_torque,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2\n"
+                   "A,1,3,3000,5000,1\nB,-1,3,3000,5000,1\n")
+    code, out, err = run(capsys, "size", "planar_2r", "--motors", str(bad))
+    assert code == 2 and out == ""
+    assert "motors.csv: row 3: field 'rated_torque': must be > 0" in err and "Traceback" not in err
+    bad.write_text("key,rated_torque,peak_torque,rated_speed_rpm,max_speed_furlongs,rotor_inertia_kgcm2\n"
+                   "A,1,3,3000,5000,1\n")
+    code, _, err = run(capsys, "size", "planar_2r", "--motors", str(bad))
+    assert code == 2 and "unknown unit 'furlongs' for max_speed" in err
+
+
+def test_closed_loop_sizes_cylinders(capsys):
+    code, out, _ = run(capsys, "size", "six_bar_bucket", "--json")
+    assert code == 0
+    (joint,) = json.loads(out)["joints"]
+    assert joint["kind"] == "cylinder" and joint["cylinder"].startswith("HC")
+    assert {c["name"] for c in joint["checks"]} == {"push pressure", "pull pressure", "stroke", "rod buckling"}
+
+
+# ----------------------------------------------------------------------------------------------- tasks
+def test_task_file(tmp_path, capsys):
+    path = tmp_path / "task.toml"
+    path.write_text('name = "two moves"\npayload = 1.5\nvmax_deg = 60\namax_deg = [200, 300]\ndwell = 0.1\n'
+                    'waypoints_deg = [[0, 0], [30, -45], [0, 0]]\n'
+                    '[[loads]]\nframe = "tool"\nforce = [0.0, -20.0, 0.0]\n')
+    mech = mechatron.load("planar_2r")
+    task = read_task(path, mech)
+    assert task.name == "two moves" and task.payload == 1.5
+    assert task.mechanism.total_mass == pytest.approx(mech.total_mass + 1.5)
+    assert np.abs(task.trajectory.v).max() == pytest.approx(np.radians(60))
+    assert np.allclose(task.trajectory.q[-1], 0) and np.allclose(task.trajectory.q.max(axis=0)[0], np.radians(30))
+    assert task.loads[0][0] == "tool" and np.allclose(task.loads[0][1], [0, -20, 0])
+    code, out, _ = run(capsys, "size", "planar_2r", "--task", str(path), "--json")
+    assert code == 0 and json.loads(out)["task"] == "two moves"
+
+
+@pytest.mark.parametrize("text, field, message", [
+    ('waypoints_deg = [[0, 0], [30]]', "waypoints_deg[2]", "expected 2 numbers"),
+    ('waypoints = [[0, 0]]', "waypoints", "at least two waypoints"),
+    ('payload = -1\nwaypoints = [[0, 0], [1, 1]]', "payload", "must be >= 0"),
+    ('vmax = [1, 2, 3]\nwaypoints = [[0, 0], [1, 1]]', "vmax", "one value or 2"),
+    ('profile = "cubic"\nwaypoints = [[0, 0], [1, 1]]', "profile", "unknown value"),
+    ('name = "x"', "waypoints", "missing the motion"),
+    ('speed = 3\nwaypoints = [[0, 0], [1, 1]]', "speed", "unknown"),
+    ('waypoints = [[0, 0], [1, 1]]\n[[loads]]\nframe = "nowhere"\nforce = [0, 0, 0]', "loads[1].frame", "nowhere"),
+])
+def test_bad_task_files(tmp_path, text, field, message):
+    path = tmp_path / "task.toml"
+    path.write_text(text + "\n")
+    with pytest.raises(InputError, match=message) as info:
+        read_task(path, mechatron.load("planar_2r"))
+    assert info.value.file == str(path) and info.value.field == field
+
+
+def test_generic_task_stays_inside_the_limits():
+    for name in ("puma560", "scara", "cylindrical_rpp", "ur5", "front_shovel", "crank_slider"):
+        mech = mechatron.load(name)
+        task = generic_task(mech)
+        names = list(mech.actuated) if mech.closures else mech.joint_names
+        assert task.trajectory.q.shape[1] == len(names)
+        moved = np.ptp(task.trajectory.q, axis=0)
+        assert np.all(moved > 0)
+        if not mech.closures:
+            lower, upper = mech.model.lowerPositionLimit, mech.model.upperPositionLimit
+            assert np.all(task.trajectory.q >= lower - 1e-12) and np.all(task.trajectory.q <= upper + 1e-12)
+
+
+def test_closed_loop_trajectory_csv(tmp_path):
+    mech = mechatron.load("six_bar_bucket")
+    task = generic_task(mech)
+    path = task.trajectory.to_csv(tmp_path / "strokes.csv")
+    again = read_task(path, mech)
+    assert np.allclose(again.trajectory.q, task.trajectory.q)
