@@ -12,22 +12,13 @@ in a loop over a trajectory, and with the whole (N, 6) arrays at once, which run
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 import pinocchio as pin
 
 import mechatron
 from mechatron.dynamics import inverse_dynamics
-
-
-def best_time(function, repeats: int) -> float:
-    best = float("inf")
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        best = min(best, time.perf_counter() - start)
-    return best
+from timing import best_time
 
 
 def bare_loop(model: pin.Model, data: pin.Data, Q: np.ndarray, V: np.ndarray, A: np.ndarray) -> np.ndarray:

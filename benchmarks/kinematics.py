@@ -11,12 +11,12 @@ alone, results thrown away.
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 import pinocchio as pin
 
 import mechatron
+from timing import best_time
 
 
 def bare_loop(model: pin.Model, data: pin.Data, Q: np.ndarray, frame_id: int):
@@ -33,15 +33,6 @@ def calls_only(model: pin.Model, data: pin.Data, Q: np.ndarray, frame_id: int) -
     """The Pinocchio calls alone, results thrown away: the floor no Python code can beat."""
     for q in Q:
         pin.computeFrameJacobian(model, data, q, frame_id, pin.LOCAL_WORLD_ALIGNED)
-
-
-def best_time(function, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main() -> None:

@@ -11,22 +11,13 @@ mechatron sweep under 1 s.
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
 import mechatron
 from mechatron.machines.bucket import analytic_analysis, synthesize
 from mechatron.sweep import sweep
-
-
-def best_time(function, repeats: int) -> tuple[float, object]:
-    best, result = float("inf"), None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = function()
-        best = min(best, time.perf_counter() - start)
-    return best, result
+from timing import best_time_and_result as best_time
 
 
 def main() -> None:

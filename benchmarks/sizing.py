@@ -24,15 +24,7 @@ from mechatron.drives.motor import continuous_torque, peak_torque_limit
 from mechatron.drives.sizing import size_mechanism
 from mechatron.dynamics import with_payload
 from mechatron.motion import Trajectory
-
-
-def best_time(function, repeats: int) -> float:
-    best = float("inf")
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        best = min(best, time.perf_counter() - start)
-    return best
+from timing import best_time
 
 
 def cycle(mech: mechatron.Mechanism, n: int) -> Trajectory:

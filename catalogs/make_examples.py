@@ -1,4 +1,5 @@
-"""Write the example catalogs of this folder (servo motors, gearboxes, ball screws, hydraulic cylinders).
+"""Write the example catalogs of this folder (servo motors, gearboxes, linear drives, hydraulic
+cylinders).
 
 They are representative example data, generated from scaling laws fitted to the general run of industrial
 components (not one maker's data): rotor inertia J ≈ 5e-5 · T_rated^1.41 kg·m², peak torque 3–3.5 × rated, mass and
@@ -85,7 +86,7 @@ def gearboxes() -> list[dict]:
     return rows
 
 
-def screws() -> list[dict]:
+def linear_drives() -> list[dict]:
     rows = []
     for diameter, leads, load in ((16, (5, 10, 16), 9.3), (20, (5, 10, 20), 14.0), (25, (5, 10, 25), 17.5),
                                   (32, (5, 10, 20, 32), 26.0), (40, (10, 20, 40), 38.0)):
@@ -94,10 +95,20 @@ def screws() -> list[dict]:
         for lead in leads:
             rows.append({
                 "key": f"BS{diameter}{lead:02d}", "maker": "example", "type": "ball screw", "diameter_mm": diameter,
-                "lead_mm": lead, "efficiency": 0.9, "inertia_per_length_kgcm2_m": round(inertia * 1e4, 4),
-                "max_speed_rpm": min(5000, int(70000 / diameter)), "dynamic_load_kN": load,
-                "mass_per_length_kg_m": round(7850 * math.pi * d**2 / 4, 2), "price_eur": 80 + 6 * diameter,
+                "lead_mm": lead, "efficiency": 0.9, "inertia_kgcm2": "", "inertia_per_length_kgcm2_m":
+                round(inertia * 1e4, 4), "max_speed_rpm": min(5000, int(70000 / diameter)), "dynamic_load_kN": load,
+                "mass": "", "mass_per_length_kg_m": round(7850 * math.pi * d**2 / 4, 2), "price_eur": 80 + 6 * diameter,
             })
+    for module, teeth, width in ((2, 20, 20), (2, 30, 20), (3, 20, 30), (3, 30, 30), (4, 20, 40)):
+        d = module * teeth / 1000  # pitch diameter (m); travel per pinion turn π d
+        pinion = 7850 * math.pi / 32 * d**4 * width / 1000  # steel disc
+        rows.append({
+            "key": f"RP{module}-{teeth}", "maker": "example", "type": "rack and pinion", "diameter_mm": d * 1000,
+            "lead_mm": round(math.pi * d * 1000, 3), "efficiency": 0.96, "inertia_kgcm2": round(pinion * 1e4, 4),
+            "inertia_per_length_kgcm2_m": "", "max_speed_rpm": 3000, "dynamic_load_kN": round(0.25 * module * width, 1),
+            "mass": round(7850 * math.pi / 4 * d**2 * width / 1000, 2),
+            "mass_per_length_kg_m": round(7850 * (module * 10 / 1000) ** 2 * 1.5, 2), "price_eur": 150 + 40 * module,
+        })
     return rows
 
 
@@ -130,5 +141,5 @@ if __name__ == "__main__":
     note = "# example data from catalogs/make_examples.py (scaling laws, not one maker's data)\n"
     write("servo_motors.csv", motors(), note)
     write("gearboxes.csv", gearboxes(), note)
-    write("ball_screws.csv", screws(), note)
+    write("linear_drives.csv", linear_drives(), note)
     write("hydraulic_cylinders.csv", cylinders(), note)

@@ -39,7 +39,7 @@ def main() -> None:
     grid = np.array([[0.0, q2, q3] for q2 in np.linspace(lower[1], upper[1], 5)
                      for q3 in np.linspace(lower[2], upper[2], 7)])
     inertia = np.diagonal(mass_matrix(robot, grid), axis1=1, axis2=2).max(axis=0)
-    screws = default_catalog("screws")
+    screws = default_catalog("linear")
     speed, rotor, peak = motor["rated_speed"], motor["rotor_inertia"], motor["peak_torque"]
     drive = motor_side_inertia(rotor)
     print(f"motor {args.motor}: Ω_d = {speed:.1f} rad/s, J_rotor = {rotor:.3g} kg·m² (J_d = {drive:.3g}), "
@@ -62,6 +62,7 @@ def main() -> None:
               f"{rule + f' {book.ratio:.4g}':<18}{best:>10.4g}{t_book:>9.4f}{t_best:>9.4f}")
         if unit == "m":
             lead = 2 * math.pi / best
+            screws = screws[screws["type"] == "ball screw"]
             nearest = screws.iloc[int(np.argmin(np.abs(screws["lead"] - lead)))]
             print(f"{'':6}→ screw lead 2π/u = {lead * 1e3:.2f} mm (catalog: {nearest['key']}, "
                   f"{nearest['lead'] * 1e3:g} mm)")

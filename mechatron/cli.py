@@ -603,7 +603,7 @@ def cmd_size(args: argparse.Namespace) -> int:
     mech = _load(args)
     task = read_task(args.task, mech) if args.task else default_task(mech)
     catalogs = {kind: read_catalog(path, kind) if path else None for kind, path in
-                (("motors", args.motors), ("gearboxes", args.gearboxes), ("screws", args.screws),
+                (("motors", args.motors), ("gearboxes", args.gearboxes), ("linear", args.linear),
                  ("cylinders", args.cylinders))}
     if not args.pressure_mpa > 0:
         raise InputError(f"--pressure-mpa must be > 0, got {args.pressure_mpa:g}")
@@ -728,7 +728,8 @@ def build_parser() -> argparse.ArgumentParser:
                                                   "(default: the robot's own task, else a generic out-and-back)")
     p.add_argument("--motors", metavar="CSV", help="servo motor catalog (default: catalogs/servo_motors.csv)")
     p.add_argument("--gearboxes", metavar="CSV", help="gearbox catalog (default: catalogs/gearboxes.csv)")
-    p.add_argument("--screws", metavar="CSV", help="ball screw catalog for prismatic joints")
+    p.add_argument("--linear", metavar="CSV", help="linear drives (ball screws, racks) for prismatic joints "
+                                                   "(default: catalogs/linear_drives.csv)")
     p.add_argument("--cylinders", metavar="CSV", help="hydraulic cylinder catalog for closed-loop mechanisms")
     p.add_argument("--objective", default="mass", choices=["mass", "cost", "margin", "time"],
                    help="rank feasible drives by mass, cost, margin (largest smallest margin) or time (fastest "

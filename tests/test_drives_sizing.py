@@ -230,7 +230,7 @@ def test_bad_sizing_input():
     with pytest.raises(InputError, match="no converter"):
         size_joint(duty, MOTOR, None, direct=False)
     prismatic = replace(duty, kind="prismatic")
-    with pytest.raises(InputError, match="screw catalog"):
+    with pytest.raises(InputError, match="catalog of linear drives"):
         size_joint(prismatic, MOTOR, GEARBOX)
     rest = np.zeros((len(duty.t), 1))
     with pytest.raises(InputError, match="no joint of disc moves"):
@@ -245,13 +245,14 @@ def test_prismatic_joint_gets_a_ball_screw():
     kinds = {j.joint: j.converter_kind for j in result.joints}
     assert kinds["q2"] == "ball screw" and kinds["q3"] == "ball screw"
     screw = next(j for j in result.joints if j.joint == "q2")
-    row = default_catalog("screws").set_index("key").loc[screw.converter]
+    row = default_catalog("linear").set_index("key").loc[screw.converter]
     u = 2 * math.pi / row["lead"]  # rad/m
     assert screw.ratio == pytest.approx(u)
     checks = {c.name: c for c in screw.checks}
     assert checks["max speed"].value == pytest.approx(u * np.abs(screw.duty.speed).max())
     length = screw.duty.stroke + 0.2
-    reflected = screw.duty.load_inertia / u**2 + row["inertia_per_length"] * length  # kg/u² + screw, kg·m²
+    screw_inertia = np.nan_to_num(row["inertia"]) + np.nan_to_num(row["inertia_per_length"]) * length
+    reflected = screw.duty.load_inertia / u**2 + screw_inertia  # kg/u² + the screw's own inertia, kg·m²
     assert checks["inertia ratio"].value == pytest.approx(reflected / screw.motor_data["rotor_inertia"])
     assert checks["transmission max input speed"].limit == pytest.approx(row["max_speed"])
 
@@ -300,3 +301,17 @@ def test_lazy_evaluation_bounds_and_closest_pairs(puma_sizing):
     assert not result.feasible and exact.min() > 1
     assert np.allclose(result.closest["worst_load_factor"], np.sort(exact, axis=None)[:5], rtol=1e-12)
     assert result.motor == result.closest["motor"].iloc[0] and result.failed
+
+
+def test_rack_and_pinion_counts_the_pinion_once():
+    mech = mechatron.load("cylindrical_rpp")
+    racks = default_catalog("linear").query("type == 'rack and pinion'").reset_index(drop=True)
+    result = size_mechanism(mech, default_task(mech).trajectory, linear=racks)
+    joint = next(j for j in result.joints if j.joint == "q3")
+    row = racks.set_index("key").loc[joint.converter]
+    assert joint.ratio == pytest.approx(2 * np.pi / row["lead"])
+    assert joint.ratio == pytest.approx(2 / row["diameter"], rel=1e-5)  # u = 2π/(π d), the lead rounded to µm
+    assert joint.converter_data["inertia"] == pytest.approx(row["inertia"])  # no per-length part
+    checks = {c.name: c for c in joint.checks}
+    J = joint.motor_data["rotor_inertia"]
+    assert checks["inertia ratio"].value == pytest.approx((joint.duty.load_inertia / joint.ratio**2 + row["inertia"]) / J)

@@ -44,11 +44,12 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("input_inertia", "inertia"), Field("backlash", "angle", False, positive=False),
         Field("mass", "mass", False), Field("price", "money", False),
     ),
-    "screws": (
+    "linear": (
         Field("key", "text"), Field("maker", "text", False), Field("type", "text"), Field("diameter", "length"),
-        Field("lead", "length"), Field("efficiency", "fraction", maximum=1.0),
+        Field("lead", "length"), Field("efficiency", "fraction", maximum=1.0), Field("inertia", "inertia", False),
         Field("inertia_per_length", "inertia_per_length", False), Field("max_speed", "speed"),
-        Field("dynamic_load", "force", False), Field("mass_per_length", "linear_density", False), Field("price", "money", False),
+        Field("dynamic_load", "force", False), Field("mass", "mass", False),
+        Field("mass_per_length", "linear_density", False), Field("price", "money", False),
     ),
     "cylinders": (
         Field("key", "text"), Field("maker", "text", False), Field("bore", "length"), Field("rod", "length"),
@@ -71,7 +72,7 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
 }
 
 #: The example catalogs shipped in ``catalogs/``.
-DEFAULT_FILES = {"motors": "servo_motors.csv", "gearboxes": "gearboxes.csv", "screws": "ball_screws.csv",
+DEFAULT_FILES = {"motors": "servo_motors.csv", "gearboxes": "gearboxes.csv", "linear": "linear_drives.csv",
                  "cylinders": "hydraulic_cylinders.csv", "rotary_tables": "rotary_tables_table_2_11.csv",
                  "gearmotor_ranges": "gearmotor_ranges_section_2_2.csv"}
 

@@ -1,5 +1,6 @@
 """The motion converters a joint can be driven through, as arrays: direct drive, the gearboxes of a catalog for a
-revolute joint, the ball screws of a catalog for a prismatic one (ratio u = 2π / lead, rad/m)."""
+revolute joint, the linear drives of a catalog (ball screws, racks and pinions) for a prismatic one (ratio
+u = 2π / lead, rad/m, with the lead the travel per turn of the motor-side shaft)."""
 
 from __future__ import annotations
 
@@ -12,8 +13,9 @@ import pandas as pd
 from ..errors import InputError
 from .duty import JointDuty
 
-#: Extra screw length beyond the stroke for bearings and nut (m), for the screw's inertia and mass.
-SCREW_ALLOWANCE = 0.2
+#: Length of a screw or rack beyond the stroke, for bearings and nut (m): its inertia and mass per length count
+#: over stroke + LENGTH_ALLOWANCE.
+LENGTH_ALLOWANCE = 0.2
 
 
 @dataclass(frozen=True)
@@ -61,18 +63,19 @@ def _gearbox(row: dict) -> dict:
                 price=_number(row.get("price")))
 
 
-def _screw(row: dict, length: float) -> dict:
+def _linear(row: dict, length: float) -> dict:
     inf = math.inf
     return dict(key=row["key"], kind=row["type"], ratio=2 * math.pi / row["lead"], efficiency=row["efficiency"],
-                inertia=_number(row.get("inertia_per_length")) * length, rated_torque=inf, peak_torque=inf,
-                emergency_torque=inf, max_input_speed=row["max_speed"], rated_input_speed=inf,
-                mass=_number(row.get("mass_per_length")) * length, price=_number(row.get("price")))
+                inertia=_number(row.get("inertia")) + _number(row.get("inertia_per_length")) * length,
+                rated_torque=inf, peak_torque=inf, emergency_torque=inf, max_input_speed=row["max_speed"],
+                rated_input_speed=inf, mass=_number(row.get("mass")) + _number(row.get("mass_per_length")) * length,
+                price=_number(row.get("price")))
 
 
-def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, screws: pd.DataFrame | None = None,
+def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    direct: bool = True) -> Converters:
     """The converters to try on ``duty``'s joint: direct drive (if ``direct``) and every gearbox for a revolute
-    joint; every screw, ``stroke + SCREW_ALLOWANCE`` long, for a prismatic joint."""
+    joint; every linear drive, ``stroke + LENGTH_ALLOWANCE`` long, for a prismatic joint."""
     rows: list[dict] = []
     if duty.kind == "revolute":
         if direct:
@@ -80,9 +83,9 @@ def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, screw
         if gearboxes is not None:
             rows += [_gearbox(g) for g in gearboxes.to_dict(orient="records")]
     elif duty.kind == "prismatic":
-        if screws is None:
-            raise InputError(f"joint {duty.name} is prismatic: give a screw catalog")
-        rows += [_screw(s, duty.stroke + SCREW_ALLOWANCE) for s in screws.to_dict(orient="records")]
+        if linear is None:
+            raise InputError(f"joint {duty.name} is prismatic: give a catalog of linear drives (screws, racks)")
+        rows += [_linear(s, duty.stroke + LENGTH_ALLOWANCE) for s in linear.to_dict(orient="records")]
     else:
         raise InputError(f"joint {duty.name}: cannot size a {duty.kind} joint (only revolute and prismatic)")
     if not rows:

@@ -167,7 +167,7 @@ def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inert
 
 
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
-               screws: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
+               linear: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                direct: bool = True, time_scale: float | None = None) -> JointSizing:
     """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
 
@@ -182,7 +182,7 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         raise InputError(f"the inertia ratio limit must be > 0, got {inertia_ratio_max!r}")
     if len(motors) == 0:
         raise InputError("the motor catalog is empty")
-    conv = converters_for(duty, gearboxes, screws, direct)
+    conv = converters_for(duty, gearboxes, linear, direct)
     scale = 1.0
     if objective == "time":
         scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max))
@@ -265,13 +265,14 @@ class SizingResult:
 
 
 def size_mechanism(mech: Mechanism, trajectory, motors: pd.DataFrame | None = None,
-                   gearboxes: pd.DataFrame | None = None, screws: pd.DataFrame | None = None,
+                   gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                    loads: Sequence[Sequence] | None = None, task: str = "task", direct: bool = True,
                    pressure: float = 32e6, progress: Callable[[int, int], None] | None = None) -> SizingResult:
     """Size every coordinate of ``mech`` that moves or carries load along ``trajectory`` (a
     :class:`~mechatron.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
-    mechanism): motors with gearboxes (revolute) or screws (prismatic), catalog cylinders for hydraulic cylinders
+    mechanism): motors with gearboxes (revolute) or linear drives — screws, racks — (prismatic), catalog cylinders
+    for hydraulic cylinders
     (``pressure``: the system's relief pressure, Pa). Payloads go into ``mech``
     (:func:`mechatron.dynamics.with_payload`); ``loads`` are external forces as in
     :func:`mechatron.dynamics.inverse_dynamics`. A catalog left out is the example one shipped in ``catalogs/``."""
@@ -285,7 +286,7 @@ def size_mechanism(mech: Mechanism, trajectory, motors: pd.DataFrame | None = No
     kinds = {d.kind for d in duties}
     motors = motors if motors is not None or kinds <= {"cylinder"} else default_catalog("motors")
     gearboxes = gearboxes if gearboxes is not None or "revolute" not in kinds else default_catalog("gearboxes")
-    screws = screws if screws is not None or "prismatic" not in kinds else default_catalog("screws")
+    linear = linear if linear is not None or "prismatic" not in kinds else default_catalog("linear")
     cylinders = cylinders if cylinders is not None or "cylinder" not in kinds else default_catalog("cylinders")
     def size(duty: JointDuty, scale: float | None = None):
         if duty.kind == "cylinder":
@@ -293,14 +294,14 @@ def size_mechanism(mech: Mechanism, trajectory, motors: pd.DataFrame | None = No
             if objective == "time":
                 return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass")
             return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective)
-        return size_joint(duty, motors, gearboxes, screws, objective=objective, inertia_ratio_max=inertia_ratio_max,
+        return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
                           direct=direct, time_scale=scale)
 
     scale = None
     if objective == "time":  # the slowest coordinate sets the pace of the whole task
         scales = [fastest_scale(_cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure))
                   if d.kind == "cylinder" else
-                  fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, screws, direct),
+                  fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, linear, direct),
                                               inertia_ratio_max)) for d in duties]
         scale = max(scales) if all(math.isfinite(x) for x in scales) else 1.0
     out: list = []
