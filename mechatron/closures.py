@@ -58,6 +58,13 @@ class FrameStates:
         self.position = self.homogeneous[:, :3, 3]  # a view: follows every update
         self.angle = np.arctan2(self.homogeneous[:, 1, 0], self.homogeneous[:, 0, 0])
 
+    def refresh_fixed(self) -> None:
+        """Recompute the placements of the frames on the ground (after the model's placements changed)."""
+        pin.framesForwardKinematics(self.model, self.data, pin.neutral(self.model))
+        for k, fid in enumerate(self.frame_ids):
+            if self.model.frames[fid].parentJoint == 0:
+                self.homogeneous[k] = self.data.oMf[fid].homogeneous
+
     def update(self, q: np.ndarray) -> None:
         model, data = self.model, self.data
         self.q = q
@@ -317,6 +324,21 @@ class ClosureSystem:
             phi = np.concatenate([phi, *(c.residual(s) for c in self._others)])
             J = np.vstack([J, *(c.jacobian(s) for c in self._others)])
         return phi, J
+
+    def jacobian_for(self, frame_motions: np.ndarray) -> np.ndarray:
+        """∂Φ/∂x for other variables x that move the closures' frames, after :meth:`evaluate` at the same q:
+        ``frame_motions`` (n_frames, 6, n_x) gives each frame's world-aligned twist per unit of each x (instead of
+        the joint Jacobians). Gear rows, which do not depend on frames, are zero."""
+        s = self.states
+        width = frame_motions.shape[2]
+        saved = s.jacobian
+        s.jacobian = frame_motions
+        try:
+            rows = [np.zeros((1, width)) if isinstance(c, Gear) else np.atleast_2d(c.jacobian(s))
+                    for c in self.closures]
+        finally:
+            s.jacobian = saved
+        return np.vstack(rows) if rows else np.zeros((0, width))
 
     def drift(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """J̇(q, q̇) q̇, after :meth:`evaluate` at the same q; also fills the frame velocities and accelerations at

@@ -182,7 +182,7 @@ class LoopSolver:
                                f"(closure residual {error:.3g} at {worst} after {max_iterations} Newton iterations)")
 
     # ------------------------------------------------------------------------------------ velocity, acceleration
-    def _dependent_inverse(self, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+    def dependent_inverse(self, q: np.ndarray, J: np.ndarray) -> np.ndarray:
         """J_d⁻¹ (or its pseudo-inverse when the closure equations are redundant), checked for singularity."""
         Jd = J[:, self.dep]
         try:
@@ -201,7 +201,7 @@ class LoopSolver:
         S = self.selection.copy()
         a = S @ accelerations
         if len(self.dep) and J.size:
-            inverse = self.inverse = self._dependent_inverse(q, J)
+            inverse = self.inverse = self.dependent_inverse(q, J)
             Ja = J[:, self.act]
             S[self.dep] = -inverse @ Ja
             v = S @ rates
@@ -229,7 +229,7 @@ class LoopSolver:
         S = np.zeros((self.mech.nv, len(self.act)))
         S[self.act, np.arange(len(self.act))] = 1.0
         if len(self.dep) and J.size:
-            S[self.dep] = -self._dependent_inverse(q, J) @ J[:, self.act]
+            S[self.dep] = -self.dependent_inverse(q, J) @ J[:, self.act]
         return S
 
     def velocity(self, q: np.ndarray, rates: Mapping[str, float] | np.ndarray) -> np.ndarray:
@@ -246,7 +246,7 @@ class LoopSolver:
         a[self.act] = self._vector(accelerations, "acceleration")
         if len(self.dep) and J.size:
             drift = self.system.drift(q, v)
-            a[self.dep] = -self._dependent_inverse(q, J) @ (J[:, self.act] @ a[self.act] + drift)
+            a[self.dep] = -self.dependent_inverse(q, J) @ (J[:, self.act] @ a[self.act] + drift)
         return a
 
 

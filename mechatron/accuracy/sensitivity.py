@@ -1,0 +1,177 @@
+r"""Sensitivities of a point's position to the geometric parameters and the coordinates (textbook eq. 8.3–8.5).
+
+The position of the output point r(l, q) (8.1) depends on the named geometric parameters l of the mechanism
+(DH a, d, α, θ; URDF joint origins; linkage lengths and pin coordinates) and on the coordinates q. To first order
+(8.3–8.5)
+
+    Δr = Σ_i ∂r/∂l_i Δl_i + Σ_j ∂r/∂q_j Δq_j .
+
+How they are computed:
+
+- a parameter l_k moves the constant placements of the model: every joint placement M_j and frame placement M_f
+  turns into M exp(ξ Δl_k) (a local twist ξ per placement and parameter). The twists depend only on how the model is
+  built from its parameters; they are found once per mechanism by rebuilding it at l_k ± h
+  (:func:`placement_derivatives`);
+- at a configuration, Pinocchio's frame kinematic regressor maps the joint-placement twists to the motion of the
+  output frame (``computeFrameKinematicRegressor``), the frame's own placement twist adds R_f ξ_f, and the frame
+  Jacobian gives ∂r/∂q;
+- in a closed loop the dependent coordinates move to keep the loops closed (implicit-function theorem on the
+  closures Φ(q, l) = 0): ∂q_d/∂l = −J_d⁻¹ ∂Φ/∂l and ∂q_d/∂q_a = −J_d⁻¹ J_a, with ∂Φ/∂l from the same placement
+  twists of the closures' frames. The coordinates with errors are then the actuated ones.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ..errors import InputError
+from ..model import Mechanism, unknown_name_error
+
+LWA = pin.LOCAL_WORLD_ALIGNED
+
+
+@dataclass(frozen=True)
+class PlacementDerivatives:
+    """Local twists ξ with M(l + h e_k) = M(l) exp(ξ h) + O(h²) for every parameter k: ``joints`` (n_l, njoints, 6)
+    for the joint placements, ``frames`` (n_l, nframes, 6) for the frame placements ([v; ω] order)."""
+
+    names: tuple[str, ...]
+    joints: np.ndarray
+    frames: np.ndarray
+
+
+def _structure(model: pin.Model) -> tuple:
+    return (tuple(model.names), tuple(f.name for f in model.frames),
+            tuple(j.shortname() for j in model.joints), tuple(f.parentJoint for f in model.frames))
+
+
+def _placements(model: pin.Model) -> list[pin.SE3]:
+    return list(model.jointPlacements) + [f.placement for f in model.frames]
+
+
+def placement_derivatives(mech: Mechanism, names: Sequence[str] | None = None) -> PlacementDerivatives:
+    """The placement twists of ``names`` (default every parameter), by central differences of the rebuilt model's
+    placements (step 1e-6 of max(1, |l|)); cached on the mechanism."""
+    names = tuple(mech.parameters) if names is None else tuple(names)
+    cache = mech.__dict__.setdefault("_placement_derivatives", {})
+    if names in cache:
+        return cache[names]
+    for name in names:
+        if name not in mech.parameters:
+            raise unknown_name_error(f"parameter of {mech.name}", name, list(mech.parameters))
+    model = mech.model
+    nominal = _placements(model)
+    nj, nf = model.njoints, model.nframes
+    joints, frames = np.zeros((len(names), nj, 6)), np.zeros((len(names), nf, 6))
+    values = mech.parameter_values()
+    for k, name in enumerate(names):
+        h = 1e-6 * max(1.0, abs(values[name]))
+        twists = []
+        for sign in (1.0, -1.0):
+            other = mech.with_parameters({name: values[name] + sign * h}).model
+            if _structure(other) != _structure(model):
+                raise InputError(f"{mech.name}: changing {name} changes the model's structure; its sensitivity "
+                                 "cannot be taken")
+            twists.append(np.array([pin.log6(m.actInv(p)).vector for m, p in zip(nominal, _placements(other))]))
+        xi = (twists[0] - twists[1]) / (2 * h)
+        joints[k], frames[k] = xi[:nj], xi[nj:]
+    result = PlacementDerivatives(names, joints, frames)
+    cache[names] = result
+    return result
+
+
+def frame_parameter_twists(mech: Mechanism, derivatives: PlacementDerivatives, frame: int) -> np.ndarray:
+    """World-aligned twists (6, n_l) of frame ``frame`` per unit of each parameter at the configuration last given to
+    ``mech.data`` (forward kinematics and frame placements up to date)."""
+    model, data = mech.model, mech.data
+    regressor = pin.computeFrameKinematicRegressor(model, data, frame, LWA)  # (6, 6 (njoints − 1))
+    joint_twists = derivatives.joints[:, 1:, :].reshape(len(derivatives.names), -1).T  # (6 (nj − 1), n_l)
+    out = regressor @ joint_twists
+    rotation = data.oMf[frame].rotation
+    own = derivatives.frames[:, frame, :]  # (n_l, 6)
+    out[:3] += rotation @ own[:, :3].T
+    out[3:] += rotation @ own[:, 3:].T
+    return out
+
+
+@dataclass(frozen=True)
+class Sensitivities:
+    """∂r/∂e of a point for every error source e at N configurations: ``matrix`` (N, 3, n_e) in m per unit of the
+    source (m/m, m/rad); ``sources`` names the columns (parameters first, then coordinates); ``positions`` (N, 3) the
+    nominal positions; ``q`` (N, nq) the configurations."""
+
+    sources: tuple[str, ...]
+    matrix: np.ndarray
+    positions: np.ndarray
+    q: np.ndarray
+
+    def column(self, name: str) -> np.ndarray:
+        return self.matrix[:, :, self.sources.index(name)]
+
+
+def coordinate_names(mech: Mechanism) -> list[str]:
+    """The coordinates that can carry errors: every joint of a serial mechanism, the actuated ones of a closed loop."""
+    return list(mech.actuated) if mech.closures else mech.joint_names
+
+
+def resolve_coordinate(mech: Mechanism, name: str) -> str | None:
+    """The coordinate a source name means (its own name, or ``qk`` for the k-th), or None if it is not one."""
+    names = coordinate_names(mech)
+    if name in names:
+        return name
+    if name.startswith("q") and name[1:].isdigit() and 1 <= int(name[1:]) <= len(names):
+        return names[int(name[1:]) - 1]
+    return None
+
+
+def sensitivities(mech: Mechanism, q, point: str | None = None, parameters: Sequence[str] | None = None,
+                  coordinates: Sequence[str] | None = None) -> Sensitivities:
+    """∂r/∂l and ∂r/∂q of frame ``point`` (default the tool frame) at the configurations ``q`` ((nq,) or (N, nq),
+    assembled ones for a closed loop), for ``parameters`` (default all) and ``coordinates`` (default every joint, or
+    the actuated ones of a closed loop)."""
+    Q = np.atleast_2d(np.asarray(q, dtype=float))
+    if Q.shape[1] != mech.nq:
+        raise InputError(f"configurations of {mech.name} need {mech.nq} values, got {Q.shape[1]}")
+    fid = mech.frame_id(point or mech.tool_frame)
+    parameters = list(mech.parameters) if parameters is None else list(parameters)
+    coordinates = coordinate_names(mech) if coordinates is None else list(coordinates)
+    columns = [mech.model.joints[mech.joint_id(c)].idx_v for c in coordinates]
+    derivatives = placement_derivatives(mech, parameters)
+    model, data = mech.model, mech.data
+    n_l = len(parameters)
+    out = np.empty((len(Q), 3, n_l + len(coordinates)))
+    positions = np.empty((len(Q), 3))
+    solver = mech.loop_solver() if mech.closures else None
+    for i, qi in enumerate(Q):
+        J = pin.computeFrameJacobian(model, data, qi, fid, LWA)
+        pin.updateFramePlacements(model, data)
+        positions[i] = data.oMf[fid].translation
+        d_point = frame_parameter_twists(mech, derivatives, fid)[:3] if n_l else np.zeros((3, 0))
+        if solver is None:
+            out[i, :, :n_l] = d_point
+            out[i, :, n_l:] = J[:3, columns]
+            continue
+        closure_twists = closure_parameter_twists(mech, solver, derivatives, qi)
+        phi, Jc = solver.system.evaluate(qi)
+        dphi_dl = solver.system.jacobian_for(closure_twists) if n_l else np.zeros((len(phi), 0))
+        inverse = solver.dependent_inverse(qi, Jc)
+        S = solver.velocity_matrix(qi, Jc)  # q̇ = S q̇_a
+        out[i, :, :n_l] = d_point - J[:3, solver.dep] @ (inverse @ dphi_dl)
+        actuated = {name: k for k, name in enumerate(mech.actuated)}
+        out[i, :, n_l:] = (J[:3] @ S)[:, [actuated[c] for c in coordinates]]
+    return Sensitivities(tuple(parameters) + tuple(coordinates), out, positions, Q)
+
+
+def closure_parameter_twists(mech: Mechanism, solver, derivatives: PlacementDerivatives, q: np.ndarray
+                             ) -> np.ndarray:
+    """World-aligned twists (n_closure_frames, 6, n_l) of the closures' frames per unit of each parameter at q."""
+    model, data = mech.model, mech.data
+    pin.forwardKinematics(model, data, q)
+    pin.updateFramePlacements(model, data)
+    frame_ids = solver.system.states.frame_ids
+    return np.array([frame_parameter_twists(mech, derivatives, f) for f in frame_ids]).reshape(
+        len(frame_ids), 6, len(derivatives.names))
