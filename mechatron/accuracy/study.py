@@ -162,7 +162,7 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray
         table[f"dx_{m}"], table[f"dy_{m}"], table[f"dz_{m}"] = values.T
         table[f"dr_{m}"] = np.linalg.norm(values, axis=1)
     mc_samples, mc_shares = None, None
-    lead = next((m for m in ("rss", "worst", "given") if m in results), None)
+    lead = next((m for m in methods if m in results), None)  # the critical pose: the main method's largest |Δr|
     critical = int(np.argmax(table[f"dr_{lead}"])) if lead else 0
     if "mc" in methods:
         stats, mc_samples, mc_shares, critical = _monte_carlo(mech, point, sources, Q, sens.positions, samples, seed,
