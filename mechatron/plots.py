@@ -135,6 +135,16 @@ def plot_plans(mech: Mechanism, q: np.ndarray, v: np.ndarray, a: np.ndarray, pat
     return path
 
 
+def output_directory(directory: str | Path) -> Path:
+    """``directory``, created if needed (an error naming it if it cannot be)."""
+    directory = Path(directory)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the directory: {exc.strerror}", file=directory) from None
+    return directory
+
+
 def _save(fig: Figure, path: Path) -> None:
     try:
         fig.savefig(path, dpi=110)

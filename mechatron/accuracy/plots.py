@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..errors import InputError
-from ..plots import _save
+from ..plots import _save, output_directory
 from .study import StudyResult
 
 
@@ -87,11 +87,7 @@ def contribution_chart(result: StudyResult, path: str | Path) -> Path:
 
 def write_charts(result: StudyResult, directory: str | Path) -> list[Path]:
     """The charts that apply, in ``directory``: map (several poses), Monte Carlo, contributions."""
-    directory = Path(directory)
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create the directory: {exc.strerror}", file=directory) from None
+    directory = output_directory(directory)
     out = []
     if len(result.poses) > 1:
         out.append(error_map(result, directory / f"{result.mechanism}_error_map.png"))

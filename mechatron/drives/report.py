@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..errors import InputError
-from ..plots import _save
+from ..plots import _save, output_directory
 from .cylinders import CylinderSizing
 from .motor import continuous_torque, peak_torque_limit
 from .sizing import JointSizing, SizingResult
@@ -159,11 +159,7 @@ def force_speed_chart(sizing: CylinderSizing, path: str | Path) -> Path:
 
 def write_charts(result: SizingResult, directory: str | Path) -> list[Path]:
     """One chart per joint in ``directory`` (created if needed): ``<mechanism>_<joint>.png``."""
-    directory = Path(directory)
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create the directory: {exc.strerror}", file=directory) from None
+    directory = output_directory(directory)
     out = []
     for j in result.joints:
         path = directory / f"{result.mechanism}_{j.joint}.png"
