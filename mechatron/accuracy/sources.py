@@ -106,7 +106,7 @@ def _unit_columns(frame: pd.DataFrame, path: Path) -> dict[str, list[tuple[str, 
             out[base].append((column, suffix))
         elif column not in allowed:
             raise InputError("unknown column (expected parameter, tolerance[_unit], grade, size[_mm], distribution, "
-                             f"bias[_unit], error[_unit])", file=path, field=column)
+                             "bias[_unit], error[_unit])", file=path, field=column)
     return out
 
 
