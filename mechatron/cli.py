@@ -610,6 +610,7 @@ def cmd_size(args: argparse.Namespace) -> int:
     result = size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=args.objective,
                             inertia_ratio_max=args.inertia_ratio, loads=task.loads, task=task.name,
                             direct=not args.no_direct, pressure=args.pressure_mpa * 1e6,
+                            chain_efficiency=args.chain_efficiency,
                             progress=None if args.json else progress_bar(f"{mech.name}: sizing"))
     written = [write_csv(result, args.csv)] if args.csv else []
     if args.plots:
@@ -686,6 +687,21 @@ def _write_table(table, path) -> str:
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror}", file=path) from None
     return str(Path(path))
+
+
+def cmd_structure(args: argparse.Namespace) -> int:
+    """Structural analysis (chapter 3) of a mechanism or of a structural description file."""
+    from .structure.analysis import analyse, text_report
+    from .structure.description import read_structure, structure_file
+
+    path = structure_file(args.robot)
+    subject = read_structure(path) if path else _load(args)
+    report = analyse(subject)
+    if args.json:
+        _print_json(report.as_dict())
+    else:
+        print(text_report(report))
+    return 0
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
@@ -802,6 +818,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--inertia-ratio", type=float, default=10.0, help="largest load/motor inertia ratio (default 10)")
     p.add_argument("--no-direct", action="store_true", help="do not consider direct drive (gearless) motors")
     p.add_argument("--pressure-mpa", type=float, default=32.0, help="hydraulic system pressure (default 32 MPa)")
+    p.add_argument("--chain-efficiency", type=float, default=1.0,
+                   help="efficiency of the rest of the chain (couplings, bearings, belt), multiplies every "
+                        "converter's (default 1)")
     p.add_argument("--csv", metavar="FILE", help="write every check of every joint")
     p.add_argument("--plots", metavar="DIR", help="write a speed–torque chart per chosen motor (PNG)")
     p.set_defaults(func=cmd_size)
@@ -825,6 +844,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--contributions", metavar="FILE", help="write the contributions table")
     p.add_argument("--plots", metavar="DIR", help="write the error map, Monte Carlo and contribution charts")
     p.set_defaults(func=cmd_tolerance)
+
+    p = sub.add_parser("structure", help="structural analysis: pairs by class, loops, mobility by every formula "
+                                         "and from the model, redundancy, Assur groups")
+    _robot_arguments(p)
+    p.set_defaults(func=cmd_structure)
 
     p = sub.add_parser("demo", help="a short tour: load a robot and print its kinematics")
     p.set_defaults(func=cmd_demo)

@@ -73,9 +73,13 @@ def _linear(row: dict, length: float) -> dict:
 
 
 def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
-                   direct: bool = True) -> Converters:
+                   direct: bool = True, chain_efficiency: float = 1.0) -> Converters:
     """The converters to try on ``duty``'s joint: direct drive (if ``direct``) and every gearbox for a revolute
-    joint; every linear drive, ``stroke + LENGTH_ALLOWANCE`` long, for a prismatic joint."""
+    joint; every linear drive, ``stroke + LENGTH_ALLOWANCE`` long, for a prismatic joint. ``chain_efficiency``
+    multiplies every converter's efficiency: the rest of the chain between motor and joint (couplings, bearings,
+    a belt; build it with :func:`mechatron.efficiency.series`, 7.53)."""
+    if not 0 < chain_efficiency <= 1:
+        raise InputError(f"the chain efficiency must be in (0, 1], got {chain_efficiency!r}")
     rows: list[dict] = []
     if duty.kind == "revolute":
         if direct:
@@ -90,4 +94,6 @@ def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linea
         raise InputError(f"joint {duty.name}: cannot size a {duty.kind} joint (only revolute and prismatic)")
     if not rows:
         raise InputError(f"joint {duty.name}: no converter to try (give a gearbox catalog or allow direct drive)")
+    for r in rows:
+        r["efficiency"] = r["efficiency"] * chain_efficiency
     return Converters(**{name: np.array([r[name] for r in rows]) for name in rows[0]})

@@ -168,7 +168,7 @@ def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inert
 
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
                linear: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
-               direct: bool = True, time_scale: float | None = None) -> JointSizing:
+               direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0) -> JointSizing:
     """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
 
     Every pair is checked; the per-sample checks are made exact in the order of the objective until the best
@@ -182,7 +182,7 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         raise InputError(f"the inertia ratio limit must be > 0, got {inertia_ratio_max!r}")
     if len(motors) == 0:
         raise InputError("the motor catalog is empty")
-    conv = converters_for(duty, gearboxes, linear, direct)
+    conv = converters_for(duty, gearboxes, linear, direct, chain_efficiency)
     scale = 1.0
     if objective == "time":
         scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max))
@@ -268,14 +268,16 @@ def size_mechanism(mech: Mechanism, trajectory, motors: pd.DataFrame | None = No
                    gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                    loads: Sequence[Sequence] | None = None, task: str = "task", direct: bool = True,
-                   pressure: float = 32e6, progress: Callable[[int, int], None] | None = None) -> SizingResult:
+                   pressure: float = 32e6, chain_efficiency: float = 1.0,
+                   progress: Callable[[int, int], None] | None = None) -> SizingResult:
     """Size every coordinate of ``mech`` that moves or carries load along ``trajectory`` (a
     :class:`~mechatron.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
     mechanism): motors with gearboxes (revolute) or linear drives — screws, racks — (prismatic), catalog cylinders
     for hydraulic cylinders
     (``pressure``: the system's relief pressure, Pa). Payloads go into ``mech``
     (:func:`mechatron.dynamics.with_payload`); ``loads`` are external forces as in
-    :func:`mechatron.dynamics.inverse_dynamics`. A catalog left out is the example one shipped in ``catalogs/``."""
+    :func:`mechatron.dynamics.inverse_dynamics`. A catalog left out is the example one shipped in ``catalogs/``.
+    ``chain_efficiency`` multiplies every converter's efficiency (the losses of the rest of the chain, 7.53)."""
     from .catalogs import default_catalog
     from .cylinders import size_cylinder
 
@@ -295,13 +297,13 @@ def size_mechanism(mech: Mechanism, trajectory, motors: pd.DataFrame | None = No
                 return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass")
             return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective)
         return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
-                          direct=direct, time_scale=scale)
+                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency)
 
     scale = None
     if objective == "time":  # the slowest coordinate sets the pace of the whole task
         scales = [fastest_scale(_cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure))
                   if d.kind == "cylinder" else
-                  fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, linear, direct),
+                  fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
                                               inertia_ratio_max)) for d in duties]
         scale = max(scales) if all(math.isfinite(x) for x in scales) else 1.0
     out: list = []

@@ -1,0 +1,168 @@
+"""The structural report of a mechanism: counts, every formula of chapter 3, the numeric mobility and redundancy
+of the model, and the structural groups.
+
+The model's mobility is W = n_v − rank J (the closure Jacobian at a regular position), its redundant closure
+equations the rank deficiency of J. For a planar mechanism modelled in the plane, Chebyshev's (3.3) and (3.17)
+count the same constraints and must give W unless the geometry is special (then the rank deficiency says so).
+Malyshev's (3.2) counts spatial constraints: a planar loop of lower pairs carries 3 redundant ones (Reshetov's
+S of 3.12; the per-loop S_j = 3 of 3.14), so (3.2) gives W − 3K and (3.16) gives W again.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..model import Mechanism
+from . import formulas as F
+from .description import StructuralDescription, from_mechanism
+from .groups import Decomposition, decompose
+
+
+@dataclass
+class StructureReport:
+    """Counts, formula values, the model's numbers when there is a model, groups and explanations."""
+
+    description: StructuralDescription
+    counts: dict[int, int]
+    loops: int
+    loop_redundancies: list[int]
+    formulas: dict[str, int]
+    degrees_of_mobility: int | None
+    decomposition: Decomposition | None
+    mobility: int | None = None
+    redundant_equations: int | None = None
+    actuated: list[str] = field(default_factory=list)
+    agreement: dict[str, bool] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def true_mobility(self) -> int:
+        """The model's mobility; without a model, that of (3.16) (or of 3.17 for a planar description)."""
+        if self.mobility is not None:
+            return self.mobility
+        return self.formulas.get("per_loop_3_16", self.formulas.get("planar_with_redundant_links_3_17"))
+
+    def as_dict(self) -> dict:
+        d = self.description
+        return {
+            "mechanism": d.name, "planar": d.planar, "moving_links": d.n, "links": [d.frame, *d.links],
+            "pairs": [{"name": p.name, "class": p.cls, "kind": p.kind, "links": list(p.links) if p.links else None,
+                       "actuated": p.actuated} for p in d.pairs],
+            "pairs_by_class": {str(k): v for k, v in sorted(self.counts.items(), reverse=True)},
+            "loops": self.loops, "loop_pairs": [list(loop.pairs) for loop in d.loops],
+            "loop_redundancy": self.loop_redundancies,
+            "superfluous_mobilities": [-s for s in self.loop_redundancies if s < 0],
+            "formulas": self.formulas, "degrees_of_mobility_H": self.degrees_of_mobility,
+            "mobility": self.true_mobility,
+            "mobility_source": "model (n_v − rank of the closure Jacobian)" if self.mobility is not None else
+            "formula (3.16), no model", "redundant_closure_equations": self.redundant_equations,
+            "actuated": self.actuated, "agreement": self.agreement,
+            "groups": None if self.decomposition is None else [
+                {"links": list(g.links), "pairs": list(g.pairs), "loops": g.loops, "dyad": g.dyad,
+                 "driven_pairs": list(g.driven)}
+                for g in self.decomposition.groups],
+            "driving_links": None if self.decomposition is None else list(self.decomposition.driving_links),
+            "notes": self.notes,
+        }
+
+
+def analyse(subject: StructuralDescription | Mechanism) -> StructureReport:
+    """The structural report of a description (formulas only) or of a mechanism (formulas and its model)."""
+    mech = subject if isinstance(subject, Mechanism) else None
+    desc = from_mechanism(mech) if mech is not None else subject
+    counts, n = desc.counts(), desc.n
+    K = F.gokhman(n, counts)
+    loop_S = [F.loop_redundancy(desc.counts([desc.pair(name) for name in loop.pairs])) for loop in desc.loops]
+    Z = [loop.redundant_links for loop in desc.loops]
+    values = {"malyshev_3_2": F.malyshev(n, counts)}
+    if desc.planar:
+        values["chebyshev_3_3"] = F.chebyshev(n, counts)
+        values["planar_with_redundant_links_3_17"] = F.planar_mobility(n, counts, Z)
+    if desc.loops or K == 0:
+        values["per_loop_3_16"] = F.full_mobility(n, counts, loop_S, Z)
+    decomposition = decompose(desc)
+    H = _degrees_of_mobility(desc, n, decomposition)
+    report = StructureReport(desc, counts, K, loop_S, values, H, decomposition)
+    notes = report.notes
+    if any(s < 0 for s in loop_S):
+        notes.append("loops with superfluous mobilities h_j = −S_j: "
+                     + ", ".join(f"loop {j + 1}: {-s}" for j, s in enumerate(loop_S) if s < 0))
+    if mech is not None:
+        report.mobility = mech.mobility()
+        report.redundant_equations = mech.redundant_closure_equations()
+        report.actuated = list(mech.actuated)
+        values["reshetov_3_11"] = F.reshetov(n, counts, F.reshetov_redundancy(n, counts, report.mobility))
+        _compare(report)
+    elif decomposition is not None and not decomposition.complete:
+        notes.append(f"links {', '.join(decomposition.unplaced)} form no structural group with the others")
+    return report
+
+
+def _degrees_of_mobility(desc: StructuralDescription, n: int, decomposition: Decomposition | None) -> int | None:
+    """H of (3.18): from the loops' closed_by when every counted loop states it, else from the groups."""
+    counted = [loop for loop in desc.loops if not loop.repeated]
+    if counted and all(loop.closed_by for loop in counted):
+        return F.degrees_of_mobility(n, [2 if loop.closed_by == "group" else 1 for loop in counted])
+    if not desc.loops and F.gokhman(n, desc.counts()) == 0:
+        return n  # an open chain: H = n (line 1992)
+    if decomposition is not None and decomposition.complete:
+        return n - sum(g.closing_value * g.loops for g in decomposition.groups)
+    return None
+
+
+def _compare(report: StructureReport) -> None:
+    """Which formulas give the model's mobility, and why the others do not."""
+    W, desc, values = report.mobility, report.description, report.formulas
+    for name, value in values.items():
+        report.agreement[name] = value == W
+    K, redundant = report.loops, report.redundant_equations
+    if desc.planar and values["malyshev_3_2"] != W:
+        report.notes.append(f"Malyshev (3.2) counts spatial constraints: the {K} planar loop(s) carry "
+                            f"S = {W - values['malyshev_3_2']} redundant constraints (3.12), the per-loop S_j "
+                            f"(3.14) = {report.loop_redundancies}; (3.16) adds them back")
+    if desc.planar and values["chebyshev_3_3"] != W:
+        report.notes.append(f"Chebyshev (3.3) gives {values['chebyshev_3_3']} but the model moves with {W}: "
+                            f"{redundant} closure equation(s) are dependent at this geometry (a special geometry the "
+                            "formula cannot see)" if redundant else
+                            f"Chebyshev (3.3) gives {values['chebyshev_3_3']}, the model {W}")
+    if report.degrees_of_mobility is not None and report.degrees_of_mobility != len(report.actuated):
+        report.notes.append(f"H (3.18) = {report.degrees_of_mobility} while the model has {len(report.actuated)} "
+                            "actuated coordinate(s)")
+
+
+def text_report(report: StructureReport) -> str:
+    """The structural report as text."""
+    d = report.description
+    lines = [f"{d.name}: {d.n} moving links, {len(d.pairs)} pairs, {report.loops} loop(s) (3.10)"
+             + (" — planar" if d.planar else "")]
+    for cls in sorted(report.counts, reverse=True):
+        members = [p for p in d.pairs if p.cls == cls]
+        lines.append(f"  class {cls} ({6 - cls} mobilit{'y' if cls == 5 else 'ies'}): "
+                     + ", ".join(p.name + (f" [{p.kind}]" if p.kind else "") + ("*" if p.actuated else "")
+                                 for p in members))
+    lines.append("  (* actuated)")
+    for j, (loop, S) in enumerate(zip(d.loops, report.loop_redundancies), start=1):
+        extra = (f", Z = {loop.redundant_links}" if loop.redundant_links else "") + \
+            (f", closed by a {loop.closed_by}" if loop.closed_by else "") + (", repeated" if loop.repeated else "")
+        lines.append(f"  loop {j}: {' '.join(loop.pairs)} — S_{j} = {S} (3.14){extra}")
+    lines.append("mobility by formula:")
+    for name, value in report.formulas.items():
+        mark = "" if name not in report.agreement else ("  ✓ = model" if report.agreement[name] else "  ✗ ≠ model")
+        lines.append(f"  {name:<36}{value:>4}{mark}")
+    if report.mobility is not None:
+        lines.append(f"model: mobility {report.mobility} (n_v − rank of the closure Jacobian), "
+                     f"{report.redundant_equations} dependent closure equation(s), actuated: "
+                     f"{', '.join(report.actuated) or 'none'}")
+    if report.degrees_of_mobility is not None:
+        lines.append(f"degrees of mobility H (3.18) = {report.degrees_of_mobility}")
+    if report.decomposition is not None:
+        dec = report.decomposition
+        lines.append(f"driving links: {', '.join(dec.driving_links) or 'none'}")
+        for g in dec.groups:
+            kind = f"dyad {g.dyad}" if g.dyad else f"group of {len(g.links)} link(s)"
+            driven = f" (driven pair {', '.join(g.driven)} inside: a link of driven length)" if g.driven else ""
+            lines.append(f"  {kind}{driven}: links {', '.join(g.links)}; pairs {', '.join(g.pairs)}; closes "
+                         f"{g.loops} loop(s)")
+    for note in report.notes:
+        lines.append(f"note: {note}")
+    return "\n".join(lines)
