@@ -113,6 +113,10 @@ def cmd_list(args: argparse.Namespace) -> int:
             print(f"{name:<18} {'?':>3}  (cannot load: {exc})")
     print(f"\n{len(builtin)} robot files in {next(iter(builtin.values())).parent if builtin else 'robots/'}; "
           f"{len(examples)} arms from example-robot-data")
+    from .structure.description import shipped_structures
+
+    print(f"structural descriptions of the textbook's cases (mechatron structure NAME): "
+          f"{', '.join(shipped_structures())}")
     return 0
 
 
