@@ -89,6 +89,17 @@ def _print_json(obj: Any) -> None:
     print(json.dumps(obj, indent=2, allow_nan=False))
 
 
+def _write_table(table, path) -> str:
+    """Write a DataFrame as CSV; an error naming the file if it cannot be written."""
+    from pathlib import Path
+
+    try:
+        table.to_csv(path, index=False, float_format="%.10g")
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
+    return str(Path(path))
+
+
 def _matrix_text(matrix: np.ndarray, rows: Sequence[str], cols: Sequence[str], fmt: str = "{:>11.5f}") -> str:
     width = max(11, *(len(c) for c in cols))
     head = " " * 6 + "".join(f"{c:>{width}}" for c in cols)
@@ -494,13 +505,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
     result = trajectory_loads(mech, trajectory)
     written = []
     if args.csv:
-        from pathlib import Path
-
-        try:
-            result.table.to_csv(args.csv, index=False, float_format="%.10g")
-        except OSError as exc:
-            raise InputError(f"cannot write: {exc.strerror}", file=args.csv) from None
-        written.append(str(Path(args.csv)))
+        written.append(_write_table(result.table, args.csv))
     if args.plot:
         written.append(str(_plot_loads(result, args.plot, mech)))
     summary = result.summary
@@ -558,8 +563,7 @@ def cmd_reduced(args: argparse.Namespace) -> int:
     linear = mech.joint_kind(name) == "prismatic"
     written = []
     if args.csv:
-        table.to_csv(args.csv, index=False, float_format="%.10g")
-        written.append(args.csv)
+        written.append(_write_table(table, args.csv))
     if args.plot:
         from matplotlib.figure import Figure
 
@@ -681,16 +685,6 @@ def cmd_tolerance(args: argparse.Namespace) -> int:
     for path in written:
         print(f"wrote {path}")
     return 0
-
-
-def _write_table(table, path) -> str:
-    from pathlib import Path
-
-    try:
-        table.to_csv(path, index=False, float_format="%.10g")
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
-    return str(Path(path))
 
 
 def cmd_structure(args: argparse.Namespace) -> int:

@@ -22,6 +22,7 @@ Closures:
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -90,8 +91,9 @@ class FrameStates:
 
 
 @dataclass
-class Closure:
-    """Base class: a closure uses some frames (by name) and contributes ``nrows`` equations."""
+class Closure(ABC):
+    """Base class: a closure uses some frames (by name) and contributes ``nrows`` equations; each kind gives its
+    residual, Jacobian and drift."""
 
     name: str
     frames: tuple[str, ...] = field(init=False, default=())
@@ -101,14 +103,14 @@ class Closure:
         """Remember where this closure's frames sit in the :class:`FrameStates` arrays."""
         self._k = [index[f] for f in self.frames]
 
-    def residual(self, s: FrameStates) -> np.ndarray:  # pragma: no cover - abstract
-        raise NotImplementedError
+    @abstractmethod
+    def residual(self, s: FrameStates) -> np.ndarray: ...
 
-    def jacobian(self, s: FrameStates) -> np.ndarray:  # pragma: no cover - abstract
-        raise NotImplementedError
+    @abstractmethod
+    def jacobian(self, s: FrameStates) -> np.ndarray: ...
 
-    def drift(self, s: FrameStates) -> np.ndarray:  # pragma: no cover - abstract
-        raise NotImplementedError
+    @abstractmethod
+    def drift(self, s: FrameStates) -> np.ndarray: ...
 
     def describe(self) -> str:
         return self.name

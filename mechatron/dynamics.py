@@ -210,6 +210,13 @@ class MotorLoads:
         return self.torque * self.speed
 
 
+def transmitted_torque(load, speed, ratio, efficiency):
+    """The motor-side torque that carries the joint load τ through a transmission of ratio u and efficiency η:
+    τ/(u η) when the load takes power (τ q̇ ≥ 0), τ η/u when it drives the motor back. Arrays broadcast."""
+    motoring = load * speed >= 0
+    return np.where(motoring, load / (ratio * efficiency), load * efficiency / ratio)
+
+
 def motor_loads(mech: Mechanism, v, a, tau) -> MotorLoads:
     """Motor torques and speeds for joint velocities v, accelerations a and joint torques τ (from the dynamics).
 
@@ -232,7 +239,7 @@ def motor_loads(mech: Mechanism, v, a, tau) -> MotorLoads:
         coulomb_pos[i], coulomb_neg[i] = drive.coulomb_friction
     load = T - rotor * ratio**2 * A
     motoring = load * V >= 0
-    transmitted = np.where(motoring, load / (ratio * efficiency), load * efficiency / ratio)
+    transmitted = transmitted_torque(load, V, ratio, efficiency)
     speed = ratio * V
     friction = viscous * speed + np.where(speed > 0, coulomb_pos, np.where(speed < 0, coulomb_neg, 0.0))
     torque = rotor * ratio * A + transmitted + friction
@@ -269,11 +276,9 @@ class TrajectoryLoads:
     names: list[str]
 
 
-def actuator_forces(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None = None
-                    ) -> tuple[np.ndarray, np.ndarray]:
-    """(Q, F): the joint positions (N, nq) of a closed-loop mechanism along a trajectory of its actuated
-    coordinates and the actuator forces (N, n_actuated; N for a cylinder, N·m for a crank) that drive it
-    (constrained inverse dynamics)."""
+def closed_loop_states(mech: Mechanism, trajectory) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(Q, V, A): the full joint states (N, nq/nv) of a closed-loop mechanism along a trajectory of its actuated
+    coordinates (assembly, velocity and acceleration analysis); an error if the motion leaves the reachable range."""
     from .sweep import sweep
 
     inputs = {name: trajectory.q[:, i] for i, name in enumerate(mech.actuated)}
@@ -283,7 +288,16 @@ def actuator_forces(mech: Mechanism, trajectory, loads: Sequence[Sequence] | Non
     if len(result.failures):
         raise InputError(f"{mech.name}: the trajectory leaves the reachable range: "
                          f"{result.failures['reason'].iloc[0]}")
-    return result.q, _forces(mech, result.q, result.v, result.a, loads)
+    return result.q, result.v, result.a
+
+
+def actuator_forces(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None = None
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """(Q, F): the joint positions (N, nq) of a closed-loop mechanism along a trajectory of its actuated
+    coordinates and the actuator forces (N, n_actuated; N for a cylinder, N·m for a crank) that drive it
+    (constrained inverse dynamics)."""
+    Q, V, A = closed_loop_states(mech, trajectory)
+    return Q, _forces(mech, Q, V, A, loads)
 
 
 def holding_forces(mech: Mechanism, Q: np.ndarray, loads: Sequence[Sequence] | None = None) -> np.ndarray:

@@ -177,7 +177,7 @@ def friction_losses(mech: Mechanism, trajectory, pairs: Mapping[str, PairFrictio
     joints of a serial arm, the actuated coordinates of a closed loop)."""
     import pinocchio as pin
 
-    from .dynamics import joint_wrenches, trajectory_loads
+    from .dynamics import closed_loop_states, inverse_dynamics, joint_wrenches
 
     model = mech.model
     data = model.createData()
@@ -185,25 +185,21 @@ def friction_losses(mech: Mechanism, trajectory, pairs: Mapping[str, PairFrictio
     pins: list[dict[str, np.ndarray]] = []
     if mech.closures:
         from .constrained import inverse, reactions
-        from .sweep import sweep
 
-        names = list(mech.actuated)
-        result = sweep(mech, {n: trajectory.q[:, i] for i, n in enumerate(names)},
-                       rates={n: trajectory.v[:, i] for i, n in enumerate(names)},
-                       accelerations={n: trajectory.a[:, i] for i, n in enumerate(names)}, points=[], measures=[])
-        if len(result.failures):
-            raise InputError(f"{mech.name}: the motion leaves the reachable range")
-        Q, V, A = result.q, result.v, result.a
-        wrenches = []
+        Q, V, A = closed_loop_states(mech, trajectory)
+        wrenches, forces = [], []
         for q, v, a in zip(Q, V, A):
-            lam = inverse(mech, q, v, a, loads)[1]
+            force, lam = inverse(mech, q, v, a, loads)
             r = reactions(mech, q, v, a, lam, loads)
             wrenches.append(r.joints)
             pins.append(r.pins)
+            forces.append([force[n] for n in mech.actuated])
         W = np.array(wrenches)  # (N, njoints − 1, 6): world force and moment each joint transmits
+        actuator_power = np.array(forces) * np.asarray(trajectory.v, dtype=float)
     else:
         Q, V, A = (np.asarray(x, dtype=float) for x in (trajectory.q, trajectory.v, trajectory.a))
         W = np.array([joint_wrenches(mech, q, v, a, loads) for q, v, a in zip(Q, V, A)])
+        actuator_power = inverse_dynamics(mech, Q, V, A, loads) * V
     closures = {c.name: c for c in mech.closures}
     columns: dict[str, np.ndarray] = {"t": t}
     rows = []
@@ -246,8 +242,7 @@ def friction_losses(mech: Mechanism, trajectory, pairs: Mapping[str, PairFrictio
         rows.append({"pair": name, "kind": kind, "peak_power": float(power.max()),
                      "mean_power": float(np.trapezoid(power, t) / (t[-1] - t[0])) if len(t) > 1 else 0.0,
                      "work": float(np.trapezoid(power, t)) if len(t) > 1 else 0.0})
-    loads_table = trajectory_loads(mech, trajectory, loads).table
-    driving = sum(np.maximum(loads_table[c].to_numpy(), 0.0) for c in loads_table.columns if c.startswith("power_"))
+    driving = np.maximum(np.atleast_2d(actuator_power), 0.0).sum(axis=1)
     driving_work = float(np.trapezoid(driving, t)) if len(t) > 1 else 0.0
     return FrictionLosses(pd.DataFrame(columns), pd.DataFrame(rows), driving_work,
                           float(np.trapezoid(total, t)) if len(t) > 1 else 0.0)
