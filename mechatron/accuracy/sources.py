@@ -27,14 +27,14 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..units import UNITS
 from ..model import Mechanism, unknown_name_error
 from .sensitivity import coordinate_names, resolve_coordinate
 from .tables import tolerance_from_grade
 
 DISTRIBUTIONS = ("normal", "uniform", "triangular")
-LENGTH_UNITS = {"": 1.0, "m": 1.0, "mm": 1e-3, "um": 1e-6}
-ANGLE_UNITS = {"": 1.0, "rad": 1.0, "deg": math.pi / 180, "arcmin": math.pi / 10800, "arcsec": math.pi / 648000,
-               "mrad": 1e-3, "urad": 1e-6}
+LENGTH_UNITS = UNITS["length"]
+ANGLE_UNITS = UNITS["angle"]
 VALUE_FIELDS = ("tolerance", "bias", "error")
 
 

@@ -16,7 +16,7 @@ import pandas as pd
 
 from ..errors import InputError
 from ..library import data_dir
-from .units import UNITS
+from ..units import UNITS
 
 
 @dataclass(frozen=True)

@@ -17,9 +17,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError, MechatronError
-from .linkages import SINGULAR_RATIO, LoopSolver
-from .model import Measure, Mechanism
+from ..errors import InputError, MechatronError
+from ..model import Mechanism
+from ..model.mechanism import Measure
+from .geometry import measure_values
+from .loops import SINGULAR_RATIO, LoopSolver, loop_solver
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -74,7 +76,7 @@ def default_inputs(mech: Mechanism, samples: int) -> dict[str, np.ndarray]:
     """Every actuated coordinate from its lower to its upper limit together (a full turn from the reference angle
     for an unlimited revolute input)."""
     lower, upper = mech.model.lowerPositionLimit, mech.model.upperPositionLimit
-    solver = mech.loop_solver()
+    solver = loop_solver(mech)
     out = {}
     for name in mech.actuated:
         i = solver.index[name]
@@ -100,24 +102,9 @@ def _as_arrays(values: Mapping[str, object] | None, names: Sequence[str], n: int
     return out
 
 
-def measure_values(measure: Measure, positions: Mapping[str, np.ndarray]) -> np.ndarray:
-    """Values of ``measure`` for arrays (N, 2) of the positions of its points."""
-    p = [np.atleast_2d(positions[name]) for name in measure.points]
-    if measure.kind == "transmission_angle":
-        u, w = p[1] - p[0], p[3] - p[2]
-        cosine = np.abs((u * w).sum(axis=1)) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1))
-        return np.arccos(np.minimum(1.0, cosine))
-    if measure.kind == "lever_arm":
-        axis, r = p[1] - p[0], p[2] - p[0]
-        return np.abs(axis[:, 0] * r[:, 1] - axis[:, 1] * r[:, 0]) / np.linalg.norm(axis, axis=1)
-    if measure.kind == "distance":
-        return np.linalg.norm(p[1] - p[0], axis=1)
-    raise InputError(f"unknown measure kind {measure.kind!r}")
-
-
 def sweep(mech: Mechanism, inputs: Mapping[str, object] | None = None, *, samples: int = 200,
           rates: Mapping[str, object] | None = None, accelerations: Mapping[str, object] | None = None,
-          points: Sequence[str] | None = None, links: Sequence[str] | None = None,
+          frames: Sequence[str] | None = None, links: Sequence[str] | None = None,
           measures: Sequence[Measure] | None = None, guess: np.ndarray | None = None,
           progress: ProgressCallback | None = None) -> SweepResult:
     """Analyse ``mech`` along the input values ``inputs`` (name → array of N values; default :func:`default_inputs`).
@@ -125,13 +112,13 @@ def sweep(mech: Mechanism, inputs: Mapping[str, object] | None = None, *, sample
     Args:
         rates: Actuated rates (m/s, rad/s), scalars or arrays of N; default ``mech.input_rates`` or 1.
         accelerations: Actuated accelerations, default 0.
-        points: Points to report (default ``mech.points`` without the helper frames of cylinders).
+        frames: Points (frames) to report (default ``mech.points``).
         links: Links (body frames) whose angle, angular velocity and acceleration to report (default: none).
         measures: Transmission angles, lever arms (default ``mech.measures``).
         guess: Start of the continuation (default the reference configuration: its assembly branch).
         progress: Called as progress(done, total) every few hundred samples.
     """
-    base = mech.loop_solver()
+    base = loop_solver(mech)
     inputs = dict(inputs) if inputs is not None else default_inputs(mech, samples)
     lengths = {len(np.atleast_1d(np.asarray(v))) for v in inputs.values()}
     if len(lengths) != 1:
@@ -143,7 +130,7 @@ def sweep(mech: Mechanism, inputs: Mapping[str, object] | None = None, *, sample
     U = _as_arrays(inputs, names, n, lambda name: held[name], "inputs")
     R = _as_arrays(rates, names, n, lambda name: mech.input_rates.get(name, 1.0), "rates")
     A = _as_arrays(accelerations, names, n, lambda name: 0.0, "accelerations")
-    points = list(mech.points if points is None else points)
+    points = list(mech.points if frames is None else frames)
     links = list(links or [])
     measures = list(mech.measures if measures is None else measures)
     wanted = list(dict.fromkeys(points + [p for m in measures for p in m.points] + links))
@@ -220,13 +207,13 @@ def sweep(mech: Mechanism, inputs: Mapping[str, object] | None = None, *, sample
         rhs = np.einsum("kij,kj->ki", Jg[:, :, act], A[good]) + drift
         Aq[:, dep] = -_batched_solve(Jg[:, :, dep], rhs)
 
-    frames = [system.index[name] for name in wanted]
-    Jw = Jf[good][:, frames]
+    reported = [system.index[name] for name in wanted]
+    Jw = Jf[good][:, reported]
     twist = np.einsum("kfij,kj->kfi", Jw, V)
-    accel = accel0[:, frames] + np.einsum("kfij,kj->kfi", Jw, Aq)  # classical acceleration: at q̈ = 0 plus J q̈
+    accel = accel0[:, reported] + np.einsum("kfij,kj->kfi", Jw, Aq)  # classical acceleration: at q̈ = 0 plus J q̈
     failure_rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
                     for k in sorted(failures)]
-    return _result(mech, U, good, Q[good], V, Aq, H[good][:, frames], twist, accel, wanted, points, links,
+    return _result(mech, U, good, Q[good], V, Aq, H[good][:, reported], twist, accel, wanted, points, links,
                    measures, failure_rows, names)
 
 

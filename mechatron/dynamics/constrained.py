@@ -12,8 +12,9 @@ torques) and external loads Q = Σ J_pᵀ F_p:
 - :func:`inverse` solves for the actuated forces and λ along a known motion: [B  Jᵀ][τ_a; λ] = M q̈ + h − Q;
 - :func:`reactions` turns λ into pin forces and, with an RNEA pass carrying them as external forces, the force and
   moment in every tree joint (textbook chapter 5: the reactions in the kinematic pairs);
-- :func:`simulate` integrates the motion (classical Runge–Kutta, fixed step) and projects positions and velocities
-  back onto the closures after every step, so the constraint drift stays at rounding level.
+- :func:`simulate` integrates the motion (classical Runge–Kutta on the configuration manifold, fixed step,
+  :mod:`mechatron.dynamics.integrate`) and projects positions and velocities back onto the closures after every
+  step, so the constraint drift stays at rounding level.
 
 A pin closure's multiplier is the force (N) its point ``a`` receives from point ``b`` (and −λ the other way).
 """
@@ -26,48 +27,35 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .closures import Pin
-from .dynamics import external_forces
-from .errors import InputError
-from .model import Mechanism
+from ..errors import InputError
+from ..kinematics.loops import loop_solver
+from ..model import Mechanism
+from ..model.closures import Pin
+from ..model.loads import Load, Loads, as_loads
+from .integrate import rk4_step, time_steps
+from .tree import generalized_forces, joint_space_inertia, transmitted_wrenches
 
+#: (t, q, q̇) → {joint coordinate: force (N) or torque (N·m)}: the actuators' law along a simulation.
 Actuation = Callable[[float, np.ndarray, np.ndarray], Mapping[str, float]]
-Loads = Callable[[float, np.ndarray, np.ndarray], Sequence[Sequence]]
-
-
-def _applied(mech: Mechanism, q: np.ndarray, forces: Mapping[str, float] | None,
-             loads: Sequence[Sequence] | None) -> np.ndarray:
-    """τ + Q: actuator forces on named joint coordinates plus the generalized forces of external loads."""
-    tau = np.zeros(mech.nv)
-    solver = mech.loop_solver()
-    for name, value in (forces or {}).items():
-        if name not in solver.index:
-            raise InputError(f"unknown joint coordinate of {mech.name} {name!r} for a force "
-                             f"(known: {', '.join(mech.joint_names)})")
-        tau[solver.index[name]] += value
-    if loads:
-        fext = external_forces(mech, q, loads)
-        # generalized force of external wrenches: τ_ext = −rnea(q, 0, 0, fext) + rnea(q, 0, 0)
-        zero = np.zeros(mech.nv)
-        tau += pin.rnea(mech.model, mech.data, q, zero, zero) - pin.rnea(mech.model, mech.data, q, zero, zero, fext)
-    return tau
+#: (t, q, q̇) → loads: the external loads along a simulation.
+LoadsAt = Callable[[float, np.ndarray, np.ndarray], Sequence[Load]]
 
 
 def _closure_terms(mech: Mechanism, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    system = mech.loop_solver().system
+    system = loop_solver(mech).system
     _, J = system.evaluate(q)
     return J, system.drift(q, v)
 
 
 def forward(mech: Mechanism, q, v, forces: Mapping[str, float] | None = None,
-            loads: Sequence[Sequence] | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(q̈, λ) of a closed-loop mechanism under actuator forces (by joint coordinate) and external loads."""
+            loads: Loads = None) -> tuple[np.ndarray, np.ndarray]:
+    """(q̈, λ) of a closed-loop mechanism under actuator forces (by joint coordinate: N, N·m) and external loads:
+    the KKT system [M −Jᵀ; J 0][q̈; λ] = [τ + Q − h; −J̇ q̇]."""
     q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
     model, data = mech.model, mech.data
-    M = pin.crba(model, data, q)
-    M = np.triu(M) + np.triu(M, 1).T
+    M = joint_space_inertia(model, data, q)
     h = pin.nonLinearEffects(model, data, q, v)
-    rhs = _applied(mech, q, forces, loads) - h
+    rhs = generalized_forces(mech, q, forces, loads) - h
     if not mech.closures:
         return np.linalg.solve(M, rhs), np.zeros(0)
     J, drift = _closure_terms(mech, q, v)
@@ -77,14 +65,13 @@ def forward(mech: Mechanism, q, v, forces: Mapping[str, float] | None = None,
     return solution[:n], solution[n:]
 
 
-def inverse(mech: Mechanism, q, v, a, loads: Sequence[Sequence] | None = None
-            ) -> tuple[dict[str, float], np.ndarray]:
+def inverse(mech: Mechanism, q, v, a, loads: Loads = None) -> tuple[dict[str, float], np.ndarray]:
     """Actuator forces (by actuated coordinate: N for a cylinder, N·m for a crank) and closure multipliers λ that
     produce the motion (q, q̇, q̈), which must satisfy the closures."""
     q, v, a = (np.asarray(x, dtype=float) for x in (q, v, a))
     model, data = mech.model, mech.data
-    need = pin.rnea(model, data, q, v, a) - _applied(mech, q, None, loads)  # M q̈ + h − Q
-    solver = mech.loop_solver()
+    need = pin.rnea(model, data, q, v, a) - generalized_forces(mech, q, None, loads)  # M q̈ + h − Q
+    solver = loop_solver(mech)
     B = solver.selection
     J = _closure_terms(mech, q, v)[0] if mech.closures else np.zeros((0, mech.nv))
     system = np.hstack([B, J.T])
@@ -105,13 +92,13 @@ class Reactions:
     joints: np.ndarray
 
 
-def reactions(mech: Mechanism, q, v, a, lam, loads: Sequence[Sequence] | None = None) -> Reactions:
+def reactions(mech: Mechanism, q, v, a, lam, loads: Loads = None) -> Reactions:
     """Pin forces from the multipliers and every tree joint's wrench (an RNEA pass with the closure forces as
     external forces)."""
     q, v, a, lam = (np.asarray(x, dtype=float) for x in (q, v, a, lam))
-    system = mech.loop_solver().system
+    system = loop_solver(mech).system
     pins: dict[str, np.ndarray] = {}
-    applied = list(loads or [])
+    applied = list(as_loads(loads))
     row = 0
     for closure in system.closures:
         rows = lam[row:row + closure.nrows]
@@ -120,23 +107,11 @@ def reactions(mech: Mechanism, q, v, a, lam, loads: Sequence[Sequence] | None = 
             force = np.zeros(3)
             force[:closure.nrows] = rows
             pins[closure.name] = rows.copy()
-            applied += [(closure.a, force), (closure.b, -force)]
+            applied += [Load(closure.a, force), Load(closure.b, -force)]
         else:
             # other closures: their generalized force Jᵀλ acts through the frames they use
             pins[closure.name] = rows.copy()
-    model, data = mech.model, mech.data
-    fext = external_forces(mech, q, applied) if applied else None
-    if fext is None:
-        pin.rnea(model, data, q, v, a)
-    else:
-        pin.rnea(model, data, q, v, a, fext)
-    pin.updateGlobalPlacements(model, data)  # RNEA leaves the joints' world placements (oMi) as they were
-    joints = np.empty((model.njoints - 1, 6))
-    for j in range(1, model.njoints):
-        R = data.oMi[j].rotation
-        joints[j - 1, :3] = R @ data.f[j].linear
-        joints[j - 1, 3:] = R @ data.f[j].angular
-    return Reactions(pins, joints)
+    return Reactions(pins, transmitted_wrenches(mech, q, v, a, applied))
 
 
 # ------------------------------------------------------------------------------------------------ simulation
@@ -160,7 +135,7 @@ def project(mech: Mechanism, q: np.ndarray, v: np.ndarray, iterations: int = 5) 
     J q̇ = 0 nearest to v."""
     if not mech.closures:
         return q, v
-    system = mech.loop_solver().system
+    system = loop_solver(mech).system
     q = q.copy()
     for _ in range(iterations):
         phi, J = system.evaluate(q)
@@ -173,50 +148,46 @@ def project(mech: Mechanism, q: np.ndarray, v: np.ndarray, iterations: int = 5) 
 
 
 def simulate(mech: Mechanism, q0, v0, duration: float, dt: float = 1e-3, *,
-             actuation: Actuation | None = None, loads: Loads | None = None,
+             actuation: Actuation | None = None, loads_at: LoadsAt | None = None,
              stop: Callable[[float, np.ndarray, np.ndarray], bool] | None = None) -> Simulation:
-    """Integrate the motion from (q0, v0) for ``duration`` seconds (fixed-step RK4, then projection).
+    """Integrate the motion from (q0, v0) for ``duration`` seconds (s): fixed-step RK4 on the configuration manifold
+    (:func:`~mechatron.dynamics.integrate.rk4_step`), then projection onto the closures.
 
     Args:
-        actuation: (t, q, v) → {joint coordinate: force or torque}.
-        loads: (t, q, v) → external loads [(frame, world force[, world moment]), …].
+        actuation: (t, q, v) → {joint coordinate: force (N) or torque (N·m)}.
+        loads_at: (t, q, v) → external loads [:class:`~mechatron.model.loads.Load`, …].
         stop: (t, q, v) → True to end the simulation early (e.g. a jaw closed).
     """
-    if not (duration > 0 and dt > 0):
-        raise InputError("the duration and the time step of a simulation must be > 0")
+    if not (duration > 0 and dt > 0 and np.isfinite(duration) and np.isfinite(dt)):
+        raise InputError("the duration and the time step of a simulation must be finite and > 0")
     q, v = project(mech, np.asarray(q0, dtype=float), np.asarray(v0, dtype=float))
+    model = mech.model
 
-    def acceleration(t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    def dynamics(t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
         forces = actuation(t, q, v) if actuation else None
-        external = loads(t, q, v) if loads else None
+        external = loads_at(t, q, v) if loads_at else None
         a, lam = forward(mech, q, v, forces, external)
-        power = float(_applied(mech, q, forces, external) @ v)
-        return a, lam, power
+        power = float(generalized_forces(mech, q, forces, external) @ v)
+        return a, power, lam
 
-    steps = int(np.ceil(duration / dt))
+    def retraction(q: np.ndarray, dq: np.ndarray) -> np.ndarray:
+        return pin.integrate(model, q, dq)
+
+    steps = time_steps(duration, dt)
     t_out, q_out, v_out, a_out, lam_out, work_out = [], [], [], [], [], []
     work, t = 0.0, 0.0
     for k in range(steps + 1):
-        a, lam, power = acceleration(t, q, v)
-        t_out.append(t), q_out.append(q), v_out.append(v), a_out.append(a), lam_out.append(lam)
+        first = dynamics(t, q, v)
+        t_out.append(t), q_out.append(q), v_out.append(v), a_out.append(first[0]), lam_out.append(first[2])
         work_out.append(work)
         if k == steps or (stop is not None and stop(t, q, v)):
             break
-        # classical Runge-Kutta on (q, q̇) with the applied power integrated alongside
-        k1v, (k1a, _, p1) = v, (a, lam, power)
-        k2v = v + dt / 2 * k1a
-        k2a, _, p2 = acceleration(t + dt / 2, q + dt / 2 * k1v, k2v)
-        k3v = v + dt / 2 * k2a
-        k3a, _, p3 = acceleration(t + dt / 2, q + dt / 2 * k2v, k3v)
-        k4v = v + dt * k3a
-        k4a, _, p4 = acceleration(t + dt, q + dt * k3v, k4v)
-        q = q + dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
-        v = v + dt / 6 * (k1a + 2 * k2a + 2 * k3a + k4a)
-        work += dt / 6 * (p1 + 2 * p2 + 2 * p3 + p4)
+        q, v, step_work = rk4_step(dynamics, t, q, v, dt, first, retraction)
+        work += step_work
         q, v = project(mech, q, v)
         t += dt
     Q, V = np.array(q_out), np.array(v_out)
-    system = mech.loop_solver().system
+    system = loop_solver(mech).system
     residual = np.array([np.abs(system.evaluate(x)[0]).max(initial=0.0) for x in Q])
     energy = np.array([pin.computeMechanicalEnergy(mech.model, mech.data, x, y) for x, y in zip(Q, V)])
     return Simulation(np.array(t_out), Q, V, np.array(a_out), np.array(lam_out), energy, np.array(work_out),

@@ -15,15 +15,17 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
+from ..units import UNITS
 
 _MISSING: Any = object()
 #: Pass as ``default`` to make a field required.
 REQUIRED: Any = _MISSING
 
-#: Unit suffixes a field name may carry, with the factor that converts to SI.
-LENGTH_UNITS = {"": 1.0, "_mm": 1e-3}
-ANGLE_UNITS = {"": 1.0, "_deg": math.pi / 180.0}
+#: Unit suffixes a field name may carry (``a_mm``, ``alpha_deg``), with the factor that converts to SI
+#: (:mod:`mechatron.units`).
+LENGTH_UNITS = {("_" + s if s else ""): f for s, f in UNITS["length"].items() if s != "m"}
+ANGLE_UNITS = {("_" + s if s else ""): f for s, f in UNITS["angle"].items() if s != "rad"}
 
 
 class FieldReader:

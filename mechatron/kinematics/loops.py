@@ -20,11 +20,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
-from .closures import ClosureSystem
-from .errors import InputError, SingularityError, UnreachableError
-from .model import Mechanism, unknown_name_error
+from ..errors import InputError, SingularityError, UnreachableError
+from ..model import Mechanism
+from ..model.closures import ClosureSystem
+from ..model.mechanism import unknown_name_error
 
 #: Newton stops when every closure residual is below this (m for positions, rad for angles).
 TOLERANCE = 1e-10
@@ -250,81 +250,39 @@ class LoopSolver:
         return a
 
 
-# --------------------------------------------------------------------------------------------------- points
-def point_state(mech: Mechanism, q: np.ndarray, v: np.ndarray, a: np.ndarray, point: str
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """World position (m), velocity (m/s) and classical acceleration (m/s²) of the origin of frame ``point``."""
-    fid = mech.frame_id(point)
-    pin.forwardKinematics(mech.model, mech.data, q, v, a)
-    placement = pin.updateFramePlacement(mech.model, mech.data, fid)
-    velocity = pin.getFrameVelocity(mech.model, mech.data, fid, pin.LOCAL_WORLD_ALIGNED).linear
-    acceleration = pin.getFrameClassicalAcceleration(mech.model, mech.data, fid, pin.LOCAL_WORLD_ALIGNED).linear
-    return placement.translation.copy(), velocity.copy(), acceleration.copy()
+# ------------------------------------------------------------------------------------------ the public calls
+def loop_solver(mech: Mechanism) -> LoopSolver:
+    """The :class:`LoopSolver` of ``mech``, built once and kept in its cache."""
+    return mech.cached("loop_solver", lambda: LoopSolver(mech))
 
 
-def link_angle(mech: Mechanism, q: np.ndarray, link: str) -> float:
-    """Angle (rad) of the x axis of frame ``link`` in the world xy plane."""
-    rotation = mech.frame_placement(q, link).rotation
-    return math.atan2(rotation[1, 0], rotation[0, 0])
+def assemble(mech: Mechanism, inputs: Mapping[str, float] | None = None, guess: np.ndarray | None = None,
+             branch: str | None = None) -> np.ndarray:
+    """Configuration q (length nq) with the actuated coordinates at ``inputs`` (m, rad) and all closures satisfied.
 
+    The solution continues from ``guess`` (a previous solution) or from the named assembly ``branch`` (one of
+    ``mech.branches``; default the reference configuration) and stays on its branch.
 
-@dataclass(frozen=True)
-class TransferFunctions:
-    """First and second transfer functions of a point or a link with respect to one input (textbook 4.2-4.16).
-
-    For a point: ``first`` = dr/dq_in (m/rad or m/m), ``second`` = d²r/dq_in² (3-vectors). For a link: ``first`` =
-    dφ/dq_in, ``second`` = d²φ/dq_in² (scalars, the z components; rad/rad or rad/m).
+    Raises:
+        UnreachableError: if the loops cannot close (with the inputs, the residual and the worst closure row).
     """
-
-    first: np.ndarray | float
-    second: np.ndarray | float
-
-
-def transfer_functions(mech: Mechanism, q: np.ndarray, input: str, *, point: str | None = None,
-                       link: str | None = None) -> TransferFunctions:
-    """Transfer functions of ``point`` or ``link`` w.r.t. the actuated coordinate ``input`` at an assembled ``q``:
-    the velocity and acceleration for q̇_in = 1, q̈_in = 0 and the other inputs held (eq. 4.8: a = a_q q̇² + v_q q̈).
-    """
-    if (point is None) == (link is None):
-        raise InputError("give either point= or link=")
-    solver = mech.loop_solver()
-    v = solver.velocity(q, {input: 1.0})
-    a = solver.acceleration(q, v, {})
-    if point is not None:
-        _, first, second = point_state(mech, q, v, a, point)
-        return TransferFunctions(first, second)
-    from .kinematics import angular_acceleration, angular_velocity
-
-    return TransferFunctions(float(angular_velocity(mech, q, v, link)[2]),
-                             float(angular_acceleration(mech, q, v, a, link)[2]))
+    if branch is not None:
+        if branch not in mech.branches:
+            raise unknown_name_error(f"assembly branch of {mech.name}", branch, list(mech.branches))
+        if guess is not None:
+            raise InputError("give a guess or a branch, not both")
+        guess = mech.branches[branch]
+    return loop_solver(mech).assemble(inputs or {}, guess)
 
 
-# ----------------------------------------------------------------------------------------- geometry checks
-def point_positions(mech: Mechanism, q: np.ndarray, *points: str) -> list[np.ndarray]:
-    """World (x, y) of the given points at q (m)."""
-    pin.forwardKinematics(mech.model, mech.data, q)
-    return [pin.updateFramePlacement(mech.model, mech.data, mech.frame_id(p)).translation[:2].copy()
-            for p in points]
+def joint_velocity(mech: Mechanism, q: np.ndarray, rates: Mapping[str, float]) -> np.ndarray:
+    """Joint velocity q̇ = S·q̇_a (length nv) for the actuated rates (m/s or rad/s; missing ones 0) at an assembled
+    q: S = [I; −J_d⁻¹ J_a] from the closure Jacobian (velocity analysis, [Egorov, 4.2])."""
+    return loop_solver(mech).velocity(q, rates)
 
 
-def line_angle(mech: Mechanism, q: np.ndarray, a: str, b: str, c: str, d: str) -> float:
-    """Angle (rad, in [0, π/2]) between the lines ab and cd: the transmission angle when ab is the coupler or
-    cylinder and cd the driven lever (90° is ideal; designs require at least 30° or so)."""
-    pa, pb, pc, pd = point_positions(mech, q, a, b, c, d)
-    u, w = pb - pa, pd - pc
-    cosine = abs(u @ w) / (np.linalg.norm(u) * np.linalg.norm(w))
-    return math.acos(min(1.0, cosine))
-
-
-def lever_arm(mech: Mechanism, q: np.ndarray, base: str, eye: str, pivot: str) -> float:
-    """Distance (m) from ``pivot`` to the line of action base–eye of a cylinder: the arm of its force about the
-    pivot; for a cylinder across a revolute joint it equals dL/dθ."""
-    pa, pb, pc = point_positions(mech, q, base, eye, pivot)
-    axis = pb - pa
-    return abs(axis[0] * (pc - pa)[1] - axis[1] * (pc - pa)[0]) / np.linalg.norm(axis)
-
-
-def distance(mech: Mechanism, q: np.ndarray, a: str, b: str) -> float:
-    """Distance (m) between two points."""
-    pa, pb = point_positions(mech, q, a, b)
-    return float(np.linalg.norm(pb - pa))
+def joint_acceleration(mech: Mechanism, q: np.ndarray, v: np.ndarray,
+                       accelerations: Mapping[str, float] | None = None) -> np.ndarray:
+    """Joint acceleration q̈ (length nv) from J q̈ = −J̇ q̇ with the actuated accelerations (m/s², rad/s²) given
+    (default 0) at an assembled q moving with q̇ = ``v``."""
+    return loop_solver(mech).acceleration(q, v, accelerations or {})

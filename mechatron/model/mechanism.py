@@ -4,6 +4,11 @@ A mechanism is a Pinocchio kinematic tree (``model``) with its workspace (``data
 a registry of named geometric parameters with nominal values, drive data per joint, and (for closed-loop linkages) the
 closure constraints and the actuated coordinates. Serial arms are mechanisms without closures. Every analysis of the
 package takes a ``Mechanism``; Pinocchio does all rigid-body computations.
+
+A ``Mechanism`` is data. The analyses are functions of the layers above (:mod:`mechatron.kinematics`,
+:mod:`mechatron.dynamics`, …) that take it as their first argument, as Pinocchio's algorithms take a model. What they
+build once per mechanism (a loop solver, a pool of model copies) they keep in its declared cache,
+:meth:`Mechanism.cached`.
 """
 
 from __future__ import annotations
@@ -12,17 +17,19 @@ import difflib
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 import numpy as np
 import pinocchio as pin
 
-from .errors import InputError
+from ..errors import InputError
+from .closures import ClosureSystem
 
 if TYPE_CHECKING:  # pragma: no cover
     from .dh import DHTable, Drive
 
 ParameterKind = Literal["length", "angle", "ratio"]
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -152,6 +159,7 @@ class Mechanism:
     input_rates: dict[str, float] = field(default_factory=dict)
     cylinders: dict[str, Cylinder] = field(default_factory=dict)
     branches: dict[str, np.ndarray] = field(default_factory=dict)
+    _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.data = self.model.createData()
@@ -159,7 +167,6 @@ class Mechanism:
             self.branches = {"reference": np.asarray(self.reference_q, dtype=float), **self.branches}
         if not self.actuated:
             self.actuated = self.joint_names
-        self._loop_solver = None
 
     # ------------------------------------------------------------------------------------------- structure
     @property
@@ -217,16 +224,13 @@ class Mechanism:
     def mobility(self, q: np.ndarray | None = None) -> int:
         """Degree of mobility W = nv − rank(closure Jacobian) at a regular configuration (default
         :attr:`reference_q`); W = nv for a serial chain."""
-        if not self.closures:
-            return self.nv
-        return self.nv - self.loop_solver().rank(self.reference_q if q is None else q)
+        return self.nv - self.closure_rank(q)
 
     def redundant_closure_equations(self, q: np.ndarray | None = None) -> int:
         """Number of closure equations that repeat others (rows − rank of the closure Jacobian)."""
         if not self.closures:
             return 0
-        solver = self.loop_solver()
-        return solver.nrows - solver.rank(self.reference_q if q is None else q)
+        return self.closure_system().nrows - self.closure_rank(q)
 
     def with_actuated(self, actuated: list[str]) -> Mechanism:
         """The same mechanism driven by other coordinates (e.g. a crank-slider driven by its slider)."""
@@ -236,39 +240,30 @@ class Mechanism:
         """The same tree with other closures."""
         return replace(self, closures=list(closures))
 
-    def loop_solver(self):
-        """The :class:`~mechatron.linkages.LoopSolver` of this mechanism (built once)."""
-        if self._loop_solver is None:
-            from .linkages import LoopSolver
+    def cached(self, key: str, build: Callable[[], T]) -> T:
+        """The value kept under ``key`` in this mechanism's cache, built by ``build()`` the first time.
 
-            self._loop_solver = LoopSolver(self)
-        return self._loop_solver
-
-    # ------------------------------------------------------------------------------- closed-loop analysis
-    def assemble(self, inputs: Mapping[str, float] | None = None, guess: np.ndarray | None = None,
-                 branch: str | None = None) -> np.ndarray:
-        """Configuration q (length nq) with the actuated coordinates at ``inputs`` and all closures satisfied.
-
-        The solution continues from ``guess`` (a previous solution) or from the named assembly ``branch`` (one of
-        :attr:`branches`; default the reference configuration) and stays on its branch.
-        Raises :class:`~mechatron.errors.UnreachableError` if the loops cannot close.
+        The cache belongs to this object: a mechanism derived from it (:meth:`with_parameters`, ``replace``) starts
+        with an empty one. Analyses use it for what depends only on the mechanism (the loop solver, a model pool).
         """
-        if branch is not None:
-            if branch not in self.branches:
-                raise unknown_name_error(f"assembly branch of {self.name}", branch, list(self.branches))
-            if guess is not None:
-                raise InputError("give a guess or a branch, not both")
-            guess = self.branches[branch]
-        return self.loop_solver().assemble(inputs or {}, guess)
+        try:
+            return self._cache[key]
+        except KeyError:
+            value = self._cache[key] = build()
+            return value
 
-    def velocity(self, q: np.ndarray, rates: Mapping[str, float]) -> np.ndarray:
-        """Joint velocity q̇ = S·q̇_act (length nv) for the actuated rates (m/s or rad/s) at an assembled q."""
-        return self.loop_solver().velocity(q, rates)
+    def closure_system(self) -> ClosureSystem:
+        """The closures evaluated together (Φ, J, J̇ q̇), built once."""
+        return self.cached("closure_system", lambda: ClosureSystem(self.model, self.closures, self.frame_id))
 
-    def acceleration(self, q: np.ndarray, v: np.ndarray, accelerations: Mapping[str, float] | None = None
-                     ) -> np.ndarray:
-        """Joint acceleration q̈ (length nv) from J q̈ = −J̇ q̇ with the actuated accelerations given (default 0)."""
-        return self.loop_solver().acceleration(q, v, accelerations or {})
+    def closure_rank(self, q: np.ndarray | None = None) -> int:
+        """Rank of the closure Jacobian at ``q`` (default :attr:`reference_q`); 0 without closures."""
+        if not self.closures:
+            return 0
+        _, J = self.closure_system().evaluate(np.asarray(self.reference_q if q is None else q, dtype=float))
+        if J.size == 0:
+            return 0
+        return int(np.linalg.matrix_rank(J, tol=1e-9 * max(1.0, np.abs(J).max())))
 
     @property
     def total_mass(self) -> float:
@@ -302,11 +297,55 @@ class Mechanism:
         return pin.neutral(self.model)
 
     def random_configuration(self, rng: np.random.Generator | None = None, size: int | None = None) -> np.ndarray:
-        """Uniform random configurations within the joint limits: shape (nq,) or (size, nq)."""
+        """Random configurations within the joint limits, uniform in each joint's coordinates (Pinocchio's
+        ``randomConfiguration``, seeded from ``rng``): shape (nq,) or (size, nq).
+
+        Unlimited joints (continuous, free) get Pinocchio's own sampling (a uniform angle, a uniform rotation);
+        prismatic joints without limits are an error, as there is no range to draw from.
+        """
         rng = rng or np.random.default_rng()
-        lo, hi = self.model.lowerPositionLimit, self.model.upperPositionLimit
-        shape = (self.nq,) if size is None else (size, self.nq)
-        return rng.uniform(lo, hi, size=shape)
+        count = 1 if size is None else int(size)
+        lower, upper = self.model.lowerPositionLimit, self.model.upperPositionLimit
+        if self.nq == self.nv and all(self.joint_kind(j) in ("revolute", "prismatic")
+                                      for j in range(1, self.model.njoints)):
+            # one coordinate per joint: the same uniform law as randomConfiguration, drawn from the numpy generator
+            if not np.all(np.isfinite(lower) & np.isfinite(upper)):
+                raise InputError(f"{self.name}: random configurations need finite joint limits")
+            out = rng.uniform(lower, upper, size=(count, self.nq))
+        else:
+            out = np.empty((count, self.nq))
+            pin.seed(int(rng.integers(2**31 - 1)))
+            for k in range(count):
+                out[k] = pin.randomConfiguration(self.model, np.where(np.isfinite(lower), lower, -1.0),
+                                                 np.where(np.isfinite(upper), upper, 1.0))
+        return out[0] if size is None else out
+
+    # --------------------------------------------------------------------------- coordinates and configurations
+    def configuration(self, coordinates: Any) -> np.ndarray:
+        """The configuration q (nq,) or (N, nq) of joint coordinates (nv,) or (N, nv): q = neutral ⊕ coordinates
+        (``pin.integrate``). For revolute (also continuous) and prismatic joints a coordinate is the joint angle
+        (rad) or displacement (m); a continuous joint's q is (cos θ, sin θ). Identity when nq = nv."""
+        values = np.asarray(coordinates, dtype=float)
+        if values.shape[-1:] != (self.nv,):
+            raise InputError(f"{self.name} needs {self.nv} joint coordinates ({', '.join(self.joint_names)}), "
+                             f"got shape {values.shape}")
+        if self.nq == self.nv:
+            return values.copy()
+        neutral = pin.neutral(self.model)
+        flat = np.atleast_2d(values)
+        out = np.array([pin.integrate(self.model, neutral, c) for c in flat])
+        return out if values.ndim > 1 else out[0]
+
+    def coordinates(self, q: Any) -> np.ndarray:
+        """The joint coordinates (nv,) or (N, nv) of configurations q: q ⊖ neutral (``pin.difference``); angles of
+        continuous joints in (−π, π]. Identity when nq = nv."""
+        values = np.asarray(q, dtype=float)
+        if self.nq == self.nv:
+            return values.copy()
+        neutral = pin.neutral(self.model)
+        flat = np.atleast_2d(values)
+        out = np.array([pin.difference(self.model, neutral, x) for x in flat])
+        return out if values.ndim > 1 else out[0]
 
     def check_configuration(self, q: Any, what: str = "q") -> np.ndarray:
         """``q`` as a float array of length nq, or a clear error."""
@@ -319,40 +358,15 @@ class Mechanism:
         return arr
 
     def limit_violations(self, q: np.ndarray) -> list[str]:
-        """Human-readable list of the joint coordinates of ``q`` outside their limits."""
+        """Human-readable list of the joint coordinates of ``q`` outside their limits (joints with one coordinate;
+        continuous and free joints have none)."""
         out = []
         lo, hi = self.model.lowerPositionLimit, self.model.upperPositionLimit
-        for i, name in enumerate(self.joint_names):
+        for j in range(1, self.model.njoints):
+            joint = self.model.joints[j]
+            if joint.nq != 1:
+                continue
+            i = joint.idx_q
             if not lo[i] <= q[i] <= hi[i]:
-                out.append(f"{name} = {q[i]:g} outside [{lo[i]:g}, {hi[i]:g}]")
+                out.append(f"{self.model.names[j]} = {q[i]:g} outside [{lo[i]:g}, {hi[i]:g}]")
         return out
-
-    # ------------------------------------------------------------------------ kinematics (see kinematics.py)
-    def frame_placement(self, q: np.ndarray, frame: str | None = None) -> pin.SE3:
-        from .kinematics import frame_placement
-
-        return frame_placement(self, q, frame or self.tool_frame)
-
-    def point_velocity(self, q: np.ndarray, v: np.ndarray, point: str) -> np.ndarray:
-        """World velocity (m/s) of the origin of the frame ``point`` (eq. 4.47)."""
-        from .kinematics import point_velocity
-
-        return point_velocity(self, q, v, point)
-
-    def point_acceleration(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, point: str) -> np.ndarray:
-        """World acceleration (m/s²) of the origin of the frame ``point`` (eq. 4.49)."""
-        from .kinematics import point_acceleration
-
-        return point_acceleration(self, q, v, a, point)
-
-    def angular_velocity(self, q: np.ndarray, v: np.ndarray, link: str) -> np.ndarray:
-        """World angular velocity (rad/s) of the body carrying the frame ``link`` (eq. 4.56)."""
-        from .kinematics import angular_velocity
-
-        return angular_velocity(self, q, v, link)
-
-    def angular_acceleration(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, link: str) -> np.ndarray:
-        """World angular acceleration (rad/s²) of the body carrying the frame ``link`` (eq. 4.57)."""
-        from .kinematics import angular_acceleration
-
-        return angular_acceleration(self, q, v, a, link)

@@ -26,10 +26,13 @@ import numpy as np
 import pandas as pd
 import pinocchio as pin
 
-from .constrained import Actuation, Loads, _applied
-from .errors import InputError
-from .model import Mechanism
-
+from ..errors import InputError
+from ..kinematics.loops import assemble, loop_solver
+from ..model import Mechanism
+from ..model.loads import Loads
+from .constrained import Actuation, LoadsAt
+from .integrate import rk4_step, time_steps
+from .tree import generalized_forces, joint_space_inertia
 
 
 def _one_dof(mech: Mechanism, input: str) -> None:
@@ -43,7 +46,7 @@ def velocity_map(mech: Mechanism, q, input: str) -> tuple[np.ndarray, np.ndarray
     """(S, S′): joint velocities for a unit input rate and joint accelerations for φ̇ = 1, φ̈ = 0."""
     q = np.asarray(q, dtype=float)
     if mech.closures:
-        solver = mech.loop_solver()
+        solver = loop_solver(mech)
         S = solver.velocity(q, {input: 1.0})
         return S, solver.acceleration(q, S, {})
     S = np.zeros(mech.nv)
@@ -54,8 +57,7 @@ def velocity_map(mech: Mechanism, q, input: str) -> tuple[np.ndarray, np.ndarray
 def _inertia_terms(mech: Mechanism, q: np.ndarray, input: str) -> tuple[float, float]:
     """(J_пр, dJ_пр/dφ) from one velocity analysis."""
     S, S2 = velocity_map(mech, q, input)
-    M = pin.crba(mech.model, mech.data, q)
-    M = np.triu(M) + np.triu(M, 1).T
+    M = joint_space_inertia(mech.model, mech.data, q)
     inertial = pin.rnea(mech.model, mech.data, q, S, S2) - pin.computeGeneralizedGravity(mech.model, mech.data, q)
     return float(S @ M @ S), float(2 * S @ inertial)
 
@@ -73,26 +75,26 @@ def reduced_inertia_derivative(mech: Mechanism, q, input: str) -> float:
 
 
 def reduced_moment(mech: Mechanism, q, input: str, forces: Mapping[str, float] | None = None,
-                   loads: Sequence[Sequence] | None = None, gravity: bool = True) -> float:
+                   loads: Loads = None, gravity: bool = True) -> float:
     """M_пр = Sᵀ(τ + Q − g) (N·m, or F_пр in N for a linear input), eq. 6.17/6.20/6.27/6.28: the power of the
     actuator forces, external loads and (optionally) gravity divided by the input rate."""
     _one_dof(mech, input)
     q = np.asarray(q, dtype=float)
     S, _ = velocity_map(mech, q, input)
-    applied = _applied(mech, q, forces, loads)
+    applied = generalized_forces(mech, q, forces, loads)
     if gravity:
         applied = applied - pin.computeGeneralizedGravity(mech.model, mech.data, q)
     return float(S @ applied)
 
 
 def reduced_table(mech: Mechanism, input: str, values: np.ndarray, forces: Mapping[str, float] | None = None,
-                  loads: Sequence[Sequence] | None = None) -> pd.DataFrame:
+                  loads: Loads = None) -> pd.DataFrame:
     """J_пр, dJ_пр/dφ and M_пр (gravity and the given forces) over input values, assembled by continuation."""
     _one_dof(mech, input)
     rows = []
     q = None
     for value in np.asarray(values, dtype=float):
-        q = mech.assemble({input: value}, guess=q) if mech.closures else _serial_q(mech, input, value, q)
+        q = assemble(mech, {input: value}, guess=q) if mech.closures else _serial_q(mech, input, value, q)
         rows.append({input: value, "J_reduced": reduced_inertia(mech, q, input),
                      "dJ_reduced": reduced_inertia_derivative(mech, q, input),
                      "M_reduced": reduced_moment(mech, q, input, forces, loads)})
@@ -134,19 +136,22 @@ class ReducedMotion:
 
 
 def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, duration: float, dt: float = 1e-3,
-                      *, actuation: Actuation | None = None, loads: Loads | None = None) -> ReducedMotion:
-    """Integrate J_пр ε + ½ (dJ_пр/dφ) ω² = M_пр (6.50, ε from 6.52) in time by classical Runge–Kutta.
+                      *, actuation: Actuation | None = None, loads_at: LoadsAt | None = None) -> ReducedMotion:
+    """Integrate J_пр ε + ½ (dJ_пр/dφ) ω² = M_пр (6.50, ε from 6.52) in time (s) by RK4
+    (:func:`~mechatron.dynamics.integrate.rk4_step`).
 
     J_пр, dJ_пр/dφ and M_пр = Sᵀ(τ + Q − g) are evaluated on the mechanism at every stage (assembled from the
-    previous stage's configuration). ``actuation`` and ``loads`` take (t, q, q̇) like :func:`simulate`'s, so the
-    one-mass model and the full simulation can be given the same forces.
+    previous stage's configuration). ``actuation`` and ``loads_at`` take (t, q, q̇) like
+    :func:`~mechatron.dynamics.constrained.simulate`'s, so the one-mass model and the full simulation can be given
+    the same forces.
     """
     _one_dof(mech, input)
-    state = {"q": mech.assemble({input: phi0})}
-    solver = mech.loop_solver() if mech.closures else None
+    state = {"q": assemble(mech, {input: phi0})}
+    solver = loop_solver(mech) if mech.closures else None
     model, data = mech.model, mech.data
 
-    def terms(t: float, phi: float, omega: float) -> tuple[float, float, float]:
+    def terms(t: float, phi: float, omega: float) -> tuple[float, float, tuple[float, float]]:
+        """(ε, 0, (J_пр, M_пр)) at (t, φ, ω)."""
         if solver is not None:
             q = state["q"].copy()
             q[solver.act] = phi
@@ -156,29 +161,25 @@ def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, d
             q = _serial_q(mech, input, phi, state["q"])
             S, S2 = velocity_map(mech, q, input)
         state["q"] = q
-        M = pin.crba(model, data, q)
-        M = np.triu(M) + np.triu(M, 1).T
+        M = joint_space_inertia(model, data, q)
         gravity = pin.computeGeneralizedGravity(model, data, q)
         inertia = float(S @ M @ S)
         d_inertia = float(2 * S @ (pin.rnea(model, data, q, S, S2) - gravity))
         v = S * omega
-        applied = _applied(mech, q, actuation(t, q, v) if actuation else None, loads(t, q, v) if loads else None)
+        applied = generalized_forces(mech, q, actuation(t, q, v) if actuation else None,
+                                     loads_at(t, q, v) if loads_at else None)
         moment = float(S @ (applied - gravity))
-        return (moment - 0.5 * d_inertia * omega**2) / inertia, inertia, moment
+        return (moment - 0.5 * d_inertia * omega**2) / inertia, 0.0, (inertia, moment)
 
-    steps = int(math.ceil(duration / dt))
+    steps = time_steps(duration, dt)
     t, phi, omega = 0.0, float(phi0), float(omega0)
     rows = []
     for k in range(steps + 1):
-        e1, inertia, moment = terms(t, phi, omega)
-        rows.append((t, phi, omega, e1, inertia, moment))
+        first = terms(t, phi, omega)
+        rows.append((t, phi, omega, first[0], *first[2]))
         if k == steps:
             break
-        e2 = terms(t + dt / 2, phi + dt / 2 * omega, omega + dt / 2 * e1)[0]
-        e3 = terms(t + dt / 2, phi + dt / 2 * (omega + dt / 2 * e1), omega + dt / 2 * e2)[0]
-        e4 = terms(t + dt, phi + dt * (omega + dt / 2 * e2), omega + dt * e3)[0]
-        phi += dt * omega + dt**2 / 6 * (e1 + e2 + e3)
-        omega += dt / 6 * (e1 + 2 * e2 + 2 * e3 + e4)
+        phi, omega, _ = rk4_step(terms, t, phi, omega, dt, first)
         t += dt
     return ReducedMotion(*(np.array(column) for column in zip(*rows)))
 

@@ -7,7 +7,6 @@ every problem raises :class:`~mechatron.errors.InputError` naming the file and t
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -18,10 +17,6 @@ from .errors import InputError
 from .model import Mechanism
 from .schema import REQUIRED, FieldReader
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 
 @dataclass(frozen=True)
@@ -36,22 +31,6 @@ class RobotFile:
 
     def mechanism(self) -> Mechanism:
         return dh_mechanism(self.table, self.name, description=self.description, source=str(self.path))
-
-
-def read_toml(path: str | Path) -> dict:
-    """Parse a TOML file; a missing or malformed file raises :class:`InputError` naming it."""
-    path = Path(path)
-    try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
-        raise InputError("no such file", file=path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, not a file", file=path) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"not valid TOML: {exc}", file=path) from None
-    except UnicodeDecodeError as exc:
-        raise InputError(f"not a UTF-8 text file: {exc}", file=path) from None
 
 
 def _placement(reader: FieldReader, key: str) -> np.ndarray:

@@ -1,0 +1,1 @@
+"""Reporting: the result protocol every analysis follows, JSON-ready data, figures and progress bars."""

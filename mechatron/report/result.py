@@ -1,0 +1,101 @@
+"""The one result protocol of mechatron.
+
+Every analysis returns a :class:`Result`: ``to_frame()`` (a pandas DataFrame), ``as_dict()`` (plain data, ready for
+``json.dumps(..., allow_nan=False)``), ``plot(ax=None)`` (a matplotlib Figure with labelled axes and units) and
+``str()`` (the text report the command line prints). The command line's ``--csv``, ``--json`` and ``--plot`` are
+exactly :meth:`Result.write_csv`, :meth:`Result.to_json` and :meth:`Result.save_plot`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+
+def json_ready(value: Any) -> Any:
+    """``value`` as plain JSON data: numpy scalars and arrays to numbers and lists, NaN and ±inf to ``None``, paths
+    to strings, dataclasses and mappings to dicts, tuples and sets to lists."""
+    if isinstance(value, Result):
+        return json_ready(value.as_dict())
+    if isinstance(value, Mapping):
+        return {str(k): json_ready(v) for k, v in value.items()}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: json_ready(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, np.ndarray):
+        return json_ready(value.tolist())
+    if isinstance(value, (list, tuple, set, frozenset)):
+        return [json_ready(v) for v in value]
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        x = float(value)
+        return x if math.isfinite(x) else None
+    if isinstance(value, Path):
+        return str(value)
+    if value is None or isinstance(value, str):
+        return value
+    if hasattr(value, "to_dict"):  # pandas objects
+        return json_ready(value.to_dict())
+    return str(value)
+
+
+def frame_records(frame: pd.DataFrame) -> list[dict]:
+    """The rows of a DataFrame as JSON-ready dicts."""
+    return json_ready(frame.to_dict(orient="records"))
+
+
+class Result(ABC):
+    """Base class of every analysis result (see the module docstring)."""
+
+    @abstractmethod
+    def to_frame(self) -> pd.DataFrame:
+        """The result as a table (SI units; the columns say what each holds)."""
+
+    @abstractmethod
+    def as_dict(self) -> dict:
+        """The result as plain data: numbers, strings, lists and dicts, no NaN (JSON-ready)."""
+
+    @abstractmethod
+    def plot(self, ax: Axes | None = None) -> Figure:
+        """A chart of the result with labelled axes and units, drawn into ``ax`` if given; returns its Figure."""
+
+    @abstractmethod
+    def __str__(self) -> str:
+        """The text report printed by the command line."""
+
+    # ------------------------------------------------------------------------------------------ file outputs
+    def to_json(self, indent: int | None = 2) -> str:
+        """:meth:`as_dict` as JSON text (``allow_nan=False``: a NaN would be a bug, not a value)."""
+        return json.dumps(json_ready(self.as_dict()), indent=indent, allow_nan=False)
+
+    def write_csv(self, path: str | Path) -> Path:
+        """Write :meth:`to_frame` as CSV, whole or not at all."""
+        from ..io.output import write_table
+
+        return write_table(self.to_frame(), path)
+
+    def write_json(self, path: str | Path) -> Path:
+        """Write :meth:`to_json`, whole or not at all."""
+        from ..io.output import write_text
+
+        return write_text(path, self.to_json() + "\n")
+
+    def save_plot(self, path: str | Path) -> Path:
+        """Draw :meth:`plot` into a file (.png, .pdf or .svg), whole or not at all."""
+        from ..io.output import save_figure
+
+        return save_figure(self.plot(), path)
