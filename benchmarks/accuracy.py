@@ -16,12 +16,12 @@ import time
 
 import numpy as np
 import pinocchio as pin
+from timing import best_time
 
 import mechatron
 from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop
 from mechatron.accuracy.sources import ErrorSource
 from mechatron.accuracy.study import draw_errors, run_study
-from timing import best_time
 
 
 def sources(mech: mechatron.Mechanism) -> list[ErrorSource]:

@@ -15,10 +15,10 @@ import argparse
 
 import numpy as np
 import pinocchio as pin
+from timing import best_time
 
 import mechatron
-from mechatron.dynamics import inverse_dynamics
-from timing import best_time
+from mechatron.dynamics.tree import inverse_dynamics
 
 
 def bare_loop(model: pin.Model, data: pin.Data, Q: np.ndarray, V: np.ndarray, A: np.ndarray) -> np.ndarray:

@@ -14,9 +14,9 @@ import argparse
 
 import numpy as np
 import pinocchio as pin
+from timing import best_time
 
 import mechatron
-from timing import best_time
 
 
 def bare_loop(model: pin.Model, data: pin.Data, Q: np.ndarray, frame_id: int):
@@ -49,12 +49,12 @@ def main() -> None:
         Q = mech.random_configuration(rng, size=args.samples)
         fid = mech.frame_id("tool")
         model, data = mech.model, mech.model.createData()
-        ours = mechatron.fk_and_jacobian(mech, Q)
+        ours = mechatron.kinematics.fk_and_jacobian(mech, Q)
         theirs = bare_loop(model, data, Q, fid)
         for a, b in zip(ours, theirs):
             assert np.allclose(a, b, atol=1e-12), "results differ"
         t_bare = best_time(lambda: bare_loop(model, data, Q, fid), args.repeats)
-        t_ours = best_time(lambda: mechatron.fk_and_jacobian(mech, Q), args.repeats)
+        t_ours = best_time(lambda: mechatron.kinematics.fk_and_jacobian(mech, Q), args.repeats)
         t_floor = best_time(lambda: calls_only(model, data, Q, fid), args.repeats)
         verdict = "ok" if t_ours / t_bare <= 1.3 else "SLOWER"
         print(f"{name:<10} {t_bare * 1e3:>15.1f} {t_ours * 1e3:>15.1f} {t_ours / t_bare:>7.2f}  {verdict:<14}"

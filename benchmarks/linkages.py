@@ -13,11 +13,11 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+from timing import best_time_and_result as best_time
 
 import mechatron
+from mechatron.kinematics.sweep import sweep
 from mechatron.machines.bucket import analytic_analysis, synthesize
-from mechatron.sweep import sweep
-from timing import best_time_and_result as best_time
 
 
 def main() -> None:

@@ -14,6 +14,7 @@ import argparse
 import time
 
 import numpy as np
+from timing import best_time
 
 import mechatron
 from mechatron.drives.catalogs import default_catalog
@@ -22,9 +23,8 @@ from mechatron.drives.converters import converters_for
 from mechatron.drives.duty import joint_duties
 from mechatron.drives.motor import continuous_torque, peak_torque_limit
 from mechatron.drives.sizing import size_mechanism
-from mechatron.dynamics import with_payload
-from mechatron.motion import Trajectory
-from timing import best_time
+from mechatron.dynamics.motion import Trajectory
+from mechatron.model.payload import with_payload
 
 
 def cycle(mech: mechatron.Mechanism, n: int) -> Trajectory:

@@ -29,7 +29,7 @@ def main() -> None:
 
     arm = mechatron.load(args.robot)
     Q = arm.random_configuration(np.random.default_rng(1), size=args.samples)
-    positions, _, jacobians = mechatron.fk_and_jacobian(arm, Q)
+    positions, _, jacobians = mechatron.kinematics.fk_and_jacobian(arm, Q)
     linear = jacobians[:, :3, :]
     if arm.nv < 3:
         linear = linear[:, :arm.nv, :]  # a planar arm: the in-plane rows

@@ -12,9 +12,9 @@ from __future__ import annotations
 import argparse
 import math
 
+from mechatron.kinematics.drawing import plot_sweep
+from mechatron.kinematics.sweep import sweep
 from mechatron.machines import bucket
-from mechatron.plots import plot_sweep
-from mechatron.sweep import sweep
 
 
 def main() -> None:

@@ -20,7 +20,8 @@ from matplotlib.figure import Figure
 import mechatron
 from mechatron.drives.catalogs import default_catalog
 from mechatron.drives.ratio import motor_side_inertia, move_time, optimal_ratio, textbook_ratio
-from mechatron.dynamics import mass_matrix, with_payload
+from mechatron.dynamics.tree import mass_matrix
+from mechatron.model.payload import with_payload
 
 
 def main() -> None:

@@ -20,8 +20,10 @@ import mechatron
 from mechatron.drives.catalogs import default_catalog
 from mechatron.drives.report import text_report, write_charts
 from mechatron.drives.sizing import size_mechanism
+from mechatron.dynamics.motion import Trajectory, cycle
+from mechatron.kinematics.frames import point_velocity
+from mechatron.kinematics.loops import assemble, joint_velocity
 from mechatron.machines.excavator import DEFAULT_CYLINDERS
-from mechatron.motion import Trajectory, cycle
 
 
 def stroke_point(mech, fractions):
@@ -44,9 +46,9 @@ def main() -> None:
     shovel = mechatron.load("front_shovel")
     catalog = default_catalog("cylinders")
     dig = task(shovel, (0.45, 0.15, 0.2), (0.45, 0.85, 0.9), speed=[0.1, 0.15, 0.15])
-    q = shovel.assemble(dict(zip(shovel.actuated, dig.q[1])))
-    v = shovel.velocity(q, dict(zip(shovel.actuated, dig.v[1] / np.abs(dig.v[1]).max())))
-    direction = shovel.point_velocity(q, v, "V")
+    q = assemble(shovel, dict(zip(shovel.actuated, dig.q[1])))
+    v = joint_velocity(shovel, q, dict(zip(shovel.actuated, dig.v[1] / np.abs(dig.v[1]).max())))
+    direction = point_velocity(shovel, q, v, "V")
     resistance = -args.dig_force * 1e3 * direction / np.linalg.norm(direction)
     lift = task(shovel, (0.3, 0.8, 0.9), (0.95, 0.5, 0.9), speed=[0.12, 0.12, 0.1])
     cases = {

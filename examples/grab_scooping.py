@@ -13,7 +13,8 @@ import argparse
 import numpy as np
 
 import mechatron
-from mechatron import constrained
+from mechatron.dynamics import constrained
+from mechatron.kinematics.loops import assemble
 from mechatron.machines.grab import GrabGeometry, PaperModel, ScoopingLoads, mechanism_loads, plot_scooping
 
 
@@ -34,8 +35,8 @@ def main() -> None:
     print(f"work of rope and resistance {result['work'][-1] / 1e3:.3f} kJ = change of kinetic + potential energy "
           f"{(energy[-1] - energy[0]) / 1e3:.3f} kJ")
     mech = mechatron.load("grab")
-    sim = constrained.simulate(mech, mech.assemble({"phi1": geometry.open_angle}), np.zeros(mech.nv),
-                               result["t"][-1], 1e-3, loads=mechanism_loads(mech, loads),
+    sim = constrained.simulate(mech, assemble(mech, {"phi1": geometry.open_angle}), np.zeros(mech.nv),
+                               result["t"][-1], 1e-3, loads_at=mechanism_loads(mech, loads),
                                stop=lambda t, q, v: q[1] >= 0.0)
     n = min(len(sim.t), len(result["t"]))
     print(f"Pinocchio model: largest difference of the jaw angle {np.abs(sim.q[:n, 1] - result['X'][:n, 2]).max():.1e}"

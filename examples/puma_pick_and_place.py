@@ -17,8 +17,8 @@ import mechatron
 from mechatron.drives.catalogs import default_catalog
 from mechatron.drives.report import text_report, write_charts, write_csv
 from mechatron.drives.sizing import size_mechanism
-from mechatron.dynamics import with_payload
-from mechatron.motion import cycle
+from mechatron.dynamics.motion import cycle
+from mechatron.model.payload import with_payload
 
 ABOVE_PICK = [-40, 40, -170, 0, 40, -40]
 PICK = [-40, 52, -162, 0, 20, -40]

@@ -3,52 +3,32 @@
 Quick start::
 
     import mechatron
-    puma = mechatron.load("puma560")                 # a Mechanism: puma.model is a pinocchio.Model
+    puma = mechatron.load("puma560")                  # a Mechanism: puma.model is a pinocchio.Model
     q = puma.neutral()
-    print(mechatron.frame_position(puma, q, "tool"))  # metres
+    print(mechatron.frame_placement(puma, q, "tool"))  # metres
+
+The top level holds the calls most work starts from; everything else is in the layers, each a folder:
+:mod:`mechatron.model` (the :class:`Mechanism`, DH, URDF, planar linkages, closures, loads),
+:mod:`mechatron.kinematics`, :mod:`mechatron.dynamics`, :mod:`mechatron.drives`, :mod:`mechatron.accuracy`,
+:mod:`mechatron.structure`, :mod:`mechatron.mechanics`, :mod:`mechatron.machines`, with :mod:`mechatron.io` and
+:mod:`mechatron.report` underneath and :mod:`mechatron.cli` on top. Names are imported on first use, so
+``import mechatron`` stays light.
 """
 
-from .dh import DHLink, DHTable, Drive, Inertial, dh_mechanism
-from .dynamics import (
-    bias_forces,
-    forward_dynamics,
-    gravity_torques,
-    inverse_dynamics,
-    joint_wrenches,
-    kinetic_energy,
-    mass_matrix,
-    mechanical_energy,
-    motor_loads,
-    potential_energy,
-)
+from ._exports import lazy_exports
 from .errors import InputError, MechatronError, SingularityError, UnreachableError
-from .kinematics import (
-    angular_acceleration,
-    angular_velocity,
-    fk_and_jacobian,
-    frame_jacobian,
-    frame_placement,
-    frame_position,
-    frame_rotation,
-    link_angular_accelerations,
-    link_angular_velocities,
-    point_acceleration,
-    point_jacobian,
-    point_velocity,
-)
-from .library import available_robots, load
-from .model import Mechanism, Parameter
-from .reduced import reduced_inertia, reduced_inertia_derivative, reduced_moment
-from .urdf import export_urdf, load_urdf
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "DHLink", "DHTable", "Drive", "Inertial", "InputError", "Mechanism", "MechatronError", "Parameter",
-    "SingularityError", "UnreachableError", "angular_acceleration", "angular_velocity", "available_robots",
-    "dh_mechanism", "export_urdf", "fk_and_jacobian", "frame_jacobian", "frame_placement", "frame_position",
-    "frame_rotation", "link_angular_accelerations", "link_angular_velocities", "load", "load_urdf",
-    "point_acceleration", "point_jacobian", "point_velocity", "bias_forces", "forward_dynamics", "gravity_torques",
-    "inverse_dynamics", "joint_wrenches", "kinetic_energy", "mass_matrix", "mechanical_energy", "motor_loads", "potential_energy",
-    "reduced_inertia", "reduced_inertia_derivative", "reduced_moment",
-]
+_EXPORTS = {
+    "load": ".library", "available_robots": ".library",
+    "Mechanism": ".model", "Parameter": ".model", "Load": ".model",
+    "frame_placement": ".kinematics.frames", "frame_jacobian": ".kinematics.frames",
+    "assemble": ".kinematics.loops", "sweep": ".kinematics.sweep",
+    "inverse_dynamics": ".dynamics.tree", "forward_dynamics": ".dynamics.tree",
+    "simulate": ".dynamics.constrained", "move": ".dynamics.motion",
+    "size": ".drives.sizing", "tolerance_study": ".accuracy.study", "analyse_structure": ".structure.analysis",
+}
+__getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)
+
+__all__ = ["InputError", "MechatronError", "SingularityError", "UnreachableError", "__version__", *_EXPORTS]

@@ -10,9 +10,9 @@ from functools import lru_cache
 from pathlib import Path
 
 from .errors import InputError
-from .model import Mechanism, unknown_name_error
-from .robotfile import read_robot_file
-from .urdf import load_urdf
+from .model.mechanism import Mechanism, unknown_name_error
+from .model.robotfile import read_robot_file
+from .model.urdf import load_urdf
 
 _PACKAGE_DIR = Path(__file__).resolve().parent
 

@@ -16,6 +16,8 @@ from mechatron.accuracy.sources import ErrorSource, read_poses, read_tolerances
 from mechatron.accuracy.study import run_study
 from mechatron.accuracy.tables import angle_tolerance, linear_tolerance, tolerance_from_grade
 from mechatron.errors import InputError
+from mechatron.kinematics.frames import frame_placement
+from mechatron.kinematics.loops import assemble
 
 
 # ------------------------------------------------------------------------------------- sensitivities
@@ -29,17 +31,17 @@ def finite_differences(mech, point, inputs, q, names, h=1e-6):
         for sign in (1, -1):
             if name in values:
                 other = mech.with_parameters({name: values[name] + sign * h})
-                qq = other.assemble(inputs, guess=q) if mech.closures else q
+                qq = assemble(other, inputs, guess=q) if mech.closures else q
             else:
                 other = mech
                 if mech.closures:
                     moved = dict(inputs)
                     moved[name] += sign * h
-                    qq = mech.assemble(moved, guess=q)
+                    qq = assemble(mech, moved, guess=q)
                 else:
                     qq = q.copy()
                     qq[mech.joint_names.index(name)] += sign * h
-            positions.append(other.frame_placement(qq, point).translation)
+            positions.append(frame_placement(other, qq, point).translation)
         columns.append((positions[0] - positions[1]) / (2 * h))
     return np.array(columns).T
 
@@ -66,7 +68,7 @@ def test_serial_sensitivities_equal_finite_differences(name, q):
 def test_closed_loop_sensitivities_equal_finite_differences(name, inputs, point):
     mech = mechatron.load(name)
     point = point or mech.tool_frame
-    q = mech.assemble(inputs)
+    q = assemble(mech, inputs)
     s = sensitivities(mech, q, point)
     assert s.sources[-len(mech.actuated):] == tuple(mech.actuated)
     reference = finite_differences(mech, point, inputs, q, s.sources)
@@ -91,12 +93,12 @@ def test_textbook_crank_slider_example_8_3():
     assert derivatives == pytest.approx([-7.9076e-4, 1.155157, -0.2310314], rel=1e-4)
     errors = np.array([1e-3, 1.5e-3, 1e-3])
     mech = mechatron.load("crank_slider", l1=l1, l2=l2)
-    s = sensitivities(mech, mech.assemble({"q1": q1}), "C")
+    s = sensitivities(mech, assemble(mech, {"q1": q1}), "C")
     assert np.allclose(s.matrix[0, 0], derivatives, rtol=1e-8, atol=1e-12)
     assert np.allclose(s.matrix[0, 1:], 0, atol=1e-12)  # C stays on the x axis
     sources = [ErrorSource(n, k, u, t, error=t) for n, k, u, t in
                (("l1", "parameter", "m", 1e-3), ("l2", "parameter", "m", 1.5e-3), ("q1", "coordinate", "rad", 1e-3))]
-    result = run_study(mech, sources, [[q1]], point="C", methods=["given", "worst"])
+    result = run_study(mech, sources, [[q1]], frame="C", methods=["given", "worst"])
     row = result.poses.iloc[0]
     assert row["dx_given"] == pytest.approx(derivatives @ errors, rel=1e-9)
     assert row["dx_given"] == pytest.approx(1.500914e-3, rel=1e-6)
@@ -178,16 +180,16 @@ def test_monte_carlo_is_seeded_and_follows_the_distributions():
     mech = mechatron.load("crank_slider", l1=0.2, l2=0.346)
     for distribution, sigma in (("uniform", 1 / math.sqrt(3)), ("triangular", 1 / math.sqrt(6)), ("normal", 1 / 3)):
         sources = [ErrorSource("l2", "parameter", "m", 1e-3, distribution)]
-        a = run_study(mech, sources, [[1.0]], point="C", methods=["mc"], samples=50000, seed=3)
-        b = run_study(mech, sources, [[1.0]], point="C", methods=["mc"], samples=50000, seed=3)
+        a = run_study(mech, sources, [[1.0]], frame="C", methods=["mc"], samples=50000, seed=3)
+        b = run_study(mech, sources, [[1.0]], frame="C", methods=["mc"], samples=50000, seed=3)
         assert np.array_equal(a.samples, b.samples)
-        slope = sensitivities(mech, mech.assemble({"q1": 1.0}), "C", ["l2"], []).matrix[0, 0, 0]
+        slope = sensitivities(mech, assemble(mech, {"q1": 1.0}), "C", ["l2"], []).matrix[0, 0, 0]
         assert a.samples[:, 0].std() == pytest.approx(abs(slope) * 1e-3 * sigma, rel=0.02)
         if distribution != "normal":  # bounded: never beyond the ends of the tolerance (the exact model's)
             x = [mech.with_parameters(l2=0.346 + e).frame_placement(
                 mech.with_parameters(l2=0.346 + e).assemble({"q1": 1.0}), "C").translation[0] for e in (-1e-3, 0, 1e-3)]
             assert x[0] - x[1] - 1e-15 <= a.samples[:, 0].min() and a.samples[:, 0].max() <= x[2] - x[1] + 1e-15
-    c = run_study(mech, sources, [[1.0]], point="C", methods=["mc"], samples=50000, seed=4)
+    c = run_study(mech, sources, [[1.0]], frame="C", methods=["mc"], samples=50000, seed=4)
     assert not np.array_equal(a.samples, c.samples)
 
 
@@ -195,7 +197,7 @@ def test_monte_carlo_with_large_errors_follows_the_exact_model():
     """With large errors the Monte Carlo is the exact model: the crank-slider's x_C from its closed form."""
     mech = mechatron.load("crank_slider", l1=0.2, l2=0.346)
     sources = [ErrorSource("l1", "parameter", "m", 0.02, "uniform"), ErrorSource("q1", "coordinate", "rad", 0.3)]
-    result = run_study(mech, sources, [[1.0]], point="C", methods=["mc", "rss"], samples=400, seed=1)
+    result = run_study(mech, sources, [[1.0]], frame="C", methods=["mc", "rss"], samples=400, seed=1)
     from mechatron.accuracy.study import draw_errors
 
     errors = draw_errors(sources, 400, np.random.default_rng(1), 3.0)
@@ -217,7 +219,7 @@ def test_vectorized_chain_equals_pinocchio_per_sample_and_rebuilt_dh(rng):
     values = mech.parameter_values()
     for i in range(4):
         rebuilt = mech.with_parameters({n: values[n] + dl[i, k] for k, n in enumerate(names)})
-        exact = rebuilt.frame_placement(q + dq[i], "tool").translation
+        exact = frame_placement(rebuilt, q + dq[i], "tool").translation
         assert np.allclose(fast[i], exact, atol=1e-12)
         assert np.allclose(loop.position(q, dl[i], dq[i]), exact, atol=1e-12)
 
@@ -244,7 +246,7 @@ def test_it_table_follows_the_iso_286_formula():
     (up to 3 mm) is left out: its standard values are not the formula's (15 % above it, the same in ISO 286-1)."""
     import pandas as pd
 
-    from mechatron.library import data_dir
+    from mechatron.io.data import data_dir
 
     table = pd.read_csv(data_dir("catalogs") / "it_grades.csv", comment="#")
     factors = dict(zip(range(5, 17), (7, 10, 16, 25, 40, 64, 100, 160, 250, 400, 640, 1000)))
@@ -260,7 +262,7 @@ def test_it_table_follows_the_iso_286_formula():
 def test_angle_table_degrees_grow_by_about_1_6():
     import pandas as pd
 
-    from mechatron.library import data_dir
+    from mechatron.io.data import data_dir
 
     table = pd.read_csv(data_dir("catalogs") / "angle_tolerances.csv", comment="#")
     values = table[[f"AT{k}_arcsec" for k in range(5, 15)]].to_numpy()

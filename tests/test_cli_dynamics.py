@@ -9,7 +9,8 @@ import pytest
 
 import mechatron
 from mechatron.cli import main
-from mechatron.motion import move
+from mechatron.dynamics.motion import move
+from mechatron.kinematics.loops import assemble
 
 
 def run(capsys, *argv):
@@ -73,7 +74,7 @@ def test_reduced_command(tmp_path, capsys):
     result = json.loads(out)
     mech = mechatron.load("crank_slider")
     for phi, J in zip(result["table"]["q1"], result["table"]["J_reduced"]):
-        assert J == pytest.approx(mechatron.reduced_inertia(mech, mech.assemble({"q1": phi}), "q1"), rel=1e-9)
+        assert J == pytest.approx(mechatron.dynamics.reduced_inertia(mech, assemble(mech, {"q1": phi}), "q1"), rel=1e-9)
     assert (tmp_path / "r.png").exists()
     code, out, _ = run(capsys, "reduced", "six_bar_bucket")
     assert code == 0 and "reduced mass" in out

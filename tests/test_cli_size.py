@@ -10,8 +10,8 @@ import pytest
 import mechatron
 from mechatron.cli import main
 from mechatron.drives.sizing import size_mechanism
+from mechatron.dynamics.task import default_task, generic_task, read_task
 from mechatron.errors import InputError
-from mechatron.tasks import default_task, generic_task, read_task
 
 
 def run(capsys, *argv):

@@ -14,10 +14,11 @@ import pinocchio as pin
 import pytest
 
 import mechatron
-from mechatron import constrained as cd
-from mechatron import reduced as rd
-from mechatron.kinetostatics import kinetostatics
-from mechatron.sweep import sweep
+from mechatron.dynamics import constrained as cd
+from mechatron.dynamics import reduced as rd
+from mechatron.dynamics.kinetostatics import kinetostatics
+from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity, loop_solver
+from mechatron.kinematics.sweep import sweep
 
 E7_LOAD = [("C_slider", [1000.0, 0.0, 0.0])]
 
@@ -28,7 +29,7 @@ def crank():
 
 
 def test_E7_kinetostatics(crank):
-    q = crank.assemble({"q1": math.radians(30)})
+    q = assemble(crank, {"q1": math.radians(30)})
     k = kinetostatics(crank, q, {"q1": 10.0}, loads=E7_LOAD)
     assert k.driving["q1"] == pytest.approx(63.112255, abs=1e-6)  # M_D
     assert k.zhukovsky["q1"] == pytest.approx(63.112255, abs=1e-6)  # Zhukovsky's lever (virtual power)
@@ -59,8 +60,8 @@ def test_forward_dynamics_matches_pinocchio_constraint_dynamics(crank, rng):
     pin.initConstraintDynamics(model, data, [contact], [contact_data])
     settings = pin.ProximalSettings(1e-14, 1e-12, 200)
     for _ in range(5):
-        q = crank.assemble({"q1": rng.uniform(-3, 3)})
-        v = crank.velocity(q, {"q1": rng.normal() * 5})
+        q = assemble(crank, {"q1": rng.uniform(-3, 3)})
+        v = joint_velocity(crank, q, {"q1": rng.normal() * 5})
         tau = rng.normal(size=3)
         ours, _ = cd.forward(crank, q, v, {"q1": tau[0], "phi2": tau[1], "xC": tau[2]})
         theirs = pin.constraintDynamics(model, data, q, v, tau, [contact], [contact_data], settings)
@@ -69,27 +70,27 @@ def test_forward_dynamics_matches_pinocchio_constraint_dynamics(crank, rng):
 
 def test_inverse_and_forward_dynamics_agree(rng):
     mech = mechatron.load("six_bar_bucket")
-    q = mech.assemble({"L1": 1.5})
-    v = mech.velocity(q, {"L1": 0.1})
-    a = mech.acceleration(q, v, {"L1": 0.3})
+    q = assemble(mech, {"L1": 1.5})
+    v = joint_velocity(mech, q, {"L1": 0.1})
+    a = joint_acceleration(mech, q, v, {"L1": 0.3})
     forces, lam = cd.inverse(mech, q, v, a, loads=[("K", [2000.0, -5000.0, 0.0])])
     a2, lam2 = cd.forward(mech, q, v, forces, loads=[("K", [2000.0, -5000.0, 0.0])])
     np.testing.assert_allclose(a2, a, atol=1e-8)
     np.testing.assert_allclose(lam2, lam, rtol=1e-7)
     # virtual power: the cylinder force equals the reduced force Sᵀ(M q̈ + h − Q)
-    S = mech.velocity(q, {"L1": 1.0})
+    S = joint_velocity(mech, q, {"L1": 1.0})
     need = pin.rnea(mech.model, mech.data, q, v, a) + \
         mechatron.frame_jacobian(mech, q, "K")[:3].T @ -np.array([2000.0, -5000.0, 0.0])
     assert forces["L1"] == pytest.approx(S @ need, rel=1e-9)
 
 
 def test_simulation_keeps_constraints_and_energy(crank):
-    q0 = crank.assemble({"q1": 0.2})
-    v0 = crank.velocity(q0, {"q1": 8.0})
+    q0 = assemble(crank, {"q1": 0.2})
+    v0 = joint_velocity(crank, q0, {"q1": 8.0})
     sim = cd.simulate(crank, q0, v0, 5.0, 1e-3)  # no drive, no damping: only gravity, which is conservative
     assert sim.residual.max() < 1e-8
     assert np.abs(sim.energy - sim.energy[0]).max() / sim.energy[0] < 1e-6
-    velocity_constraint = max(np.abs(crank.loop_solver().system.evaluate(q)[1] @ v).max()
+    velocity_constraint = max(np.abs(loop_solver(crank).system.evaluate(q)[1] @ v).max()
                               for q, v in zip(sim.q[::50], sim.v[::50]))
     assert velocity_constraint < 1e-10
 
@@ -99,9 +100,9 @@ def test_reduced_inertia_gives_the_kinetic_energy():
                               ("slotted_link", "q1", -2.0)):
         mech = mechatron.load(name)
         for q in sweep(mech, samples=7).q:
-            J = mechatron.reduced_inertia(mech, q, input)
-            v = mech.velocity(q, {input: rate})
-            assert 0.5 * J * rate**2 == pytest.approx(mechatron.kinetic_energy(mech, q, v), rel=1e-12)
+            J = mechatron.dynamics.reduced_inertia(mech, q, input)
+            v = joint_velocity(mech, q, {input: rate})
+            assert 0.5 * J * rate**2 == pytest.approx(mechatron.dynamics.kinetic_energy(mech, q, v), rel=1e-12)
 
 
 def test_reduced_inertia_derivative_equals_finite_differences():
@@ -109,18 +110,18 @@ def test_reduced_inertia_derivative_equals_finite_differences():
     for name, input, values in (("crank_slider", "q1", (0.3, 1.9, 4.0)), ("six_bar_bucket", "L1", (1.2, 1.6, 1.9))):
         mech = mechatron.load(name)
         for value in values:
-            q = mech.assemble({input: value})
-            J = [mechatron.reduced_inertia(mech, mech.assemble({input: value + s * h}, q), input) for s in (1, -1)]
-            assert mechatron.reduced_inertia_derivative(mech, q, input) == pytest.approx((J[0] - J[1]) / (2 * h),
+            q = assemble(mech, {input: value})
+            J = [mechatron.dynamics.reduced_inertia(mech, assemble(mech, {input: value + s * h}, q), input) for s in (1, -1)]
+            assert mechatron.dynamics.reduced_inertia_derivative(mech, q, input) == pytest.approx((J[0] - J[1]) / (2 * h),
                                                                                           rel=1e-6, abs=1e-9)
 
 
 def test_reduced_moment_of_gravity_is_minus_the_derivative_of_potential_energy():
     mech = mechatron.load("six_bar_bucket")
-    q = mech.assemble({"L1": 1.4})
+    q = assemble(mech, {"L1": 1.4})
     h = 1e-6
-    V = [mechatron.potential_energy(mech, mech.assemble({"L1": 1.4 + s * h}, q)) for s in (1, -1)]
-    assert mechatron.reduced_moment(mech, q, "L1") == pytest.approx(-(V[0] - V[1]) / (2 * h), rel=1e-6)
+    V = [mechatron.dynamics.potential_energy(mech, assemble(mech, {"L1": 1.4 + s * h}, q)) for s in (1, -1)]
+    assert mechatron.dynamics.reduced_moment(mech, q, "L1") == pytest.approx(-(V[0] - V[1]) / (2 * h), rel=1e-6)
 
 
 def motor(t, q, v):
@@ -132,22 +133,22 @@ def slider_damper(t, q, v):
 
 
 def test_one_mass_model_reproduces_the_full_simulation(crank):
-    q0 = crank.assemble({"q1": 0.0})
-    v0 = crank.velocity(q0, {"q1": 1.0})
+    q0 = assemble(crank, {"q1": 0.0})
+    v0 = joint_velocity(crank, q0, {"q1": 1.0})
     dt, duration = 5e-4, 0.4
-    full = cd.simulate(crank, q0, v0, duration, dt, actuation=motor, loads=slider_damper)
-    one = rd.differential_form(crank, "q1", 0.0, 1.0, duration, dt, actuation=motor, loads=slider_damper)
+    full = cd.simulate(crank, q0, v0, duration, dt, actuation=motor, loads_at=slider_damper)
+    one = rd.differential_form(crank, "q1", 0.0, 1.0, duration, dt, actuation=motor, loads_at=slider_damper)
     np.testing.assert_allclose(one.phi, full.q[:, 0], atol=1e-8)
     np.testing.assert_allclose(one.omega, full.v[:, 0], rtol=1e-7, atol=1e-7)
     # ½ J_пр ω² is the kinetic energy along the motion; the energy form (6.40) gives the same speeds
-    kinetic = np.array([mechatron.kinetic_energy(crank, q, v) for q, v in zip(full.q, full.v)])
+    kinetic = np.array([mechatron.dynamics.kinetic_energy(crank, q, v) for q, v in zip(full.q, full.v)])
     np.testing.assert_allclose(0.5 * one.inertia * one.omega**2, kinetic, rtol=1e-6)
 
 
 def test_energy_form_matches_the_simulation_for_a_position_dependent_moment(crank):
     """With M_пр depending on φ only (a constant torque and gravity), (6.40) gives ω(φ) without time."""
-    q0 = crank.assemble({"q1": 0.0})
-    full = cd.simulate(crank, q0, crank.velocity(q0, {"q1": 2.0}), 0.5, 5e-4, actuation=lambda t, q, v: {"q1": 1.5})
+    q0 = assemble(crank, {"q1": 0.0})
+    full = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 2.0}), 0.5, 5e-4, actuation=lambda t, q, v: {"q1": 1.5})
     phi = full.q[:, 0]  # the energy form on the positions the simulation went through
     table = rd.reduced_table(crank, "q1", phi, forces={"q1": 1.5})
     omega = rd.energy_form(phi, table["J_reduced"].to_numpy(), table["M_reduced"].to_numpy(), 2.0)
@@ -155,8 +156,8 @@ def test_energy_form_matches_the_simulation_for_a_position_dependent_moment(cran
 
 
 def test_motion_regimes_and_speed_fluctuation(crank):
-    q0 = crank.assemble({"q1": 0.0})
-    sim = cd.simulate(crank, q0, crank.velocity(q0, {"q1": 1.0}), 2.5, 1e-3, actuation=motor, loads=slider_damper)
+    q0 = assemble(crank, {"q1": 0.0})
+    sim = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 1.0}), 2.5, 1e-3, actuation=motor, loads_at=slider_damper)
     cycles = rd.motion_regimes(sim.t, sim.q[:, 0], sim.v[:, 0])
     assert cycles["regime"].iloc[0] == "run-up"
     assert (cycles["regime"].iloc[1:] == "steady").all()
@@ -167,6 +168,6 @@ def test_motion_regimes_and_speed_fluctuation(crank):
     assert steady["omega_end"] == pytest.approx(steady["omega_start"], rel=1e-3)
     # switching the motor off (a light damper left) gives a run-down
     off = cd.simulate(crank, sim.q[-1], sim.v[-1], 2.0, 2e-3,
-                      loads=lambda t, q, v: [("C_slider", [-0.3 * v[2], 0.0, 0.0])])
+                      loads_at=lambda t, q, v: [("C_slider", [-0.3 * v[2], 0.0, 0.0])])
     regimes = rd.motion_regimes(off.t, off.q[:, 0], off.v[:, 0])["regime"]
     assert len(regimes) >= 2 and set(regimes) == {"run-down"}

@@ -18,7 +18,8 @@ from conftest import DH_ROBOTS
 from reference import numpy_chain, textbook_A
 
 import mechatron
-from mechatron.dh import DHLink, DHTable, Inertial, dh_mechanism
+from mechatron.kinematics.frames import frame_placement
+from mechatron.model.dh import DHLink, DHTable, Inertial, dh_mechanism
 
 
 def random_table(rng: np.random.Generator, convention: str, n: int = 5) -> DHTable:
@@ -107,8 +108,8 @@ def test_base_and_tool_placements():
     mech = dh_mechanism(table)
     q = np.array([0.3, -0.4])
     expected = base @ numpy_chain(table, q)[-1] @ tool
-    np.testing.assert_allclose(mech.frame_placement(q, "tool").homogeneous, expected, atol=1e-14)
-    np.testing.assert_allclose(mech.frame_placement(q, "base").homogeneous, base, atol=0)
+    np.testing.assert_allclose(frame_placement(mech, q, "tool").homogeneous, expected, atol=1e-14)
+    np.testing.assert_allclose(frame_placement(mech, q, "base").homogeneous, base, atol=0)
 
 
 def test_every_length_and_offset_is_a_named_parameter():
@@ -133,12 +134,12 @@ def test_parameter_override_changes_geometry():
     mech = mechatron.load("planar_2r", a2=0.55)
     q1, q2 = 0.4, 0.9
     expected = [0.5 * math.cos(q1) + 0.55 * math.cos(q1 + q2), 0.5 * math.sin(q1) + 0.55 * math.sin(q1 + q2), 0.0]
-    np.testing.assert_allclose(mechatron.frame_position(mech, [q1, q2]), expected, atol=1e-14)
+    np.testing.assert_allclose(mechatron.kinematics.frame_position(mech, [q1, q2]), expected, atol=1e-14)
     assert mech.parameters["a2"].value == 0.55
     # the original is untouched and with_parameters gives the same as load(..., **overrides)
     original = mechatron.load("planar_2r")
     assert original.parameters["a2"].value == 0.4
-    np.testing.assert_allclose(mechatron.frame_position(original.with_parameters(a2=0.55), [q1, q2]), expected,
+    np.testing.assert_allclose(mechatron.kinematics.frame_position(original.with_parameters(a2=0.55), [q1, q2]), expected,
                                atol=1e-14)
 
 

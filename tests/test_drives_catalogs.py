@@ -44,7 +44,7 @@ def test_units_convert_to_si(tmp_path):
 
 
 def default_catalog_path(kind):
-    from mechatron.library import data_dir
+    from mechatron.io.data import data_dir
 
     return data_dir("catalogs") / DEFAULT_FILES[kind]
 

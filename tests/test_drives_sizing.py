@@ -10,17 +10,18 @@ import pandas as pd
 import pytest
 
 import mechatron
-from mechatron.dh import DHLink, DHTable, Drive, Inertial, dh_mechanism
 from mechatron.drives.catalogs import default_catalog
 from mechatron.drives.checks import CHECKS, evaluate
 from mechatron.drives.converters import converters_for
 from mechatron.drives.cylinders import BUCKLING_SAFETY, STEEL_MODULUS, size_cylinder
 from mechatron.drives.duty import JointDuty, joint_duties
 from mechatron.drives.sizing import size_joint, size_mechanism
-from mechatron.dynamics import inverse_dynamics, motor_loads
+from mechatron.drives.transmission import motor_loads
+from mechatron.dynamics.motion import Trajectory, move
+from mechatron.dynamics.task import default_task
+from mechatron.dynamics.tree import inverse_dynamics
 from mechatron.errors import InputError
-from mechatron.motion import Trajectory, move
-from mechatron.tasks import default_task
+from mechatron.model.dh import DHLink, DHTable, Drive, Inertial, dh_mechanism
 
 # ------------------------------------------------------------------------------------------ the hand case
 # A disc of 0.5 kg·m² on a vertical axis (no gravity torque) moves 2 rad: trapezoid, 2 rad/s, 10 rad/s².
@@ -114,7 +115,7 @@ def test_motor_torque_matches_the_dynamics_motor_model(puma_task, puma_sizing):
         drives[j.joint] = Drive(rotor_inertia=j.motor_data["rotor_inertia"] + c["inertia"], gear_ratio=c["ratio"],
                                 efficiency=c["efficiency"])
     links = tuple(replace(link, drive=drives[link.name]) for link in table.links)
-    geared = mechatron.dynamics.with_payload(dh_mechanism(replace(table, links=links), "puma_geared"), 2.5,
+    geared = mechatron.model.payload.with_payload(dh_mechanism(replace(table, links=links), "puma_geared"), 2.5,
                                              com=(0.0, 0.0, 0.05))
     tr = puma_task.trajectory
     motors = motor_loads(geared, tr.v, tr.a, inverse_dynamics(geared, tr.q, tr.v, tr.a))

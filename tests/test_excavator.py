@@ -14,6 +14,8 @@ import numpy as np
 import pytest
 
 import mechatron
+from mechatron.kinematics.frames import frame_placement
+from mechatron.kinematics.loops import assemble, loop_solver
 from mechatron.machines import excavator as ex
 
 DEG = math.pi / 180
@@ -55,8 +57,8 @@ def test_special_positions_closed_form_and_model(shovel, mech):
     for name, angles in ex.special_positions(shovel).items():
         assert shovel.tip(*angles) == pytest.approx(expected[name], abs=1e-3)
         # the same tip from the closed-loop model assembled at the matching cylinder lengths
-        q = mech.assemble(shovel.cylinder_lengths(*angles))
-        np.testing.assert_allclose(mech.frame_placement(q, "V").translation[:2], shovel.tip(*angles), atol=1e-9)
+        q = assemble(mech, shovel.cylinder_lengths(*angles))
+        np.testing.assert_allclose(frame_placement(mech, q, "V").translation[:2], shovel.tip(*angles), atol=1e-9)
         wrapped = np.remainder(np.subtract(ex.joint_angles(mech, q), angles) + np.pi, 2 * np.pi) - np.pi
         np.testing.assert_allclose(wrapped, 0.0, atol=1e-9)
 
@@ -101,15 +103,15 @@ def test_cylinders_span_the_joint_ranges(shovel, mech):
 
 def test_lever_arm_is_derivative_of_cylinder_length(shovel, mech):
     """e = dL/dθ: the model's lever arm of each cylinder equals the ratio of cylinder speed to joint speed."""
-    q = mech.assemble(shovel.cylinder_lengths(0.4, 1.4, 3.3))
+    q = assemble(mech, shovel.cylinder_lengths(0.4, 1.4, 3.3))
     for cyl, pivot, rate_name in (("L1", "C", "L1"), ("L2", "F", "L2"), ("L3", "Q", "L3")):
         c = mech.cylinders[cyl]
         h = 1e-6
-        length = q[mech.loop_solver().index[rate_name]]
-        plus, minus = (mech.assemble({rate_name: length + s * h}, q) for s in (1, -1))
+        length = q[loop_solver(mech).index[rate_name]]
+        plus, minus = (assemble(mech, {rate_name: length + s * h}, q) for s in (1, -1))
         dtheta = (np.array(ex.joint_angles(mech, plus)) - np.array(ex.joint_angles(mech, minus))) / (2 * h)
         joint = ["L1", "L2", "L3"].index(cyl)
-        arm = mechatron.linkages.lever_arm(mech, q, c.base, c.eye, pivot)  # from the pin geometry alone
+        arm = mechatron.kinematics.lever_arm(mech, q, c.base, c.eye, pivot)  # from the pin geometry alone
         assert 1.0 / dtheta[joint] == pytest.approx(arm, rel=1e-5)
 
 
@@ -157,7 +159,7 @@ def test_working_range_matches_special_positions(mech):
 
 
 def test_transmission_checks_in_sweep(mech):
-    from mechatron.sweep import sweep
+    from mechatron.kinematics.sweep import sweep
 
     result = sweep(mech, samples=60)
     checks = {c["name"]: c for c in result.check_measures()}
@@ -185,11 +187,11 @@ def test_excavator_command(tmp_path, capsys):
 def test_iso6015_tool_forces_by_lever_arms(shovel, mech):
     """With only the bucket cylinder moving, the bucket turns about Q, so F_tool = F_cyl · e3 / |QV| (e3 its arm about
     Q); with only the stick cylinder, the stick and bucket turn about F: F_tool = F_cyl · e2 / |FV|."""
-    from mechatron.linkages import distance, lever_arm
+    from mechatron.kinematics.geometry import distance, lever_arm
 
     spec = ex.DEFAULT_CYLINDERS
     for angles in ex.special_positions(shovel).values():
-        q = mech.assemble(shovel.cylinder_lengths(*angles))
+        q = assemble(mech, shovel.cylinder_lengths(*angles))
         forces = ex.tool_forces(mech, q)
         e3 = lever_arm(mech, q, "G", "K", "Q")
         assert forces["bucket"]["extending"] == pytest.approx(
@@ -202,9 +204,9 @@ def test_iso6015_tool_forces_by_lever_arms(shovel, mech):
 def test_static_cylinder_loads_balance_the_bucket(shovel, mech):
     """The bucket cylinder holds the bucket: its force times its arm about Q equals the moment of the bucket's
     weight (centre at the middle of QV) and of the tooth force about Q."""
-    from mechatron.linkages import lever_arm, point_positions
+    from mechatron.kinematics.geometry import lever_arm, point_positions
 
-    q = mech.assemble(shovel.cylinder_lengths(0.5, 1.6, 3.4))
+    q = assemble(mech, shovel.cylinder_lengths(0.5, 1.6, 3.4))
     tooth = np.array([-40e3, 15e3])
     table = ex.cylinder_loads(mech, q[None, :], tooth_force=tuple(tooth))
     Qp, V, G, K = point_positions(mech, q, "Q", "V", "G", "K")

@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron import efficiency as E
-from mechatron import friction as Fr
-from mechatron.dh import DHLink, DHTable, Inertial, dh_mechanism
-from mechatron.dynamics import joint_wrenches
+from mechatron.mechanics import efficiency as E
+from mechatron.mechanics import friction as Fr
+from mechatron.dynamics.motion import Trajectory
+from mechatron.dynamics.tree import joint_wrenches
 from mechatron.errors import InputError
-from mechatron.motion import Trajectory
-from mechatron.wear import Bearing, linear_wear_intensity, single_element_life, wear_depth, wear_rate
+from mechatron.mechanics.wear import Bearing, linear_wear_intensity, single_element_life, wear_depth, wear_rate
+from mechatron.model.dh import DHLink, DHTable, Inertial, dh_mechanism
 
 
 # ------------------------------------------------------------------------------------------------ friction

@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron import constrained as cd
+from mechatron.dynamics import constrained as cd
+from mechatron.kinematics.frames import frame_placement
+from mechatron.kinematics.loops import assemble
 from mechatron.machines.grab import GrabGeometry, PaperModel, ScoopingLoads, mechanism_loads
 
 
@@ -21,8 +23,8 @@ def runs():
     g, loads = GrabGeometry(), ScoopingLoads()
     paper = PaperModel(g, loads).simulate(g.open_angle, 0.0, 1.0, 1e-3)
     mech = mechatron.load("grab")
-    sim = cd.simulate(mech, mech.assemble({"phi1": g.open_angle}), np.zeros(mech.nv), paper["t"][-1], 1e-3,
-                      loads=mechanism_loads(mech, loads), stop=lambda t, q, v: q[1] >= 0.0)
+    sim = cd.simulate(mech, assemble(mech, {"phi1": g.open_angle}), np.zeros(mech.nv), paper["t"][-1], 1e-3,
+                      loads_at=mechanism_loads(mech, loads), stop=lambda t, q, v: q[1] >= 0.0)
     return g, paper, mech, sim
 
 
@@ -38,7 +40,7 @@ def test_two_formulations_agree(runs):
     np.testing.assert_allclose(sim.q[:n, 1], paper["X"][:n, 2], atol=1e-6)  # jaw angle φ10
     np.testing.assert_allclose(sim.v[:n, 1], paper["Xd"][:n, 2], atol=1e-5)
     # upper crosshead height and rods' angle
-    crosshead = np.array([mech.frame_placement(q, "C3").translation[1] for q in sim.q[:n:20]])
+    crosshead = np.array([frame_placement(mech, q, "C3").translation[1] for q in sim.q[:n:20]])
     np.testing.assert_allclose(crosshead, paper["X"][:n:20, 6], atol=1e-6)
 
 

@@ -18,9 +18,17 @@ from hypothesis import strategies as st
 
 import mechatron
 from mechatron.errors import InputError, SingularityError, UnreachableError
-from mechatron.linkages import transfer_functions
-from mechatron.planar import GROUND, PlanarBuilder
-from mechatron.sweep import sweep
+from mechatron.kinematics.frames import (
+    angular_acceleration,
+    angular_velocity,
+    frame_placement,
+    point_acceleration,
+    point_velocity,
+)
+from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity, loop_solver
+from mechatron.kinematics.sweep import sweep
+from mechatron.kinematics.transfer import transfer_functions
+from mechatron.model.planar import GROUND, PlanarBuilder
 
 angles = st.floats(-math.pi, math.pi)
 
@@ -48,10 +56,10 @@ def slotted_link_closed_form(l1, d, q):
 @given(angles)
 def test_crank_slider_transfer_functions(q):
     mech = mechatron.load("crank_slider")
-    qq = mech.assemble({"q1": q})
+    qq = assemble(mech, {"q1": q})
     x, v_q, a_q, beta_q, beta_qq = crank_slider_closed_form(0.1, 0.4, q)
-    slider = transfer_functions(mech, qq, "q1", point="C")
-    assert mech.frame_placement(qq, "C").translation[0] == pytest.approx(x, abs=1e-12)
+    slider = transfer_functions(mech, qq, "q1", frame="C")
+    assert frame_placement(mech, qq, "C").translation[0] == pytest.approx(x, abs=1e-12)
     assert slider.first[0] == pytest.approx(v_q, abs=1e-10)
     assert slider.second[0] == pytest.approx(a_q, abs=1e-10)
     rod = transfer_functions(mech, qq, "q1", link="rod")
@@ -62,29 +70,29 @@ def test_crank_slider_transfer_functions(q):
 def test_E1_crank_slider_point_on_rod():
     """E1: l1 = 0.1, L2 = 0.4, B at mid-rod (the book's fig. 4.2 naming; here point S2), q1 = 30°, q̇1 = 10 rad/s."""
     mech = mechatron.load("crank_slider")
-    q = mech.assemble({"q1": math.radians(30)})
-    v = mech.velocity(q, {"q1": 10.0})
+    q = assemble(mech, {"q1": math.radians(30)})
+    v = joint_velocity(mech, q, {"q1": 10.0})
     for qdd, expected in ((0.0, [-9.305193, -2.5]), (5.0, [-9.582471, -2.283494])):
-        a = mech.acceleration(q, v, {"q1": qdd})
-        np.testing.assert_allclose(mech.point_acceleration(q, v, a, "S2")[:2], expected, atol=1e-6)
-    np.testing.assert_allclose(mech.frame_placement(q, "S2").translation[:2], [0.2850339, 0.025], atol=1e-7)
-    np.testing.assert_allclose(mech.point_velocity(q, v, "S2")[:2], [-0.554554, 0.433013], atol=1e-6)
-    np.testing.assert_allclose(mech.point_velocity(q, v, "C")[:2], [-0.6091089, 0.0], atol=1e-7)
+        a = joint_acceleration(mech, q, v, {"q1": qdd})
+        np.testing.assert_allclose(point_acceleration(mech, q, v, a, "S2")[:2], expected, atol=1e-6)
+    np.testing.assert_allclose(frame_placement(mech, q, "S2").translation[:2], [0.2850339, 0.025], atol=1e-7)
+    np.testing.assert_allclose(point_velocity(mech, q, v, "S2")[:2], [-0.554554, 0.433013], atol=1e-6)
+    np.testing.assert_allclose(point_velocity(mech, q, v, "C")[:2], [-0.6091089, 0.0], atol=1e-7)
     # rod: |ω2| = 2.182179 rad/s; counter-clockwise ω2 = −2.182179, ε2 = +11.998872 (q̈1 = 0)
-    assert mech.angular_velocity(q, v, "rod")[2] == pytest.approx(-2.182179, abs=1e-6)
-    a = mech.acceleration(q, v, {"q1": 0.0})
-    assert mech.angular_acceleration(q, v, a, "rod")[2] == pytest.approx(11.998872, abs=1e-6)
+    assert angular_velocity(mech, q, v, "rod")[2] == pytest.approx(-2.182179, abs=1e-6)
+    a = joint_acceleration(mech, q, v, {"q1": 0.0})
+    assert angular_acceleration(mech, q, v, a, "rod")[2] == pytest.approx(11.998872, abs=1e-6)
 
 
 def test_E2_crank_slider_hand_checks():
     mech = mechatron.load("crank_slider")
-    q0 = mech.assemble({"q1": 0.0})
-    assert mech.frame_placement(q0, "C").translation[0] == pytest.approx(0.5)
-    assert transfer_functions(mech, q0, "q1", point="C").second[0] == pytest.approx(-0.125)
+    q0 = assemble(mech, {"q1": 0.0})
+    assert frame_placement(mech, q0, "C").translation[0] == pytest.approx(0.5)
+    assert transfer_functions(mech, q0, "q1", frame="C").second[0] == pytest.approx(-0.125)
     assert transfer_functions(mech, q0, "q1", link="rod").first == pytest.approx(-0.25)
-    q90 = mech.assemble({"q1": math.pi / 2})
-    assert mech.frame_placement(q90, "C").translation[0] == pytest.approx(0.3872983, abs=1e-7)
-    tf = transfer_functions(mech, q90, "q1", point="C")
+    q90 = assemble(mech, {"q1": math.pi / 2})
+    assert frame_placement(mech, q90, "C").translation[0] == pytest.approx(0.3872983, abs=1e-7)
+    tf = transfer_functions(mech, q90, "q1", frame="C")
     assert tf.first[0] == pytest.approx(-0.1) and tf.second[0] == pytest.approx(0.02581989, abs=1e-8)
 
 
@@ -92,9 +100,9 @@ def test_E2_crank_slider_hand_checks():
 @given(angles)
 def test_scotch_yoke(q):
     mech = mechatron.load("scotch_yoke")
-    qq = mech.assemble({"q1": q})
-    tf = transfer_functions(mech, qq, "q1", point="C")
-    assert mech.frame_placement(qq, "C").translation[0] == pytest.approx(0.1 * math.cos(q), abs=1e-12)
+    qq = assemble(mech, {"q1": q})
+    tf = transfer_functions(mech, qq, "q1", frame="C")
+    assert frame_placement(mech, qq, "C").translation[0] == pytest.approx(0.1 * math.cos(q), abs=1e-12)
     assert tf.first[0] == pytest.approx(-0.1 * math.sin(q), abs=1e-10)
     assert tf.second[0] == pytest.approx(-0.1 * math.cos(q), abs=1e-10)
 
@@ -102,40 +110,40 @@ def test_scotch_yoke(q):
 def test_E3_scotch_yoke_worked_values():
     # the book's "a_C = −l1 cos q1 q̇1" (L2393) lacks the square: it would give −0.866
     mech = mechatron.load("scotch_yoke")
-    q = mech.assemble({"q1": math.radians(30)})
-    v = mech.velocity(q, {"q1": 10.0})
-    assert mech.point_velocity(q, v, "C")[0] == pytest.approx(-0.5)
+    q = assemble(mech, {"q1": math.radians(30)})
+    v = joint_velocity(mech, q, {"q1": 10.0})
+    assert point_velocity(mech, q, v, "C")[0] == pytest.approx(-0.5)
     for qdd, expected in ((0.0, -8.660254), (5.0, -8.910254)):
-        a = mech.acceleration(q, v, {"q1": qdd})
-        assert mech.point_acceleration(q, v, a, "C")[0] == pytest.approx(expected, abs=1e-6)
+        a = joint_acceleration(mech, q, v, {"q1": qdd})
+        assert point_acceleration(mech, q, v, a, "C")[0] == pytest.approx(expected, abs=1e-6)
 
 
 @settings(max_examples=40, deadline=None)
 @given(angles)
 def test_slotted_link(q):
     mech = mechatron.load("slotted_link")
-    qq = mech.assemble({"q1": q})
+    qq = assemble(mech, {"q1": q})
     beta, omega_q, epsilon_q, l3 = slotted_link_closed_form(0.1, 0.3, q)
-    theta3 = mechatron.linkages.link_angle(mech, qq, "coulisse")
+    theta3 = mechatron.kinematics.link_angle(mech, qq, "coulisse")
     assert math.remainder(theta3 - (math.pi - beta), 2 * math.pi) == pytest.approx(0.0, abs=1e-12)
     tf = transfer_functions(mech, qq, "q1", link="coulisse")
     assert tf.first == pytest.approx(-omega_q, abs=1e-10)  # θ3 = π − β
     assert tf.second == pytest.approx(-epsilon_q, abs=1e-10)
-    assert mechatron.linkages.distance(mech, qq, "B", "C") == pytest.approx(l3, abs=1e-12)
+    assert mechatron.kinematics.distance(mech, qq, "B", "C") == pytest.approx(l3, abs=1e-12)
 
 
 def test_E4_slotted_link_worked_values():
     mech = mechatron.load("slotted_link")
-    q = mech.assemble({"q1": math.radians(30)})
-    v = mech.velocity(q, {"q1": 10.0})
-    assert mechatron.linkages.link_angle(mech, q, "coulisse") == pytest.approx(math.radians(166.813215), abs=1e-8)
-    assert mech.angular_velocity(q, v, "coulisse")[2] == pytest.approx(-3.326659, abs=1e-6)
+    q = assemble(mech, {"q1": math.radians(30)})
+    v = joint_velocity(mech, q, {"q1": 10.0})
+    assert mechatron.kinematics.link_angle(mech, q, "coulisse") == pytest.approx(math.radians(166.813215), abs=1e-8)
+    assert angular_velocity(mech, q, v, "coulisse")[2] == pytest.approx(-3.326659, abs=1e-6)
     for qdd, expected in ((0.0, -51.99994), (5.0, -50.33661)):
-        a = mech.acceleration(q, v, {"q1": qdd})
-        assert mech.angular_acceleration(q, v, a, "coulisse")[2] == pytest.approx(-expected, abs=1e-4)
+        a = joint_acceleration(mech, q, v, {"q1": qdd})
+        assert angular_acceleration(mech, q, v, a, "coulisse")[2] == pytest.approx(-expected, abs=1e-4)
     # hand checks: q1 = 0 → ω_q3 = l1/(d − l1) = 0.5; q1 = 180° → −0.25; q1 = 90° → −0.1, ε_q3 = −0.24
     for q1, w, e in ((0.0, 0.5, 0.0), (math.pi, -0.25, 0.0), (math.pi / 2, -0.1, -0.24)):
-        tf = transfer_functions(mech, mech.assemble({"q1": q1}), "q1", link="coulisse")
+        tf = transfer_functions(mech, assemble(mech, {"q1": q1}), "q1", link="coulisse")
         assert (tf.first, tf.second) == pytest.approx((-w, -e), abs=1e-10)
 
 
@@ -145,12 +153,12 @@ def test_velocity_and_acceleration_equal_finite_differences(name):
     mech = mechatron.load(name)
     h = 1e-5
     for q1 in np.linspace(-3.0, 3.0, 7):
-        q = mech.assemble({"q1": q1})
-        plus, minus = mech.assemble({"q1": q1 + h}, q), mech.assemble({"q1": q1 - h}, q)
-        v = mech.velocity(q, {"q1": 1.0})
+        q = assemble(mech, {"q1": q1})
+        plus, minus = assemble(mech, {"q1": q1 + h}, q), assemble(mech, {"q1": q1 - h}, q)
+        v = joint_velocity(mech, q, {"q1": 1.0})
         np.testing.assert_allclose(v, (plus - minus) / (2 * h), atol=1e-8)
-        a = mech.acceleration(q, v, {"q1": 0.0})
-        v_plus, v_minus = mech.velocity(plus, {"q1": 1.0}), mech.velocity(minus, {"q1": 1.0})
+        a = joint_acceleration(mech, q, v, {"q1": 0.0})
+        v_plus, v_minus = joint_velocity(mech, plus, {"q1": 1.0}), joint_velocity(mech, minus, {"q1": 1.0})
         np.testing.assert_allclose(a, (v_plus - v_minus) / (2 * h), atol=1e-6)
 
 
@@ -182,24 +190,24 @@ def test_cylinder_rocker_position_and_velocity():
     mech = rocker()
     assert mech.mobility() == 1 and mech.redundant_closure_equations() == 0
     for s in np.linspace(0.26, 0.44, 7):
-        q = mech.assemble({"s": s})
-        theta = q[mech.loop_solver().index["theta"]]
+        q = assemble(mech, {"s": s})
+        theta = q[loop_solver(mech).index["theta"]]
         assert theta == pytest.approx(rocker_angle(s), abs=1e-10)
         # lever arm e = dL/dθ, so θ̇ = ṡ / e for a unit cylinder speed
-        e = mechatron.linkages.lever_arm(mech, q, "P", "R", "O")
-        v = mech.velocity(q, {"s": 1.0})
-        assert v[mech.loop_solver().index["theta"]] == pytest.approx(1.0 / e, rel=1e-9)
+        e = mechatron.kinematics.lever_arm(mech, q, "P", "R", "O")
+        v = joint_velocity(mech, q, {"s": 1.0})
+        assert v[loop_solver(mech).index["theta"]] == pytest.approx(1.0 / e, rel=1e-9)
 
 
 def test_assembly_failures_name_inputs_and_residual():
     mech = rocker(stroke=(0.05, 0.9))
     with pytest.raises(UnreachableError, match=r"s = 0.95 is outside its range \[0.05, 0.9\]"):
-        mech.assemble({"s": 0.95})
+        assemble(mech, {"s": 0.95})
     # in stroke but longer than |OP| + |OR| = 0.712: the loop cannot close
     with pytest.raises(UnreachableError, match=r"cannot assemble at s = 0.8 .*closure residual"):
-        mech.assemble({"s": 0.8})
+        assemble(mech, {"s": 0.8})
     with pytest.raises(InputError, match="unknown actuated coordinate of rocker 'theta'"):
-        mech.assemble({"theta": 0.1})
+        assemble(mech, {"theta": 0.1})
 
 
 def test_sweep_marks_unreachable_samples_instead_of_nan_rows(tmp_path):
@@ -217,9 +225,9 @@ def test_singular_position_is_reported():
     # the crank-slider driven by its slider (xC) is singular at the dead centre (crank and rod aligned)
     mech = mechatron.load("crank_slider").with_actuated(["xC"])
     dead_centre = np.array([0.0, 0.0, 0.5])  # crank and rod along +x: an exact solution of the closure
-    assert np.abs(mech.loop_solver().system.evaluate(dead_centre)[0]).max() < 1e-15
+    assert np.abs(loop_solver(mech).system.evaluate(dead_centre)[0]).max() < 1e-15
     with pytest.raises(SingularityError, match="singular position"):
-        mech.velocity(dead_centre, {"xC": 1.0})
+        joint_velocity(mech, dead_centre, {"xC": 1.0})
 
 
 def test_branch_is_kept_and_chosen_by_guess():
@@ -228,19 +236,19 @@ def test_branch_is_kept_and_chosen_by_guess():
     assert (result.table["C_x"] > 0.29).all()  # the slider stays on the +x branch over a full crank turn
     # the other branch (slider at x = l1 cos q1 − √(…)) by name, and from a rough guess on that side
     left_x = 0.1 * math.cos(0.3) - math.sqrt(0.16 - 0.01 * math.sin(0.3) ** 2)
-    other = mech.assemble({"q1": 0.3}, branch="left")
-    assert mech.frame_placement(other, "C").translation[0] == pytest.approx(left_x, abs=1e-12)
+    other = assemble(mech, {"q1": 0.3}, branch="left")
+    assert frame_placement(mech, other, "C").translation[0] == pytest.approx(left_x, abs=1e-12)
     rough = other + 0.01
     rough[0] = 0.3
-    assert mech.frame_placement(mech.assemble({"q1": 0.3}, guess=rough), "C").translation[0] == pytest.approx(
+    assert frame_placement(mech, assemble(mech, {"q1": 0.3}, guess=rough), "C").translation[0] == pytest.approx(
         left_x, abs=1e-12)
     assert sweep(mech, samples=200, guess=mech.branches["left"]).table["C_x"].max() < -0.29
     with pytest.raises(InputError, match="unknown assembly branch of crank_slider 'up'"):
-        mech.assemble({"q1": 0.3}, branch="up")
+        assemble(mech, {"q1": 0.3}, branch="up")
 
 
 def test_mobility_and_redundancy_of_a_spatial_pin():
-    from mechatron.closures import Pin
+    from mechatron.model.closures import Pin
 
     mech = mechatron.load("crank_slider").with_closures([Pin("C=C_slider (3 rows)", a="C", b="C_slider",
                                                               planar=False)])
@@ -252,20 +260,20 @@ def test_sweep_velocity_and_acceleration_columns_agree_with_single_calls():
     result = sweep(mech, {"q1": np.linspace(0.0, 2 * math.pi, 50)}, rates={"q1": 3.0}, accelerations={"q1": -2.0},
                    links=["coulisse"])
     for row in result.table.itertuples():
-        q = mech.assemble({"q1": row.q1})
-        v = mech.velocity(q, {"q1": 3.0})
-        a = mech.acceleration(q, v, {"q1": -2.0})
-        assert row.B_vy == pytest.approx(mech.point_velocity(q, v, "B")[1], abs=1e-9)
-        assert row.coulisse_epsilon == pytest.approx(mech.angular_acceleration(q, v, a, "coulisse")[2], abs=1e-8)
+        q = assemble(mech, {"q1": row.q1})
+        v = joint_velocity(mech, q, {"q1": 3.0})
+        a = joint_acceleration(mech, q, v, {"q1": -2.0})
+        assert row.B_vy == pytest.approx(point_velocity(mech, q, v, "B")[1], abs=1e-9)
+        assert row.coulisse_epsilon == pytest.approx(angular_acceleration(mech, q, v, a, "coulisse")[2], abs=1e-8)
 
 
 def test_plans_and_sweep_plots(tmp_path):
-    from mechatron.plots import plot_plans, plot_sweep
+    from mechatron.kinematics.drawing import plot_plans, plot_sweep
 
     mech = mechatron.load("crank_slider")
-    q = mech.assemble({"q1": 0.5})
-    v = mech.velocity(q, {"q1": 10.0})
-    a = mech.acceleration(q, v)
+    q = assemble(mech, {"q1": 0.5})
+    v = joint_velocity(mech, q, {"q1": 10.0})
+    a = joint_acceleration(mech, q, v)
     assert plot_plans(mech, q, v, a, tmp_path / "plans.png").stat().st_size > 20_000
     result = sweep(rocker(), samples=30)
     assert plot_sweep(result, tmp_path / "rocker.png", curves=["mu"], trace="R").stat().st_size > 20_000

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron.motion import PROFILES, cycle, make_profile, move, read_trajectory
+from mechatron.dynamics.motion import PROFILES, cycle, make_profile, move, read_trajectory
 
 
 def derivatives(profile, n=200_001):

@@ -63,11 +63,11 @@ def test_example_robot_data_arms_load_from_disk():
     assert ur5.nq == 6 and panda.nq == 7  # the panda's fingers are locked
     assert "tool" in ur5.frame_names and "tool" in panda.frame_names
     # the UR5 tool0 frame at the zero pose: upper arm 0.425 m, forearm 0.39225 m along x, wrist offsets along y/z
-    np.testing.assert_allclose(mechatron.frame_position(ur5, np.zeros(6)), [0.81725, 0.19145, -0.005491], atol=1e-6)
+    np.testing.assert_allclose(mechatron.kinematics.frame_position(ur5, np.zeros(6)), [0.81725, 0.19145, -0.005491], atol=1e-6)
     # joint origins are named parameters and can be overridden
     assert ur5.parameters["elbow_joint_z"].value == pytest.approx(0.425)
     longer = mechatron.load("ur5", elbow_joint_z=0.5)
-    np.testing.assert_allclose(mechatron.frame_position(longer, np.zeros(6))[0], 0.81725 + 0.075, atol=1e-6)
+    np.testing.assert_allclose(mechatron.kinematics.frame_position(longer, np.zeros(6))[0], 0.81725 + 0.075, atol=1e-6)
 
 
 def test_load_urdf_by_path(tmp_path):

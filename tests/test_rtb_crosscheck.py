@@ -14,7 +14,8 @@ import pinocchio as pin
 import pytest
 
 import mechatron
-from mechatron.dh import DHLink, DHTable, Drive, Inertial, dh_mechanism
+from mechatron.kinematics.frames import frame_placement
+from mechatron.model.dh import DHLink, DHTable, Drive, Inertial, dh_mechanism
 
 rtb = pytest.importorskip("roboticstoolbox")  # a test dependency: pip install ".[test]"
 
@@ -46,9 +47,9 @@ def test_puma_kinematics_and_dynamics_at_random_states(puma_pair, rng):
     for _ in range(50):
         q = mech.random_configuration(rng)
         v, a = rng.normal(size=6), rng.normal(size=6)
-        np.testing.assert_allclose(mech.frame_placement(q, "tool").homogeneous, robot.fkine(q).A, atol=TOL)
+        np.testing.assert_allclose(frame_placement(mech, q, "tool").homogeneous, robot.fkine(q).A, atol=TOL)
         for i, frame in enumerate(robot.fkine_all(q)[1:], start=1):
-            np.testing.assert_allclose(mech.frame_placement(q, f"link{i}").homogeneous, frame.A, atol=TOL)
+            np.testing.assert_allclose(frame_placement(mech, q, f"link{i}").homogeneous, frame.A, atol=TOL)
         np.testing.assert_allclose(mechatron.frame_jacobian(mech, q), robot.jacob0(q), atol=TOL)
         np.testing.assert_allclose(mechatron.frame_jacobian(mech, q, reference="local"), robot.jacobe(q), atol=TOL)
         np.testing.assert_allclose(mass_matrix(mech, q), robot.inertia(q), atol=TOL)
@@ -77,7 +78,7 @@ def test_modified_dh_matches_toolbox_mdh(rng):
     for _ in range(20):
         q = mech.random_configuration(rng)
         v, a = rng.normal(size=5), rng.normal(size=5)
-        np.testing.assert_allclose(mech.frame_placement(q, "tool").homogeneous, robot.fkine(q).A, atol=TOL)
+        np.testing.assert_allclose(frame_placement(mech, q, "tool").homogeneous, robot.fkine(q).A, atol=TOL)
         np.testing.assert_allclose(mechatron.frame_jacobian(mech, q), robot.jacob0(q), atol=TOL)
         np.testing.assert_allclose(mass_matrix(mech, q), robot.inertia(q), atol=TOL)
         np.testing.assert_allclose(pin.rnea(mech.model, mech.data, q, v, a), robot.rne(q, v, a), atol=TOL)

@@ -15,6 +15,8 @@ import numpy as np
 import pytest
 
 import mechatron
+from mechatron.kinematics.frames import angular_velocity, frame_placement, point_velocity
+from mechatron.kinematics.loops import assemble, joint_velocity
 from mechatron.machines.seven_bar import SevenBarData, table2_comparison, table2_quantities
 
 MM = 1e-3
@@ -60,23 +62,23 @@ def test_structure_and_pins(mech):
                 "E": (132.25, 98.665787), "F": (560.453125, 71.535269), "H": (-381.288080, 867.651889),
                 "I": (13.010452, 650.790948)}
     for name, xy in expected.items():
-        np.testing.assert_allclose(mech.frame_placement(q, name).translation[:2] / MM, xy, atol=1e-5)
+        np.testing.assert_allclose(frame_placement(mech, q, name).translation[:2] / MM, xy, atol=1e-5)
     data = SevenBarData()
     for a, b, length in (("A", "B", data.l7), ("A", "C", data.l2), ("B", "C", data.l6), ("C", "D", data.l5),
                          ("C", "H", data.l3), ("H", "I", data.l4), ("A", "E", data.l8), ("E", "G", data.l9),
                          ("A", "F", data.l10), ("F", "G", data.l11), ("B", "F", data.s1_min),
                          ("D", "E", data.s2_min)):
-        assert mechatron.linkages.distance(mech, q, a, b) == pytest.approx(length, abs=1e-12)
+        assert mechatron.kinematics.distance(mech, q, a, b) == pytest.approx(length, abs=1e-12)
 
 
 def test_table2_velocity_of_C(mech):
     q = mech.reference_q
-    v = mech.velocity(q, {"s1": 0.005, "s2": 0.006})
+    v = joint_velocity(mech, q, {"s1": 0.005, "s2": 0.006})
     # V_C = V1 l2 / (l7 sin ∠ABF), eq. (3)-(4): 18.462 mm/s as printed
-    assert np.linalg.norm(mech.point_velocity(q, v, "C")) / MM == pytest.approx(18.461960, abs=1e-6)
-    assert round(np.linalg.norm(mech.point_velocity(q, v, "C")) / MM, 3) == 18.462
+    assert np.linalg.norm(point_velocity(mech, q, v, "C")) / MM == pytest.approx(18.461960, abs=1e-6)
+    assert round(np.linalg.norm(point_velocity(mech, q, v, "C")) / MM, 3) == 18.462
     # ω of the boom does not depend on the second cylinder
-    assert mech.angular_velocity(q, v, "ABC")[2] == pytest.approx(0.005 / (0.16 * math.sin(
+    assert angular_velocity(mech, q, v, "ABC")[2] == pytest.approx(0.005 / (0.16 * math.sin(
         law_of_cosines(160, 520, 565))), rel=1e-12)
 
 
@@ -102,17 +104,17 @@ def test_table2_comparison(mech):
 
 
 def test_two_input_velocity_against_finite_differences(mech):
-    q = mech.assemble({"s1": 0.6, "s2": 0.65})
+    q = assemble(mech, {"s1": 0.6, "s2": 0.65})
     h = 1e-6
     for rates in ({"s1": 1.0, "s2": 0.0}, {"s1": 0.0, "s2": 1.0}, {"s1": 0.005, "s2": 0.006}):
         step = {k: 0.6 + h * rates["s1"] if k == "s1" else 0.65 + h * rates["s2"] for k in rates}
         back = {k: 0.6 - h * rates["s1"] if k == "s1" else 0.65 - h * rates["s2"] for k in rates}
-        plus, minus = mech.assemble(step, q), mech.assemble(back, q)
-        np.testing.assert_allclose(mech.velocity(q, rates), (plus - minus) / (2 * h), atol=1e-8)
+        plus, minus = assemble(mech, step, q), assemble(mech, back, q)
+        np.testing.assert_allclose(joint_velocity(mech, q, rates), (plus - minus) / (2 * h), atol=1e-8)
 
 
 def test_sweep_both_cylinders(mech):
-    from mechatron.sweep import sweep
+    from mechatron.kinematics.sweep import sweep
 
     result = sweep(mech, samples=101)
     assert len(result.failures) == 0

@@ -13,7 +13,7 @@ import mechatron
 from mechatron.cli import main
 from mechatron.errors import InputError
 from mechatron.library import available_robots
-from mechatron.planar import GROUND, PlanarBuilder
+from mechatron.model.planar import GROUND, PlanarBuilder
 from mechatron.structure import formulas as F
 from mechatron.structure.analysis import analyse
 from mechatron.structure.description import pair_kind, read_structure, shipped_structures, structure_file

@@ -68,8 +68,8 @@ def articulated(l1, l2, l3, q, qd, qdd):
 
 
 def kinematics(mech, q, qd, qdd):
-    return (mechatron.frame_position(mech, q), mechatron.point_velocity(mech, q, qd),
-            mechatron.point_acceleration(mech, q, qd, qdd))
+    return (mechatron.kinematics.frame_position(mech, q), mechatron.kinematics.point_velocity(mech, q, qd),
+            mechatron.kinematics.point_acceleration(mech, q, qd, qdd))
 
 
 def test_E5_planar_2r_worked_values():
@@ -113,9 +113,9 @@ def test_planar_2r_closed_form(q, qd, qdd):
     for got, expected in zip(kinematics(mech, q, qd, qdd), planar_2r(0.5, 0.4, q, qd, qdd)):
         np.testing.assert_allclose(got, expected, atol=1e-12)
     # link angular velocities: Ω1 = q̇1 z, Ω2 = (q̇1 + q̇2) z (eq. 4.56)
-    omega = mechatron.link_angular_velocities(mech, q, qd)
+    omega = mechatron.kinematics.link_angular_velocities(mech, q, qd)
     np.testing.assert_allclose(omega, [[0, 0, qd[0]], [0, 0, qd[0] + qd[1]]], atol=1e-12)
-    eps = mechatron.link_angular_accelerations(mech, q, qd, qdd)
+    eps = mechatron.kinematics.link_angular_accelerations(mech, q, qd, qdd)
     np.testing.assert_allclose(eps, [[0, 0, qdd[0]], [0, 0, qdd[0] + qdd[1]]], atol=1e-12)
 
 
@@ -127,7 +127,7 @@ def test_cylindrical_closed_form(q, qd, qdd):
     for got, expected in zip(kinematics(mech, q, qd, qdd), cylindrical(0.3, q, qd, qdd)):
         np.testing.assert_allclose(got, expected, atol=1e-12)
     # both prismatic pairs carry the column's rotation only: σ2 = σ3 = 0 in eq. 4.56
-    omega = mechatron.link_angular_velocities(mech, q, qd)
+    omega = mechatron.kinematics.link_angular_velocities(mech, q, qd)
     np.testing.assert_allclose(omega, [[0, 0, qd[0]]] * 3, atol=1e-12)
 
 
@@ -148,8 +148,8 @@ def test_planar_3r_closed_form_and_jacobian_of_fig_8_4(rng):
         cum = np.cumsum(q)
         expected = [sum(l * math.cos(c) for l, c in zip(lengths, cum)),
                     sum(l * math.sin(c) for l, c in zip(lengths, cum)), 0.0]
-        np.testing.assert_allclose(mechatron.frame_position(mech, q), expected, atol=1e-13)
-        jac = mechatron.point_jacobian(mech, q)
+        np.testing.assert_allclose(mechatron.kinematics.frame_position(mech, q), expected, atol=1e-13)
+        jac = mechatron.kinematics.point_jacobian(mech, q)
         dx_dq = [-sum(l * math.sin(c) for l, c in zip(lengths[k:], cum[k:])) for k in range(3)]
         dy_dq = [sum(l * math.cos(c) for l, c in zip(lengths[k:], cum[k:])) for k in range(3)]
         np.testing.assert_allclose(jac[0], dx_dq, atol=1e-13)

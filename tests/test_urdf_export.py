@@ -10,8 +10,8 @@ from conftest import DH_ROBOTS, random_state
 
 import mechatron
 from mechatron.cli import main
-from mechatron.dh import DHLink, DHTable, Inertial, dh_mechanism
-from mechatron.urdf import export_urdf
+from mechatron.model.dh import DHLink, DHTable, Inertial, dh_mechanism
+from mechatron.model.urdf import export_urdf
 
 
 def reload_with_pinocchio(files):

@@ -28,7 +28,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import InputError, UnreachableError
-from ..model import Mechanism
+from ..kinematics.loops import loop_solver
+from ..model.mechanism import Mechanism
 from .sensitivity import PlacementDerivatives, _placements, placement_derivatives
 
 #: Parameters per placement up to which every factor order is tried.
@@ -149,16 +150,16 @@ def _joint_axis(joint) -> tuple[str, np.ndarray]:
 
 
 class PerturbedChain:
-    """The position of frame ``point`` of a serial mechanism for N samples of parameter errors (N, n_l) and
+    """The position of ``frame`` of a serial mechanism for N samples of parameter errors (N, n_l) and
     coordinate errors (N, nq) at one nominal configuration, vectorized over the samples: the point is carried from
     the frame back to the world through every factor (constant placement, parameter exponentials, joint motion),
     so only vectors are transformed."""
 
-    def __init__(self, mech: Mechanism, point: str, parameters: Sequence[str]) -> None:
+    def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
         if mech.closures:
             raise InputError(f"{mech.name} is a closed loop: use PerturbedLoop")
         self.mech = mech
-        self.fid = mech.frame_id(point)
+        self.fid = mech.frame_id(frame)
         self.derivatives = placement_derivatives(mech, parameters)
         self.order = factor_order(mech, self.derivatives) if len(parameters) else None
         model = mech.model
@@ -207,17 +208,17 @@ def _frame_factors(twists: np.ndarray, order: tuple[int, ...], dl: np.ndarray) -
 
 
 class PerturbedLoop:
-    """The position of frame ``point`` for one sample of errors at a time, with Pinocchio on a perturbed copy of the
+    """The position of ``frame`` for one sample of errors at a time, with Pinocchio on a perturbed copy of the
     model; closed loops are re-closed (Newton) with the actuated coordinates at their perturbed values."""
 
-    def __init__(self, mech: Mechanism, point: str, parameters: Sequence[str]) -> None:
+    def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
         self.mech = mech
         self.derivatives = placement_derivatives(mech, parameters)
         self.order = factor_order(mech, self.derivatives) if len(parameters) else None
         self.copy = replace(mech, model=pin.Model(mech.model))
-        self.fid = mech.frame_id(point)
+        self.fid = mech.frame_id(frame)
         self.nominal = _placements(mech.model)
-        self.solver = self.copy.loop_solver() if mech.closures else None
+        self.solver = loop_solver(self.copy) if mech.closures else None
         self.data = self.copy.model.createData()
 
     @property

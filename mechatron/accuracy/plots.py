@@ -9,7 +9,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..errors import InputError
-from ..plots import _save, output_directory
+from ..io.output import output_directory
+from ..io.output import save_figure as _save
 from .study import StudyResult
 
 
@@ -30,7 +31,7 @@ def error_map(result: StudyResult, path: str | Path, method: str | None = None) 
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
     fig.colorbar(points, ax=axes, label=f"|Δr| {method} (mm)")
-    axes[0].set_title(f"{result.mechanism}: positioning error of {result.point} over {len(table)} poses")
+    axes[0].set_title(f"{result.mechanism}: positioning error of {result.frame} over {len(table)} poses")
     _save(fig, Path(path))
     return Path(path)
 

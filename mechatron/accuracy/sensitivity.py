@@ -29,7 +29,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import InputError
-from ..model import Mechanism, unknown_name_error
+from ..kinematics.loops import loop_solver
+from ..model.mechanism import Mechanism, unknown_name_error
 
 LWA = pin.LOCAL_WORLD_ALIGNED
 
@@ -128,15 +129,15 @@ def resolve_coordinate(mech: Mechanism, name: str) -> str | None:
     return None
 
 
-def sensitivities(mech: Mechanism, q, point: str | None = None, parameters: Sequence[str] | None = None,
+def sensitivities(mech: Mechanism, q, frame: str | None = None, parameters: Sequence[str] | None = None,
                   coordinates: Sequence[str] | None = None) -> Sensitivities:
-    """∂r/∂l and ∂r/∂q of frame ``point`` (default the tool frame) at the configurations ``q`` ((nq,) or (N, nq),
+    """∂r/∂l and ∂r/∂q of ``frame`` (default the tool frame) at the configurations ``q`` ((nq,) or (N, nq),
     assembled ones for a closed loop), for ``parameters`` (default all) and ``coordinates`` (default every joint, or
     the actuated ones of a closed loop)."""
     Q = np.atleast_2d(np.asarray(q, dtype=float))
     if Q.shape[1] != mech.nq:
         raise InputError(f"configurations of {mech.name} need {mech.nq} values, got {Q.shape[1]}")
-    fid = mech.frame_id(point or mech.tool_frame)
+    fid = mech.frame_id(frame or mech.tool_frame)
     parameters = list(mech.parameters) if parameters is None else list(parameters)
     coordinates = coordinate_names(mech) if coordinates is None else list(coordinates)
     columns = [mech.model.joints[mech.joint_id(c)].idx_v for c in coordinates]
@@ -145,7 +146,7 @@ def sensitivities(mech: Mechanism, q, point: str | None = None, parameters: Sequ
     n_l = len(parameters)
     out = np.empty((len(Q), 3, n_l + len(coordinates)))
     positions = np.empty((len(Q), 3))
-    solver = mech.loop_solver() if mech.closures else None
+    solver = loop_solver(mech) if mech.closures else None
     for i, qi in enumerate(Q):
         J = pin.computeFrameJacobian(model, data, qi, fid, LWA)
         pin.updateFramePlacements(model, data)

@@ -27,8 +27,9 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..kinematics.loops import loop_solver
+from ..model.mechanism import Mechanism, unknown_name_error
 from ..units import UNITS
-from ..model import Mechanism, unknown_name_error
 from .sensitivity import coordinate_names, resolve_coordinate
 from .tables import tolerance_from_grade
 
@@ -233,7 +234,7 @@ def reference_pose(mech: Mechanism) -> np.ndarray:
     """One pose (1, n_c): the reference configuration's coordinates (a closed loop's actuated inputs), or the
     neutral configuration of a serial arm moved inside its limits."""
     if mech.closures:
-        solver = mech.loop_solver()
+        solver = loop_solver(mech)
         return np.asarray(mech.reference_q, dtype=float)[solver.act][None, :]
     q = np.asarray(mech.reference_q if mech.reference_q is not None else mech.neutral(), dtype=float)
     return np.clip(q, mech.model.lowerPositionLimit, mech.model.upperPositionLimit)[None, :]

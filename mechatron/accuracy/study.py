@@ -21,12 +21,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from ..errors import InputError, SingularityError, UnreachableError
-from ..model import Mechanism
+from ..kinematics.loops import assemble
+from ..model.mechanism import Mechanism
 from .nonlinear import PerturbedChain, PerturbedLoop, sample_positions
 from .sensitivity import Sensitivities, coordinate_names, sensitivities
 from .sources import ErrorSource
@@ -51,7 +53,7 @@ def configurations(mech: Mechanism, poses: np.ndarray, labels: Sequence[str] | N
     out, guess = np.empty((len(poses), mech.nq)), None
     for i, pose in enumerate(poses):
         try:
-            out[i] = guess = mech.assemble(dict(zip(names, pose)), guess=guess)
+            out[i] = guess = assemble(mech, dict(zip(names, pose)), guess=guess)
         except (UnreachableError, SingularityError) as exc:
             raise InputError(f"pose {labels[i]}: {exc}") from None
     return out
@@ -64,7 +66,7 @@ class StudyResult:
     averaged over the poses), the sensitivities, and the Monte Carlo samples of the critical pose (Δr, (N, 3))."""
 
     mechanism: str
-    point: str
+    frame: str
     methods: tuple[str, ...]
     k: float
     sources: list[ErrorSource]
@@ -112,7 +114,7 @@ def _columns(study_sources: Sequence[ErrorSource], sens: Sensitivities) -> np.nd
 
 
 def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray, labels: Sequence[str] | None = None,
-              *, point: str | None = None, methods: Sequence[str] = ("worst", "rss"), k: float = 3.0,
+              *, frame: str | None = None, methods: Sequence[str] = ("worst", "rss"), k: float = 3.0,
               samples: int = 10000, seed: int = 0, limit: float | None = None,
               progress: Callable[[int, int], None] | None = None) -> StudyResult:
     """Run the ``methods`` (of :data:`METHODS`) for the error ``sources`` at every pose (coordinate values, see
@@ -130,13 +132,13 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray
         raise InputError(f"the Monte Carlo needs at least 2 samples, got {samples}")
     if "given" in methods and any(s.error is None for s in sources):
         raise InputError("--method given needs an error for every source")
-    point = point or mech.tool_frame
+    frame = frame or mech.tool_frame
     poses = np.atleast_2d(np.asarray(poses, dtype=float))
     labels = list(labels) if labels is not None else [str(i + 1) for i in range(len(poses))]
     Q = configurations(mech, poses, labels)
     parameters = [s.name for s in sources if s.kind == "parameter"]
     coordinates = [s.name for s in sources if s.kind == "coordinate"]
-    sens = sensitivities(mech, Q, point, parameters, coordinates)
+    sens = sensitivities(mech, Q, frame, parameters, coordinates)
     J = _columns(sources, sens)  # (N, 3, n_e)
     t = np.array([s.tolerance for s in sources])
     sigma = np.array([s.sigma(k) for s in sources])
@@ -151,7 +153,7 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray
     if "given" in methods:
         error = np.array([s.error for s in sources])
         results["given"] = J @ error
-        exact = _nonlinear_given(mech, point, sources, Q, error)
+        exact = _nonlinear_given(mech, frame, sources, Q, error)
         table["dr_nonlinear_given"] = np.linalg.norm(exact - sens.positions, axis=1)
     if "worst" in methods:
         results["worst"] = shift + np.abs(J) @ t
@@ -165,7 +167,7 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray
     lead = next((m for m in methods if m in results), None)  # the critical pose: the main method's largest |Δr|
     critical = int(np.argmax(table[f"dr_{lead}"])) if lead else 0
     if "mc" in methods:
-        stats, mc_samples, mc_shares, critical = _monte_carlo(mech, point, sources, Q, sens.positions, samples, seed,
+        stats, mc_samples, mc_shares, critical = _monte_carlo(mech, frame, sources, Q, sens.positions, samples, seed,
                                                               k, limit, critical if lead else None, progress, notes)
         for column, values in stats.items():
             table[column] = values
@@ -181,16 +183,16 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray
     if mc_shares is not None:
         contributions["mc_share"] = mc_shares
     contributions = contributions.sort_values("variance_share", ascending=False, kind="stable").reset_index(drop=True)
-    return StudyResult(mech.name, point, methods, k, list(sources), table, contributions, sens, critical, mc_samples,
+    return StudyResult(mech.name, frame, methods, k, list(sources), table, contributions, sens, critical, mc_samples,
                        limit, notes)
 
 
-def _nonlinear_given(mech: Mechanism, point: str, sources: Sequence[ErrorSource], Q: np.ndarray,
+def _nonlinear_given(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: np.ndarray,
                      error: np.ndarray) -> np.ndarray:
     """Positions (N, 3) of the full model with the given errors at every pose."""
     parameters = [s.name for s in sources if s.kind == "parameter"]
     dl = np.array([e for s, e in zip(sources, error) if s.kind == "parameter"])
-    loop = PerturbedLoop(mech, point, parameters)
+    loop = PerturbedLoop(mech, frame, parameters)
     dq = _coordinate_errors(mech, sources, error[None, :])[0]
     out = np.empty((len(Q), 3))
     for i, q in enumerate(Q):
@@ -232,11 +234,11 @@ def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Gener
     return out
 
 
-def _monte_carlo(mech, point, sources, Q, nominal, samples, seed, k, limit, critical, progress, notes):
+def _monte_carlo(mech, frame, sources, Q, nominal, samples, seed, k, limit, critical, progress, notes):
     parameters = [j for j, s in enumerate(sources) if s.kind == "parameter"]
     names = [sources[j].name for j in parameters]
     serial = not mech.closures
-    evaluator = PerturbedChain(mech, point, names) if serial else PerturbedLoop(mech, point, names)
+    evaluator = PerturbedChain(mech, frame, names) if serial else PerturbedLoop(mech, frame, names)
     if not evaluator.exact:
         notes.append("some placements are not products of one-parameter exponentials: the Monte Carlo is exact "
                      "in the coordinates and to first order in those parameters")
@@ -295,3 +297,27 @@ def _variance_shares(delta: np.ndarray, errors: np.ndarray) -> np.ndarray:
     spread = centred.std(axis=0)
     part = ((beta * spread[:, None]) ** 2).sum(axis=1)
     return 100 * part / max(response.var(axis=0).sum(), 1e-300)
+
+
+def tolerance_study(mech: Mechanism, tolerances, poses=None, labels: Sequence[str] | None = None,
+                    **options) -> StudyResult:
+    """The positioning error of a point of ``mech`` from the tolerances of its parameters and joints
+    ([Egorov, chapter 8]): :func:`run_study` with its inputs read from files where paths are given.
+
+    Args:
+        tolerances: A list of :class:`~mechatron.accuracy.sources.ErrorSource` or a tolerances CSV path.
+        poses: Coordinate values (N, n_c) (rad, m), a poses CSV path, or ``None`` for the reference pose.
+        **options: Passed to :func:`run_study` (``frame``, ``methods``, ``k``, ``samples``, ``seed``, ``limit`` in m,
+            ``progress``).
+    """
+    from .sources import read_poses, read_tolerances, reference_pose
+
+    if isinstance(tolerances, (str, Path)):
+        need = "error" if "given" in options.get("methods", ()) else "tolerance"
+        tolerances = read_tolerances(tolerances, mech, need)
+    if poses is None:
+        poses, labels = reference_pose(mech), ["reference"]
+    elif isinstance(poses, (str, Path)):
+        poses, labels = read_poses(poses, mech)
+    return run_study(mech, tolerances, poses, labels, **options)
+

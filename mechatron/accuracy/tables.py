@@ -15,7 +15,7 @@ from functools import lru_cache
 import pandas as pd
 
 from ..errors import InputError
-from ..library import data_dir
+from ..io.data import data_dir
 
 LINEAR_FILE, ANGLE_FILE = "it_grades.csv", "angle_tolerances.csv"
 

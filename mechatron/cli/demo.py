@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kinematics import fk_and_jacobian, link_angular_velocities, point_acceleration, point_velocity
-from .library import load
+from ..kinematics.frames import fk_and_jacobian, link_angular_velocities, point_acceleration, point_velocity
+from ..library import load
 
 
 def _vec(x: np.ndarray, precision: int = 4) -> str:

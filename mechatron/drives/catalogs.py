@@ -15,7 +15,7 @@ from pathlib import Path
 import pandas as pd
 
 from ..errors import InputError
-from ..library import data_dir
+from ..io.data import data_dir
 from ..units import UNITS
 
 

@@ -82,7 +82,7 @@ def _load_factor(value, limit):
 def motor_side(duty: JointDuty, u, eta, inertia):
     """(n, a, b): motor speed u ω (rad/s), motor acceleration u ω̇ and the motor torque without the rotor,
     J_c u ω̇ + τ*/u (N·m); ``u``, ``eta``, ``inertia`` broadcast against the samples (give them as columns)."""
-    from ..dynamics import transmitted_torque
+    from .transmission import transmitted_torque
 
     load = transmitted_torque(duty.torque, duty.speed, u, eta)
     accel = u * duty.acceleration

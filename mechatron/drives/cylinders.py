@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..model import Cylinder
+from ..model.mechanism import Cylinder
 from .checks import PASS_TOLERANCE, Check, _load_factor
 from .duty import JointDuty
 

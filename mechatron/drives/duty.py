@@ -15,7 +15,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import InputError
-from ..model import Mechanism
+from ..kinematics.loops import loop_solver
+from ..model.mechanism import Mechanism
 
 
 @dataclass(frozen=True)
@@ -135,7 +136,7 @@ def joint_duties(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None =
         kinds = ["cylinder" if n in mech.cylinders else mech.joint_kind(n) for n in names]
         positions = np.asarray(trajectory.q, dtype=float)
     else:
-        from ..dynamics import inverse_dynamics, mass_matrix
+        from ..dynamics.tree import inverse_dynamics, mass_matrix
 
         Q = positions = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
         tau = inverse_dynamics(bare, Q, V, A, loads)
@@ -150,11 +151,12 @@ def joint_duties(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None =
 
 
 def _closed_loop(mech: Mechanism, trajectory, loads) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    from ..dynamics import actuator_forces, holding_forces, mass_matrix
+    from ..dynamics.trajectory import actuator_forces, holding_forces
+    from ..dynamics.tree import mass_matrix
 
     Q, forces = actuator_forces(mech, trajectory, loads)
     static = holding_forces(mech, Q, loads)
-    solver = mech.loop_solver()
+    solver = loop_solver(mech)
     inertia = np.zeros(len(mech.actuated))
     for q in Q[:: max(1, len(Q) // 50)]:
         S = solver.velocity_matrix(q)

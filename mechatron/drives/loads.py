@@ -4,14 +4,18 @@ drive data the motor torque and speed (:mod:`mechatron.drives.transmission`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..dynamics.trajectory import actuator_forces
 from ..dynamics.tree import inverse_dynamics
-from ..model import Mechanism
 from ..model.loads import Loads
+from ..model.mechanism import Mechanism
 from .transmission import motor_loads
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 
 @dataclass
@@ -20,8 +24,8 @@ class TrajectoryLoads:
     coordinate (``tau_<name>``), its power (``power_<name>``) and, for joints with drives, the motor torque and speed;
     ``summary`` per driven coordinate: peak and RMS force, peak speed, peak power, positive work."""
 
-    table: "pd.DataFrame"
-    summary: "pd.DataFrame"
+    table: pd.DataFrame
+    summary: pd.DataFrame
     names: list[str]
 
 

@@ -194,7 +194,7 @@ def rms_ratio_band(rotor_inertia: float, rated_torque: float, times: np.ndarray,
     if not duration > 0:
         raise InputError("the duty cycle must last longer than 0 s")
     speed = np.asarray(load_speed, dtype=float) if load_speed is not None else np.gradient(np.zeros_like(t), t)
-    from ..dynamics import transmitted_torque
+    from .transmission import transmitted_torque
 
     effective = transmitted_torque(torque, speed, 1.0, efficiency)  # T*: T/η or T·η by the direction of power
 

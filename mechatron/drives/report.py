@@ -11,7 +11,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..errors import InputError
-from ..plots import _save, output_directory
+from ..io.output import output_directory
+from ..io.output import save_figure as _save
 from .cylinders import CylinderSizing
 from .motor import continuous_torque, peak_torque_limit
 from .sizing import JointSizing, SizingResult

@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..model import Mechanism
+from ..model.mechanism import Mechanism
 from .checks import CHECKS, PASS_TOLERANCE, Check, Evaluation, evaluate, motor_side
 from .converters import Converters, converters_for
 from .duty import JointDuty, joint_duties
@@ -318,3 +318,32 @@ def _cylinder_passes(duty: JointDuty, spec, catalog: pd.DataFrame, pressure: flo
     from .cylinders import size_cylinder
 
     return lambda k: size_cylinder(duty.scaled(k), spec, catalog, pressure=pressure).feasible
+
+
+def size(mech: Mechanism, task=None, *, motors=None, gearboxes=None, linear=None, cylinders=None,
+         objective: str = "mass", **options) -> SizingResult:
+    """Choose the drive of every joint of ``mech`` (motor, gearbox and ratio; screw or rack; hydraulic cylinder) for
+    a task, with every check vendors run: :func:`size_mechanism` on a :class:`~mechatron.dynamics.task.Task`.
+
+    Args:
+        task: A :class:`~mechatron.dynamics.task.Task`, the path of a task file (TOML), or ``None`` for the
+            mechanism's default task (``robots/tasks/<name>.toml``, else a generic out-and-back move).
+        motors, gearboxes, linear, cylinders: Catalogs as DataFrames (:func:`~mechatron.drives.catalogs.read_catalog`)
+            or CSV paths; the example catalogs where left out.
+        objective: ``"mass"``, ``"cost"``, ``"margin"`` or ``"time"``.
+        **options: Passed to :func:`size_mechanism` (``inertia_ratio_max``, ``direct``, ``pressure`` in Pa,
+            ``chain_efficiency``, ``progress``).
+    """
+    from ..dynamics.task import Task, default_task, read_task
+    from .catalogs import read_catalog
+
+    if task is None:
+        task = default_task(mech)
+    elif not isinstance(task, Task):
+        task = read_task(task, mech)
+    catalogs = {kind: read_catalog(value, kind) if value is not None and not isinstance(value, pd.DataFrame)
+                else value for kind, value in (("motors", motors), ("gearboxes", gearboxes), ("linear", linear),
+                                               ("cylinders", cylinders))}
+    return size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=objective, loads=task.loads,
+                          task=task.name, **options)
+

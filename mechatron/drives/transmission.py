@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..model import Mechanism
+from ..model.mechanism import Mechanism
 
 
 @dataclass(frozen=True)

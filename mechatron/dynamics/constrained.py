@@ -29,9 +29,9 @@ import pinocchio as pin
 
 from ..errors import InputError
 from ..kinematics.loops import loop_solver
-from ..model import Mechanism
 from ..model.closures import Pin
 from ..model.loads import Load, Loads, as_loads
+from ..model.mechanism import Mechanism
 from .integrate import rk4_step, time_steps
 from .tree import generalized_forces, joint_space_inertia, transmitted_wrenches
 

@@ -20,8 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from ..kinematics.loops import joint_acceleration, joint_velocity
+from ..model.mechanism import Mechanism
 from . import constrained
-from .model import Mechanism
 
 
 @dataclass(frozen=True)
@@ -76,9 +77,9 @@ def kinetostatics(mech: Mechanism, q, rates: Mapping[str, float], accelerations:
     """Driving forces and reactions of ``mech`` at the assembled ``q`` moving with the input ``rates`` and
     ``accelerations`` (missing ones 0) under gravity and ``loads`` [(frame, world force[, world moment]), …]."""
     q = np.asarray(q, dtype=float)
-    v = mech.velocity(q, rates) if mech.closures else np.array([rates.get(n, 0.0) for n in mech.joint_names])
+    v = joint_velocity(mech, q, rates) if mech.closures else np.array([rates.get(n, 0.0) for n in mech.joint_names])
     if mech.closures:
-        a = mech.acceleration(q, v, accelerations or {})
+        a = joint_acceleration(mech, q, v, accelerations or {})
     else:
         a = np.array([(accelerations or {}).get(n, 0.0) for n in mech.joint_names])
     driving, lam = constrained.inverse(mech, q, v, a, loads)
@@ -95,7 +96,7 @@ def zhukovsky(mech: Mechanism, q, v, a, loads: Sequence[Sequence] | None = None)
     bodies = inertia_loads(mech, q, v, a)
     out = {}
     for name in mech.actuated:
-        unit = mech.velocity(q, {name: 1.0}) if mech.closures else \
+        unit = joint_velocity(mech, q, {name: 1.0}) if mech.closures else \
             np.eye(mech.nv)[mech.model.joints[mech.joint_id(name)].idx_v]
         pin.forwardKinematics(model, data, q, unit)
         power = 0.0

@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
-from .model import Mechanism
+from ..errors import InputError
+from ..model.mechanism import Mechanism
 
 PROFILES = ("triangular", "trapezoidal", "scurve", "quintic")
 

@@ -19,7 +19,7 @@ has −2 J_xy ω_x ω_y there (T = ½ ωᵀ J ω). mechatron uses Pinocchio's fu
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,8 +28,8 @@ import pinocchio as pin
 
 from ..errors import InputError
 from ..kinematics.loops import assemble, loop_solver
-from ..model import Mechanism
 from ..model.loads import Loads
+from ..model.mechanism import Mechanism
 from .constrained import Actuation, LoadsAt
 from .integrate import rk4_step, time_steps
 from .tree import generalized_forces, joint_space_inertia

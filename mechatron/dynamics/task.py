@@ -33,10 +33,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .model import Mechanism
+from ..errors import InputError
+from ..io.schema import FieldReader
+from ..kinematics.loops import loop_solver
+from ..model.mechanism import Mechanism
 from .motion import PROFILES, Trajectory, cycle, read_trajectory
-from .schema import FieldReader
 
 
 @dataclass
@@ -102,7 +103,7 @@ def _waypoints(reader: FieldReader, angular: np.ndarray) -> list[np.ndarray] | N
 
 def read_task(path: str | Path, mech: Mechanism) -> Task:
     """A task from a TOML file (see the module docstring) or a trajectory CSV, for ``mech``."""
-    from .robotfile import read_toml
+    from ..io.toml import read_toml
 
     path = Path(path)
     if path.suffix.lower() == ".csv":
@@ -117,7 +118,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
         raise reader.error("payload", "a payload is carried at the tool of a serial arm; give loads instead")
     loaded = mech
     if payload:
-        from .dynamics import with_payload
+        from ..model.payload import with_payload
 
         loaded = with_payload(mech, payload, com=com)
     loads = []
@@ -152,7 +153,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
 
 def task_file(mech: Mechanism) -> Path | None:
     """The default task file of a robot, ``robots/tasks/<name>.toml``, if there is one."""
-    from .library import data_dir
+    from ..io.data import data_dir
 
     path = data_dir("robots") / "tasks" / f"{mech.name}.toml"
     return path if path.is_file() else None
@@ -165,7 +166,7 @@ def generic_task(mech: Mechanism, dwell: float = 0.2, dt: float = 0.005) -> Task
     in 0.25 s, resting ``dwell`` s at each end."""
     names, angular = _coordinates(mech)
     if mech.closures:
-        solver = mech.loop_solver()
+        solver = loop_solver(mech)
         index = [solver.index[n] for n in names]
         start = np.asarray(mech.reference_q if mech.reference_q is not None else mech.neutral(), float)[index]
         lower, upper = mech.model.lowerPositionLimit[index], mech.model.upperPositionLimit[index]

@@ -11,8 +11,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..kinematics.sweep import sweep
-from ..model import Mechanism
 from ..model.loads import Loads
+from ..model.mechanism import Mechanism
 from .constrained import inverse
 
 
@@ -22,7 +22,7 @@ def closed_loop_states(mech: Mechanism, trajectory) -> tuple[np.ndarray, np.ndar
     inputs = {name: trajectory.q[:, i] for i, name in enumerate(mech.actuated)}
     rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}
     accels = {name: trajectory.a[:, i] for i, name in enumerate(mech.actuated)}
-    result = sweep(mech, inputs, rates=rates, accelerations=accels, points=[], measures=[])
+    result = sweep(mech, inputs, rates=rates, accelerations=accels, frames=[], measures=[])
     if len(result.failures):
         raise InputError(f"{mech.name}: the trajectory leaves the reachable range: "
                          f"{result.failures['reason'].iloc[0]}")

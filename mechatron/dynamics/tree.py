@@ -17,12 +17,12 @@ from collections.abc import Mapping
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..kinematics.frames import samples
-from ..model import Mechanism
 from ..model.loads import Loads, as_loads
+from ..model.mechanism import Mechanism
 
 
 def external_forces(mech: Mechanism, q: NDArray[np.float64], loads: Loads) -> list[pin.Force] | None:

@@ -16,8 +16,8 @@ import pinocchio as pin
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from .errors import InputError
-from .model import Mechanism
+from ..errors import InputError
+from ..model.mechanism import Mechanism
 
 _STYLE = {"link": dict(lw=2.0, marker="o", ms=4), "cylinder": dict(lw=5.0, solid_capstyle="round", alpha=0.6),
           "slider": dict(lw=0, marker="s", ms=9), "ground": dict(lw=1.0, ls="--")}
@@ -104,7 +104,7 @@ def plot_plans(mech: Mechanism, q: np.ndarray, v: np.ndarray, a: np.ndarray, pat
     Each point's absolute velocity is drawn from the pole p (its acceleration from the pole π); joining the tips of
     two points of one body gives their relative velocity (acceleration), e.g. v_CB = v_C − v_B.
     """
-    from .linkages import point_state
+    from .transfer import point_state
 
     points = list(points or mech.points)
     states = {p: point_state(mech, q, v, a, p) for p in points}

@@ -17,8 +17,8 @@ from typing import Literal
 import numpy as np
 import pinocchio as pin
 
-from .errors import InputError
-from .model import Mechanism
+from ..errors import InputError
+from ..model.mechanism import Mechanism
 
 Reference = Literal["world_aligned", "local", "world"]
 REFERENCES: dict[str, pin.ReferenceFrame] = {
@@ -56,12 +56,12 @@ def samples(mech: Mechanism, q, *rates) -> tuple[bool, np.ndarray, list[np.ndarr
     return single, Q, out
 
 
-def _point(point) -> np.ndarray | None:
-    if point is None:
+def _offset(offset) -> np.ndarray | None:
+    if offset is None:
         return None
-    p = np.asarray(point, dtype=float)
+    p = np.asarray(offset, dtype=float)
     if p.shape != (3,) or not np.all(np.isfinite(p)):
-        raise InputError(f"point must be 3 finite coordinates (m) in the frame, got {point!r}")
+        raise InputError(f"offset must be 3 finite coordinates (m) in the frame, got {offset!r}")
     return p
 
 
@@ -129,13 +129,13 @@ def frame_jacobian(mech: Mechanism, q, frame: str = "tool", reference: Reference
     return jacobians[0] if single else jacobians
 
 
-def point_jacobian(mech: Mechanism, q, frame: str = "tool", point=None) -> np.ndarray:
+def point_jacobian(mech: Mechanism, q, frame: str = "tool", offset=None) -> np.ndarray:
     """∂r/∂q (3×nv, world axes) of a point fixed to the body of ``frame`` (eq. 4.47).
 
     Args:
-        point: Coordinates (m) of the point in ``frame``; default the frame's origin.
+        offset: Coordinates (m) of the point in ``frame``; default the frame's origin.
     """
-    p = _point(point)
+    p = _offset(offset)
     single = np.ndim(q) == 1
     _, rotations, jacobians = fk_and_jacobian(mech, q, frame, "world_aligned")
     out = jacobians[:, :3, :].copy()
@@ -146,10 +146,10 @@ def point_jacobian(mech: Mechanism, q, frame: str = "tool", point=None) -> np.nd
 
 
 # ----------------------------------------------------------------------------------- velocities, accelerations
-def _frame_motion(mech: Mechanism, q, v, a, frame: str, point=None):
+def _frame_motion(mech: Mechanism, q, v, a, frame: str, offset=None):
     """World linear velocity of the point, angular velocity, and (if ``a`` is given) the point's classical linear
     acceleration and the angular acceleration of the body of ``frame``; each (N, 3)."""
-    p = _point(point)
+    p = _offset(offset)
     single, Q, rates = samples(mech, q, v) if a is None else samples(mech, q, v, a)
     fid = mech.frame_id(frame)
     model, data = mech.model, mech.data
@@ -176,20 +176,20 @@ def _frame_motion(mech: Mechanism, q, v, a, frame: str, point=None):
     return single, lin_v, ang_v, lin_a, ang_a
 
 
-def point_velocity(mech: Mechanism, q, v, frame: str = "tool", point=None) -> np.ndarray:
+def point_velocity(mech: Mechanism, q, v, frame: str = "tool", offset=None) -> np.ndarray:
     """Velocity (m/s, world) of a point of the body of ``frame``: v = J q̇ (eq. 4.47–4.48). (3,) or (N, 3).
 
     Args:
-        point: Coordinates (m) of the point in ``frame``; default the frame's origin.
+        offset: Coordinates (m) of the point in ``frame``; default the frame's origin.
     """
-    single, lin_v, *_ = _frame_motion(mech, q, v, None, frame, point)
+    single, lin_v, *_ = _frame_motion(mech, q, v, None, frame, offset)
     return lin_v[0] if single else lin_v
 
 
-def point_acceleration(mech: Mechanism, q, v, a, frame: str = "tool", point=None) -> np.ndarray:
+def point_acceleration(mech: Mechanism, q, v, a, frame: str = "tool", offset=None) -> np.ndarray:
     """Acceleration (m/s², world) of a point of the body of ``frame``: a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s
     (eq. 4.49–4.50), the classical (not spatial) acceleration. (3,) or (N, 3)."""
-    single, _, _, lin_a, _ = _frame_motion(mech, q, v, a, frame, point)
+    single, _, _, lin_a, _ = _frame_motion(mech, q, v, a, frame, offset)
     return lin_a[0] if single else lin_a
 
 

@@ -14,8 +14,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..model import Mechanism
-from ..model.mechanism import Measure
+from ..model.mechanism import Measure, Mechanism
 
 
 def point_positions(mech: Mechanism, q: ArrayLike, *frames: str) -> list[NDArray[np.float64]]:

@@ -17,14 +17,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError, SingularityError, UnreachableError
-from ..model import Mechanism
 from ..model.closures import ClosureSystem
-from ..model.mechanism import unknown_name_error
+from ..model.mechanism import Mechanism, unknown_name_error
 
 #: Newton stops when every closure residual is below this (m for positions, rad for angles).
 TOLERANCE = 1e-10

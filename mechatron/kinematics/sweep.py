@@ -18,8 +18,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError, MechatronError
-from ..model import Mechanism
-from ..model.mechanism import Measure
+from ..model.mechanism import Measure, Mechanism
 from .geometry import measure_values
 from .loops import SINGULAR_RATIO, LoopSolver, loop_solver
 

@@ -15,7 +15,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import InputError
-from ..model import Mechanism
+from ..model.mechanism import Mechanism
 from .frames import angular_acceleration, angular_velocity, frame_placement
 from .loops import loop_solver
 

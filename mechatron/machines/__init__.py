@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..model import Mechanism
+from ..model.mechanism import Mechanism
 from . import bucket, excavator, grab, seven_bar, textbook
 
 

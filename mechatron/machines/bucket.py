@@ -29,8 +29,9 @@ import casadi as ca
 import numpy as np
 
 from ..errors import InputError
-from ..model import Mechanism, Parameter
-from ..planar import GROUND, PlanarBuilder
+from ..kinematics.loops import assemble, loop_solver
+from ..model.mechanism import Mechanism, Parameter
+from ..model.planar import GROUND, PlanarBuilder
 
 DEG = math.pi / 180
 #: Standard cylinder strokes (mm), an R20-type series (GOST 6540 style), for "a standard stroke from a maker's
@@ -260,8 +261,8 @@ def build(linkage: BucketLinkage | None = None) -> Mechanism:
                                f"{lk.turn / DEG:.4g}°, c = {lk.c:.4f} m, L2 = {lk.L2:.4f} m)",
                    input_rates={"L1": 0.1},
                    notes=["seed 000; geometry reconstructed from the loop equations (8); masses illustrative"])
-    final = mech.assemble({"L1": lk.L1n + lk.stroke})
-    reached = final[mech.loop_solver().index["phi4"]] - mech.reference_q[mech.loop_solver().index["phi4"]]
+    final = assemble(mech, {"L1": lk.L1n + lk.stroke})
+    reached = final[loop_solver(mech).index["phi4"]] - mech.reference_q[loop_solver(mech).index["phi4"]]
     if abs(reached - lk.turn) > 1e-8:
         raise InputError(f"six-bar bucket: the synthesized mechanism turns the bucket by {reached / DEG:.4g}°, not "
                          f"{lk.turn / DEG:.4g}°: the root lies on another assembly branch")

@@ -27,12 +27,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
-from ..model import Mechanism, Parameter
-from ..planar import GROUND, PlanarBuilder
+from ..kinematics.frames import frame_placement, point_velocity
+from ..kinematics.loops import assemble, joint_velocity
+from ..model.mechanism import Mechanism, Parameter
+from ..model.planar import GROUND, PlanarBuilder
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 DEG = math.pi / 180
 
@@ -350,7 +356,7 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
 
 def joint_angles(mech: Mechanism, q: np.ndarray) -> tuple[float, float, float]:
     """The report's (θ1, θ2, θ3) of an assembled configuration (rad)."""
-    from ..linkages import point_positions
+    from ..kinematics.geometry import point_positions
 
     C, F, Q, V = point_positions(mech, q, "C", "F", "Q", "V")
     a_cf = math.atan2(*(F - C)[::-1])
@@ -407,7 +413,7 @@ class WorkingRange:
 def working_range(mech: Mechanism, samples: int = 41, progress=None) -> WorkingRange:
     """Sweep all three cylinder strokes: each face of the stroke box on a ``samples`` × ``samples`` grid (a
     serpentine path, so that every sample continues from its neighbour) and every edge as an arc."""
-    from ..sweep import sweep
+    from ..kinematics.sweep import sweep
 
     names = list(mech.cylinders)
     strokes = {n: np.linspace(*mech.cylinders[n].stroke, samples) for n in names}
@@ -424,8 +430,8 @@ def working_range(mech: Mechanism, samples: int = 41, progress=None) -> WorkingR
     faces, arcs, failures = [], [], 0
     q = mech.reference_q
     for k, (kind, inputs) in enumerate(runs):
-        q = mech.assemble({n: float(v[0]) for n, v in inputs.items()}, guess=q)  # continue from the last run
-        result = sweep(mech, inputs, points=["V"], measures=[], guess=q)
+        q = assemble(mech, {n: float(v[0]) for n, v in inputs.items()}, guess=q)  # continue from the last run
+        result = sweep(mech, inputs, frames=["V"], measures=[], guess=q)
         failures += len(result.failures)
         tips = np.full((len(inputs[names[0]]), 2), np.nan)
         tips[result.table["sample"].to_numpy()] = result.table[["V_x", "V_y"]].to_numpy()
@@ -450,7 +456,8 @@ def plot_working_range(mech: Mechanism, working: WorkingRange, shovel: FrontShov
 
     from matplotlib.figure import Figure
 
-    from ..plots import _save, draw_mechanism
+    from ..io.output import save_figure as _save
+    from ..kinematics.drawing import draw_mechanism
 
     fig = Figure(figsize=(8, 7), layout="constrained")
     ax = fig.subplots()
@@ -459,8 +466,8 @@ def plot_working_range(mech: Mechanism, working: WorkingRange, shovel: FrontShov
     for i, arc in enumerate(working.arcs):
         ax.plot(arc[:, 0], arc[:, 1], color="tab:blue", lw=1, label="two cylinders at a limit" if i == 0 else None)
     for name, angles in special_positions(shovel).items():
-        q = mech.assemble(shovel.cylinder_lengths(*angles))
-        tip = mech.frame_placement(q, "V").translation
+        q = assemble(mech, shovel.cylinder_lengths(*angles))
+        tip = frame_placement(mech, q, "V").translation
         ax.plot(tip[0], tip[1], "o", color="tab:red")
         ax.annotate(name.replace("_", " "), tip[:2], textcoords="offset points", xytext=(5, 5), fontsize=8)
     draw_mechanism(mech, mech.reference_q, ax, labels=True)
@@ -595,8 +602,8 @@ def tool_forces(mech: Mechanism, q: np.ndarray, cylinders: dict[str, CylinderSpe
     cylinders = cylinders or DEFAULT_CYLINDERS
     out = {}
     for name, (cylinder, pivot) in TOOL_FORCES.items():
-        v = mech.velocity(q, {cylinder: 1.0})
-        lip_speed = float(np.linalg.norm(mech.point_velocity(q, v, "V")[:2]))
+        v = joint_velocity(mech, q, {cylinder: 1.0})
+        lip_speed = float(np.linalg.norm(point_velocity(mech, q, v, "V")[:2]))
         spec = cylinders[cylinder]
         out[name] = {"cylinder": cylinder, "pivot": pivot,
                      "extending": spec.force(pressure, True) / lip_speed,
@@ -605,19 +612,19 @@ def tool_forces(mech: Mechanism, q: np.ndarray, cylinders: dict[str, CylinderSpe
 
 
 def cylinder_loads(mech: Mechanism, configurations: np.ndarray, tooth_force: tuple[float, float] = (0.0, 0.0),
-                   cylinders: dict[str, CylinderSpec] | None = None) -> "pd.DataFrame":
+                   cylinders: dict[str, CylinderSpec] | None = None) -> pd.DataFrame:
     """Static cylinder forces (N, > 0 pushing) and pressures (Pa) holding the front shovel at each configuration
     against gravity and a force on the tooth tip V (world N): from the closed-loop inverse dynamics at rest."""
     import pandas as pd
 
-    from ..constrained import inverse
+    from ..dynamics.constrained import inverse
 
     cylinders = cylinders or DEFAULT_CYLINDERS
     rows = []
     zero = np.zeros(mech.nv)
     for q in configurations:
         forces, _ = inverse(mech, q, zero, zero, loads=[("V", [tooth_force[0], tooth_force[1], 0.0])])
-        tip = mech.frame_placement(q, "V").translation
+        tip = frame_placement(mech, q, "V").translation
         row = {"V_x": tip[0], "V_y": tip[1]}
         for name, force in forces.items():
             row[f"{name}_force"] = force

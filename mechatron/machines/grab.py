@@ -28,8 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..model import Mechanism, Parameter
-from ..planar import GROUND, PlanarBuilder
+from ..model.mechanism import Mechanism, Parameter
+from ..model.planar import GROUND, PlanarBuilder
 
 
 @dataclass(frozen=True)
@@ -327,7 +327,7 @@ def plot_scooping(result: dict, geometry: GrabGeometry, path) -> object:
 
     from matplotlib.figure import Figure
 
-    from ..plots import _save
+    from ..io.output import save_figure as _save
 
     model = PaperModel(geometry, ScoopingLoads())
     tips = np.array([model.tip(X, Xd)[0] for X, Xd in zip(result["X"], result["Xd"])])

@@ -25,8 +25,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..model import Mechanism, Parameter
-from ..planar import GROUND, PlanarBuilder
+from ..kinematics.frames import angular_velocity, frame_placement, point_velocity
+from ..kinematics.loops import joint_velocity
+from ..model.mechanism import Mechanism, Parameter
+from ..model.planar import GROUND, PlanarBuilder
 
 MM = 1e-3
 
@@ -129,15 +131,15 @@ def table2_quantities(mech: Mechanism, v1: float, v2: float) -> dict[str, float]
     """Table 2's quantities at t = 0 (s1 = s1min, s2 = s2min) for the cylinder speeds v1, v2 (m/s), in the paper's
     units (mm/s, deg, rad/s): β1 is the angle between v_D and the cylinder axis E→D, β2 between v_H and v_C."""
     q = mech.reference_q
-    v = mech.velocity(q, {"s1": v1, "s2": v2})
-    vel = {p: mech.point_velocity(q, v, p)[:2] for p in ("C", "D", "H")}
-    axis = mech.frame_placement(q, "D").translation[:2] - mech.frame_placement(q, "E").translation[:2]
+    v = joint_velocity(mech, q, {"s1": v1, "s2": v2})
+    vel = {p: point_velocity(mech, q, v, p)[:2] for p in ("C", "D", "H")}
+    axis = frame_placement(mech, q, "D").translation[:2] - frame_placement(mech, q, "E").translation[:2]
 
     def angle(a: np.ndarray, b: np.ndarray) -> float:
         return math.degrees(math.acos(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1.0, 1.0)))
 
     return {"V_C": float(np.linalg.norm(vel["C"])) / MM, "V_D": float(np.linalg.norm(vel["D"])) / MM,
-            "beta1_deg": angle(vel["D"], axis), "omega_CD": float(mech.angular_velocity(q, v, "CD")[2]),
+            "beta1_deg": angle(vel["D"], axis), "omega_CD": float(angular_velocity(mech, q, v, "CD")[2]),
             "V_H": float(np.linalg.norm(vel["H"])) / MM, "beta2_deg": angle(vel["H"], vel["C"])}
 
 

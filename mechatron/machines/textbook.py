@@ -12,8 +12,8 @@ import math
 import numpy as np
 
 from ..errors import InputError
-from ..model import Mechanism, Parameter
-from ..planar import GROUND, PlanarBuilder
+from ..model.mechanism import Mechanism, Parameter
+from ..model.planar import GROUND, PlanarBuilder
 
 
 def _check_positive(name: str, **values: float) -> None:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .errors import InputError
+from ..errors import InputError
 
 
 def efficiency_from_work(driving_work: float, lost_work: float) -> float:

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
-from .model import Mechanism
+from ..errors import InputError
+from ..model.mechanism import Mechanism
 
 G = 9.81
 
@@ -177,14 +177,15 @@ def friction_losses(mech: Mechanism, trajectory, pairs: Mapping[str, PairFrictio
     joints of a serial arm, the actuated coordinates of a closed loop)."""
     import pinocchio as pin
 
-    from .dynamics import closed_loop_states, inverse_dynamics, joint_wrenches
+    from ..dynamics.trajectory import closed_loop_states
+    from ..dynamics.tree import inverse_dynamics, joint_wrenches
 
     model = mech.model
     data = model.createData()
     t = np.asarray(trajectory.t, dtype=float)
     pins: list[dict[str, np.ndarray]] = []
     if mech.closures:
-        from .constrained import inverse, reactions
+        from ..dynamics.constrained import inverse, reactions
 
         Q, V, A = closed_loop_states(mech, trajectory)
         wrenches, forces = [], []

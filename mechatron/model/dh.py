@@ -37,8 +37,8 @@ import numpy as np
 import pandas as pd
 import pinocchio as pin
 
-from .errors import InputError
-from .model import Mechanism, Parameter
+from ..errors import InputError
+from .mechanism import Mechanism, Parameter
 
 JointKind = Literal["revolute", "prismatic"]
 Convention = Literal["standard", "modified"]

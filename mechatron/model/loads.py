@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any, Union
+from typing import Any
 
 import numpy as np
 
@@ -40,9 +40,9 @@ class Load:
         object.__setattr__(self, "moment", values[1])
 
 
-LoadLike = Union[Load, tuple]
+LoadLike = Load | tuple
 #: What every ``loads`` argument takes: loads, or (frame, force[, moment]) tuples read as loads.
-Loads = Union[Iterable[LoadLike], None]
+Loads = Iterable[LoadLike] | None
 
 
 def as_loads(loads: Loads) -> tuple[Load, ...]:

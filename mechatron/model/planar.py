@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from ..errors import InputError
 from .closures import Closure, OnCurve, Pin, Slider
-from .errors import InputError
-from .model import Cylinder, Measure, Mechanism, Parameter, SketchLine
+from .mechanism import Cylinder, Measure, Mechanism, Parameter, SketchLine
 
 GROUND = "ground"
 Point2 = Sequence[float]
@@ -275,9 +275,9 @@ class PlanarBuilder:
             cylinders=dict(self.cylinders), branches=dict(branches or {}),
         )
         if check and mech.closures:
-            residual, _ = mech.loop_solver().system.evaluate(mech.reference_q)
+            residual, _ = mech.closure_system().evaluate(mech.reference_q)
             if np.abs(residual).max() > 1e-9:
-                labels = mech.loop_solver().system.row_labels()
+                labels = mech.closure_system().row_labels()
                 worst = int(np.argmax(np.abs(residual)))
                 raise InputError(f"{self.name}: the drawing does not close: residual {residual[worst]:.3g} at "
                                  f"{labels[worst]}")

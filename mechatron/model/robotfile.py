@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
+from ..io.schema import REQUIRED, FieldReader
+from ..io.toml import read_toml
 from .dh import CONVENTIONS, JOINT_KINDS, DHLink, DHTable, Drive, Inertial, dh_mechanism, placement_matrix
-from .errors import InputError
-from .model import Mechanism
-from .schema import REQUIRED, FieldReader
-
+from .mechanism import Mechanism
 
 
 @dataclass(frozen=True)

@@ -22,9 +22,9 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 import pinocchio as pin
 
+from ..errors import InputError
 from .dh import Drive
-from .errors import InputError
-from .model import Mechanism, Parameter, find_frame
+from .mechanism import Mechanism, Parameter, find_frame
 
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 _AXIS_NAMES = ("x", "y", "z")

@@ -11,8 +11,10 @@ S of 3.12; the per-loop S_j = 3 of 3.14), so (3.2) gives W − 3K and (3.16) giv
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
-from ..model import Mechanism
+from ..errors import InputError
+from ..model.mechanism import Mechanism
 from . import formulas as F
 from .description import StructuralDescription, from_mechanism
 from .groups import Decomposition, decompose
@@ -166,3 +168,19 @@ def text_report(report: StructureReport) -> str:
     for note in report.notes:
         lines.append(f"note: {note}")
     return "\n".join(lines)
+
+
+def analyse_structure(subject) -> StructureReport:
+    """The structural analysis ([Egorov, chapter 3]) of a :class:`~mechatron.model.Mechanism`, a
+    :class:`~mechatron.structure.description.StructuralDescription`, or a description file given by path or by the
+    name of a shipped case (``gripper_3_12a``)."""
+    from .description import read_structure, structure_file
+
+    if isinstance(subject, (str, Path)):
+        path = structure_file(str(subject))
+        if path is None:
+            raise InputError(f"{subject}: not a structural description file (a TOML file with [[pairs]]) nor a "
+                             "shipped case")
+        subject = read_structure(path)
+    return analyse(subject)
+

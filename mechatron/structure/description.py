@@ -31,8 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..model import Mechanism
-from ..schema import FieldReader
+from ..io.schema import FieldReader
+from ..model.mechanism import Mechanism
 
 
 @dataclass(frozen=True)
@@ -169,7 +169,7 @@ class StructuralDescription:
 # ------------------------------------------------------------------------------------------------ files
 def read_structure(path: str | Path) -> StructuralDescription:
     """A structural description from a TOML file (format in the module docstring)."""
-    from ..robotfile import read_toml
+    from ..io.toml import read_toml
 
     path = Path(path)
     top = FieldReader(read_toml(path), file=path)
@@ -247,7 +247,7 @@ def _joint_pair(mech: Mechanism, joint: int) -> tuple[int, str | None]:
 
 
 def _closure_pair(closure) -> tuple[int, str]:
-    from ..closures import Gear, OnCurve, Pin, Slider
+    from ..model.closures import Gear, OnCurve, Pin, Slider
 
     if isinstance(closure, Pin):
         return (5, "R") if closure.planar else (3, "S")
@@ -297,7 +297,7 @@ def from_mechanism(mech: Mechanism) -> StructuralDescription:
 
 
 def _closure_joints(mech: Mechanism, closure) -> tuple[int, int]:
-    from ..closures import Gear
+    from ..model.closures import Gear
 
     frames = (closure.a, closure.b) if isinstance(closure, Gear) else tuple(closure.frames)
     joints = [mech.model.frames[mech.frame_id(f)].parentJoint for f in frames]
@@ -329,8 +329,8 @@ def _planar_chain(mech: Mechanism) -> bool:
 def structure_file(name: str) -> Path | None:
     """A structural description file: ``name`` itself if it is a TOML file with [[pairs]], or one of the textbook's
     cases shipped in ``robots/structures/`` by its stem (``ice_3_10a``)."""
-    from ..library import data_dir
-    from ..robotfile import read_toml
+    from ..io.data import data_dir
+    from ..io.toml import read_toml
 
     path = Path(name)
     if path.suffix == ".toml" and path.is_file():
@@ -341,6 +341,6 @@ def structure_file(name: str) -> Path | None:
 
 def shipped_structures() -> list[str]:
     """The textbook's structural cases shipped in ``robots/structures/``."""
-    from ..library import data_dir
+    from ..io.data import data_dir
 
     return sorted(p.stem for p in (data_dir("robots") / "structures").glob("*.toml"))

@@ -1,0 +1,115 @@
+"""Parsing helpers shared by the commands: values, configurations, outputs, the common options."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import re
+import sys
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+import numpy as np
+
+from ..errors import InputError
+from ..library import load
+from ..model import Mechanism
+
+_NEGATIVE_VALUE = re.compile(r"^-\.?\d")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr and exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+def _floats(text: str, what: str) -> np.ndarray:
+    try:
+        values = np.array([float(x) for x in text.replace(" ", "").split(",") if x != ""])
+    except ValueError:
+        raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
+    if not np.all(np.isfinite(values)):
+        raise InputError(f"{what} must be finite numbers, got {text!r}")
+    return values
+
+def parse_assignments(items: Sequence[str] | None) -> dict[str, float]:
+    """``["a2=0.5,d3=0.1", ...]`` → {"a2": 0.5, "d3": 0.1} (values in SI units)."""
+    out: dict[str, float] = {}
+    for item in items or ():
+        for part in filter(None, item.split(",")):
+            name, sep, value = part.partition("=")
+            if not sep or not name.strip():
+                raise InputError(f"--set expects NAME=VALUE[,NAME=VALUE...], got {part!r}")
+            try:
+                out[name.strip()] = float(value)
+            except ValueError:
+                raise InputError(f"--set {name.strip()}: value must be a number, got {value!r}") from None
+    return out
+
+def _load(args: argparse.Namespace) -> Mechanism:
+    return load(args.robot, **parse_assignments(args.set))
+
+def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
+    q = _floats(text, "--q")
+    if q.shape != (mech.nq,):
+        raise InputError(f"--q needs {mech.nq} values for {mech.name} ({', '.join(mech.joint_names)}), got {len(q)}")
+    if degrees:
+        q = np.where(_revolute_mask(mech), np.radians(q), q)
+    for message in mech.limit_violations(q):
+        print(f"mechatron: warning: {message}", file=sys.stderr)
+    return q
+
+def _revolute_mask(mech: Mechanism) -> np.ndarray:
+    return np.array([mech.joint_kind(j) == "revolute" for j in range(1, mech.model.njoints)])
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+def _print_json(obj: Any) -> None:
+    print(json.dumps(obj, indent=2, allow_nan=False))
+
+def _write_table(table, path) -> str:
+    """Write a DataFrame as CSV; an error naming the file if it cannot be written."""
+    from pathlib import Path
+
+    try:
+        table.to_csv(path, index=False, float_format="%.10g")
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
+    return str(Path(path))
+
+def _matrix_text(matrix: np.ndarray, rows: Sequence[str], cols: Sequence[str], fmt: str = "{:>11.5f}") -> str:
+    width = max(11, *(len(c) for c in cols))
+    head = " " * 6 + "".join(f"{c:>{width}}" for c in cols)
+    lines = [head] + [f"{r:<6}" + "".join(f"{fmt.format(x):>{width}}" for x in row) for r, row in zip(rows, matrix)]
+    return "\n".join(lines)
+
+def _robot_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("robot", help="robot name (see 'mechatron list') or a .toml/.urdf file")
+    parser.add_argument("--set", action="append", metavar="NAME=VALUE,...",
+                        help="override geometric parameters (SI units: m, rad), e.g. --set a2=0.45,d4=0.43")
+    parser.add_argument("--json", action="store_true", help="print machine-readable JSON")
+
+def _pose_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--q", required=True, metavar="Q1,Q2,...",
+                        help="joint coordinates, comma-separated (rad and m; see --deg)")
+    parser.add_argument("--deg", action="store_true", help="revolute joint values of --q are in degrees")
+    parser.add_argument("--frame", help="frame name (default: tool)")
+
+def _join_negative_values(argv: Sequence[str]) -> list[str]:
+    """Let ``--q -0.5,1`` mean ``--q=-0.5,1`` (argparse would take -0.5,1 for an option)."""
+    out: list[str] = []
+    items = list(argv)
+    i = 0
+    while i < len(items):
+        token = items[i]
+        if (token.startswith("--") and "=" not in token and i + 1 < len(items)
+                and _NEGATIVE_VALUE.match(items[i + 1])):
+            out.append(f"{token}={items[i + 1]}")
+            i += 2
+            continue
+        out.append(token)
+        i += 1
+    return out

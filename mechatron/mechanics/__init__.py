@@ -1,0 +1,1 @@
+"""Friction, wear, life and efficiency of kinematic pairs and drives ([Egorov, chapter 7])."""
