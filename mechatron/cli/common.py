@@ -8,13 +8,16 @@ import math
 import re
 import sys
 from collections.abc import Sequence
-from typing import Any, NoReturn
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
 from ..errors import InputError
-from ..library import load
-from ..model import Mechanism
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..model import Mechanism
+    from ..report.result import Result
 
 _NEGATIVE_VALUE = re.compile(r"^-\.?\d")
 
@@ -49,6 +52,8 @@ def parse_assignments(items: Sequence[str] | None) -> dict[str, float]:
     return out
 
 def _load(args: argparse.Namespace) -> Mechanism:
+    from ..library import load
+
     return load(args.robot, **parse_assignments(args.set))
 
 def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
@@ -72,8 +77,6 @@ def _print_json(obj: Any) -> None:
 
 def _write_table(table, path) -> str:
     """Write a DataFrame as CSV; an error naming the file if it cannot be written."""
-    from pathlib import Path
-
     try:
         table.to_csv(path, index=False, float_format="%.10g")
     except OSError as exc:
@@ -113,3 +116,35 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
         out.append(token)
         i += 1
     return out
+
+
+# ------------------------------------------------------------------------------------------- result outputs
+def add_output_options(parser: argparse.ArgumentParser, *, csv: bool = True, plot: bool = True) -> None:
+    """The options every analysis command has: ``--json`` (and ``--csv FILE``, ``--plot FILE``), which are exactly
+    the result's ``as_dict``, ``to_frame`` and ``plot``."""
+    if not any(action.dest == "json" for action in parser._actions):
+        parser.add_argument("--json", action="store_true", help="print the result as JSON")
+    if csv:
+        parser.add_argument("--csv", metavar="FILE", help="write the result's table (CSV)")
+    if plot:
+        parser.add_argument("--plot", metavar="FILE", help="write the result's chart (.png, .pdf or .svg)")
+
+
+def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path] = ()) -> None:
+    """Write ``--csv`` (``result.to_frame()``) and ``--plot`` (``result.plot()``) if asked, then print ``--json``
+    (``result.as_dict()``) or the text report (``str(result)``). The files written are listed after the report, or
+    on stderr with ``--json`` (so that stdout stays one JSON document)."""
+    files = [str(path) for path in written]
+    if getattr(args, "csv", None):
+        files.append(str(result.write_csv(args.csv)))
+    if getattr(args, "plot", None):
+        files.append(str(result.save_plot(args.plot)))
+    if getattr(args, "json", False):
+        print(result.to_json())
+        stream = sys.stderr
+    else:
+        print(result)
+        stream = sys.stdout
+    for path in files:
+        print(f"wrote {path}", file=stream)
+

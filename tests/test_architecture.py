@@ -1,0 +1,146 @@
+"""The package's architecture: folders are layers that import only downward, with no import cycle, and every
+module imports on its own."""
+
+from __future__ import annotations
+
+import ast
+import importlib
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "mechatron"
+
+#: Layers from the bottom; a module may import from its own layer's package or from lower layers.
+LAYERS = [
+    ("errors", "units", "_exports"),
+    ("io",),
+    ("report",),
+    ("model",),
+    ("kinematics",),
+    ("dynamics",),
+    ("mechanics", "structure"),
+    ("drives", "accuracy"),
+    ("machines",),
+    ("library",),
+    ("cli",),
+    ("__main__",),
+]
+RANK = {name: rank for rank, names in enumerate(LAYERS) for name in names}
+
+
+def modules() -> dict[str, Path]:
+    out = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        out[name] = path
+    return out
+
+
+def _runtime_nodes(tree: ast.AST):
+    """Every node of ``tree`` except those under ``if TYPE_CHECKING:`` (imports for annotations only)."""
+    for node in ast.iter_child_nodes(tree):
+        if isinstance(node, ast.If) and getattr(node.test, "id", None) == "TYPE_CHECKING":
+            yield from (n for child in node.orelse for n in [child, *_runtime_nodes(child)])
+            continue
+        yield node
+        yield from _runtime_nodes(node)
+
+
+def imported(name: str, path: Path) -> set[str]:
+    """Every mechatron module ``name`` imports when it runs, at the top or inside functions."""
+    is_package = path.name == "__init__.py"
+    package = name if is_package else name.rsplit(".", 1)[0]
+    out = set()
+    for node in _runtime_nodes(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.startswith("mechatron"):
+                out.add(target)
+                for alias in node.names:  # "from . import x" names a module
+                    if f"{target}.{alias.name}" in MODULES:
+                        out.add(f"{target}.{alias.name}")
+        elif isinstance(node, ast.Import):
+            out.update(a.name for a in node.names if a.name.startswith("mechatron"))
+    return {m for m in out if m in MODULES and m != name}
+
+
+MODULES = modules()
+
+
+def layer(module: str) -> str:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def test_every_module_imports_alone():
+    for name in MODULES:
+        if name == "mechatron.__main__":
+            continue
+        result = subprocess.run([sys.executable, "-c", f"import {name}"], capture_output=True, text=True)
+        assert result.returncode == 0, f"import {name}: {result.stderr.strip().splitlines()[-1]}"
+
+
+def test_layers_import_only_downward():
+    wrong = []
+    for name, path in MODULES.items():
+        here = layer(name)
+        if here == "__init__":  # the facade: lazy names only
+            continue
+        assert here in RANK, f"{name}: the folder {here} is not in the layer list"
+        for target in imported(name, path):
+            there = layer(target)
+            if there == "__init__":
+                if target == "mechatron" and here == "cli":  # the version string
+                    continue
+                wrong.append(f"{name} imports the facade {target}")
+            elif there != here and RANK[there] > RANK[here] or (RANK[there] == RANK[here] and there != here):
+                wrong.append(f"{name} ({here}) imports {target} ({there})")
+    assert not wrong, "\n".join(wrong)
+
+
+def test_import_graph_is_acyclic():
+    graph = {name: imported(name, path) for name, path in MODULES.items()}
+    state: dict[str, int] = {}
+    cycle: list[str] = []
+
+    def visit(node: str, trail: list[str]) -> bool:
+        state[node] = 1
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                cycle.extend(trail[trail.index(nxt):] + [node, nxt] if nxt in trail else [node, nxt])
+                return True
+            if state.get(nxt) is None and visit(nxt, trail + [node]):
+                return True
+        state[node] = 2
+        return False
+
+    for name in graph:
+        if state.get(name) is None and visit(name, []):
+            break
+    assert not cycle, " -> ".join(cycle)
+
+
+@pytest.mark.parametrize("heavy", ["pandas", "matplotlib", "casadi"])
+def test_import_mechatron_is_light(heavy):
+    code = f"import sys, mechatron, mechatron.model, mechatron.kinematics; print({heavy!r} in sys.modules)"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "False", f"import mechatron imports {heavy}"
+
+
+def test_the_public_api_is_small_and_resolves():
+    import mechatron
+
+    names = [n for n in mechatron.__all__ if not n.startswith("__")]
+    assert len(names) <= 24
+    for name in names:
+        assert getattr(mechatron, name) is not None
+    assert importlib.import_module("mechatron.kinematics").point_velocity is not None
