@@ -26,7 +26,12 @@ def check_result(result: Result) -> dict:
     axes = [ax for ax in figure.axes if ax.has_data()]
     assert axes, "the plot draws nothing"
     for ax in axes:
-        assert ax.get_xlabel() and ax.get_ylabel(), f"unlabelled axes {ax.get_title()!r}"
+        for label in (ax.get_xlabel(), ax.get_ylabel()):
+            assert label and ("(" in label or "[" in label), f"axis label without a unit: {label!r} " \
+                f"(axes {ax.get_title()!r})"
+        keyed = [a for a in ax.get_lines() + ax.collections if not a.get_label().startswith("_")]
+        if keyed:
+            assert ax.get_legend() is not None or figure.legends, f"labelled markers without a key in {ax.get_title()!r}"
     from matplotlib.figure import Figure as NewFigure
 
     given = NewFigure().add_subplot()
