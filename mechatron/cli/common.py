@@ -57,17 +57,23 @@ def _load(args: argparse.Namespace) -> Mechanism:
     return load(args.robot, **parse_assignments(args.set))
 
 def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
-    q = _floats(text, "--q")
-    if q.shape != (mech.nq,):
-        raise InputError(f"--q needs {mech.nq} values for {mech.name} ({', '.join(mech.joint_names)}), got {len(q)}")
+    """The configuration q (nq,) of ``--q``: one coordinate per joint (rad, m; degrees with ``--deg``), a
+    continuous joint's angle turned into its (cos, sin) by :meth:`~mechatron.model.Mechanism.configuration`."""
+    values = _floats(text, "--q")
+    if values.shape != (mech.nv,):
+        raise InputError(f"--q needs {mech.nv} values for {mech.name} ({', '.join(mech.joint_names)}), "
+                         f"got {len(values)}")
     if degrees:
-        q = np.where(_revolute_mask(mech), np.radians(q), q)
+        values = np.where(_revolute_mask(mech), np.radians(values), values)
+    q = mech.configuration(values)
     for message in mech.limit_violations(q):
         print(f"mechatron: warning: {message}", file=sys.stderr)
     return q
 
+
 def _revolute_mask(mech: Mechanism) -> np.ndarray:
-    return np.array([mech.joint_kind(j) == "revolute" for j in range(1, mech.model.njoints)])
+    """Which joint coordinates (velocity indices) are angles."""
+    return mech.angular_coordinates()
 
 def _finite(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
@@ -76,12 +82,10 @@ def _print_json(obj: Any) -> None:
     print(json.dumps(obj, indent=2, allow_nan=False))
 
 def _write_table(table, path) -> str:
-    """Write a DataFrame as CSV; an error naming the file if it cannot be written."""
-    try:
-        table.to_csv(path, index=False, float_format="%.10g")
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
-    return str(Path(path))
+    """Write a DataFrame as CSV, whole or not at all; an error naming the file if it cannot be written."""
+    from ..io.output import write_table
+
+    return str(write_table(table, path))
 
 def _matrix_text(matrix: np.ndarray, rows: Sequence[str], cols: Sequence[str], fmt: str = "{:>11.5f}") -> str:
     width = max(11, *(len(c) for c in cols))

@@ -31,11 +31,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
-import pandas as pd
 import pinocchio as pin
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 from ..errors import InputError
 from .mechanism import Mechanism, Parameter
@@ -308,7 +310,7 @@ class DHTable:
     def to_frame(self) -> pd.DataFrame:
         """The DH table as a DataFrame (angles in degrees for reading; limits in the joint's unit)."""
         rows = []
-        for i, link in enumerate(self.links, start=1):
+        for link in self.links:
             deg = link.is_revolute
             rows.append({
                 "joint": link.name,
@@ -322,6 +324,8 @@ class DHTable:
                 "limit_unit": "deg" if deg else "m",
                 "mass_kg": link.inertial.mass,
             })
+        import pandas as pd
+
         return pd.DataFrame(rows, index=pd.RangeIndex(1, self.n + 1, name="row"))
 
     # --------------------------------------------------------------------------------- pinocchio model

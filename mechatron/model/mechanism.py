@@ -221,6 +221,14 @@ class Mechanism:
             return "prismatic"
         return short.removeprefix("JointModel")
 
+    def angular_coordinates(self) -> np.ndarray:
+        """(nv,) booleans: which joint coordinates are angles (revolute and continuous joints)."""
+        out = np.zeros(self.nv, dtype=bool)
+        for j in range(1, self.model.njoints):
+            joint = self.model.joints[j]
+            out[joint.idx_v:joint.idx_v + joint.nv] = self.joint_kind(j) == "revolute"
+        return out
+
     def mobility(self, q: np.ndarray | None = None) -> int:
         """Degree of mobility W = nv − rank(closure Jacobian) at a regular configuration (default
         :attr:`reference_q`); W = nv for a serial chain."""
