@@ -49,8 +49,33 @@ class InputError(MechatronError, ValueError):
 
 
 class UnreachableError(MechatronError):
-    """A requested position or motion cannot be reached by the mechanism."""
+    """A requested position or motion cannot be reached by the mechanism.
+
+    Attributes:
+        inputs: The actuated coordinates asked for (name → value, m or rad), if known.
+        residual: The largest closure residual left (m or rad), if the loops were solved.
+        closure: The closure row with that residual (e.g. ``"pin B = B' [0]"``), if known.
+    """
+
+    def __init__(self, message: str, *, inputs: dict[str, float] | None = None, residual: float | None = None,
+                 closure: str | None = None) -> None:
+        self.message = message
+        self.inputs = dict(inputs) if inputs is not None else None
+        self.residual = residual
+        self.closure = closure
+        super().__init__(message)
 
 
 class SingularityError(MechatronError):
-    """The mechanism is at (or too close to) a singular configuration for the requested analysis."""
+    """The mechanism is at (or too close to) a singular configuration for the requested analysis.
+
+    Attributes:
+        inputs: The actuated coordinates at the singular position (name → value, m or rad), if known.
+        ratio: The largest velocity ratio |J_d⁻¹| found there (the test is against 1e8), if known.
+    """
+
+    def __init__(self, message: str, *, inputs: dict[str, float] | None = None, ratio: float | None = None) -> None:
+        self.message = message
+        self.inputs = dict(inputs) if inputs is not None else None
+        self.ratio = ratio
+        super().__init__(message)

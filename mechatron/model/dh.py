@@ -1,8 +1,8 @@
-r"""Denavit–Hartenberg arms: the textbook's link matrices and the Pinocchio model built from a DH table.
+r"""Denavit–Hartenberg arms: the link matrices of [Egorov, section 4.3] and the Pinocchio model built from a DH table.
 
 Two conventions are supported.
 
-**Standard (the textbook's, section 4.3, eq. 4.40–4.42).** Frame i is fixed to link i, z_{i-1} lies along the axis of
+**Standard ([Egorov, 4.40–4.42]).** Frame i is fixed to link i, z_{i-1} lies along the axis of
 pair i and x_i along the common normal of z_{i-1} and z_i. The transform from frame i to frame i−1 is
 
 .. math::
@@ -15,7 +15,7 @@ pair i and x_i along the common normal of z_{i-1} and z_i. The transform from fr
 with θ_i = q_i + θ_i⁰ for a revolute pair and S_i = q_i + S_i⁰ for a prismatic pair (the book's S_i is the usual d_i).
 The book prints the translation column of (4.40) as (a cos α, a sin α, S); the product (4.41) of the four elementary
 matrices (4.42) gives (a cos θ, a sin θ, S), which is what is implemented. The chain to the base is
-B_{0,i} = A_{0,1} A_{1,2} … A_{i-1,i} (4.44–4.45).
+B_{0,i} = A_{0,1} A_{1,2} … A_{i-1,i} ([Egorov, 4.44–4.45]).
 
 **Modified (Craig).** Frame i sits on the axis of joint i and A_{i-1,i} = R_x(α_{i-1}) T_x(a_{i-1}) R_z(θ_i) T_z(d_i).
 A table row i holds (α_{i-1}, a_{i-1}, θ_i, d_i) and its parameters are named with Craig's indices.
@@ -50,19 +50,19 @@ CONVENTIONS: tuple[str, ...] = ("standard", "modified")
 
 # ----------------------------------------------------------------------------------------- elementary transforms
 def rot_z(theta: float) -> np.ndarray:
-    """Homogeneous rotation about z by ``theta`` (rad): A^θ of eq. 4.42."""
+    """Homogeneous rotation about z by ``theta`` (rad): A^θ of [Egorov, 4.42]."""
     c, s = math.cos(theta), math.sin(theta)
     return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
 
 
 def rot_x(alpha: float) -> np.ndarray:
-    """Homogeneous rotation about x by ``alpha`` (rad): A^α of eq. 4.42."""
+    """Homogeneous rotation about x by ``alpha`` (rad): A^α of [Egorov, 4.42]."""
     c, s = math.cos(alpha), math.sin(alpha)
     return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
 
 
 def trans(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
-    """Homogeneous translation (m): A^S = trans(z=S) and A^a = trans(x=a) of eq. 4.42."""
+    """Homogeneous translation (m): A^S = trans(z=S) and A^a = trans(x=a) of [Egorov, 4.42]."""
     out = np.eye(4)
     out[:3, 3] = (x, y, z)
     return out
@@ -138,7 +138,7 @@ class Drive:
     Attributes:
         rotor_inertia: Rotor inertia J_rotor (kg·m²) on the motor shaft, including what the maker lumps in
             (brake, encoder, first gear stage).
-        gear_ratio: Transmission ratio u = ω_motor / ω_joint (eq. 4.58); its sign says whether the motor turns the
+        gear_ratio: Transmission ratio u = ω_motor / ω_joint ([Egorov, 4.58]); its sign says whether the motor turns the
             same way as the joint.
         efficiency: Transmission efficiency η in (0, 1].
         viscous_friction: Viscous friction B (N·m·s/rad) on the motor shaft.
@@ -221,7 +221,7 @@ class DHTable:
 
     Attributes:
         links: One row per joint, base to tip.
-        convention: ``"standard"`` (textbook, eq. 4.40) or ``"modified"`` (Craig).
+        convention: ``"standard"`` ([Egorov, 4.40]) or ``"modified"`` (Craig).
         base: 4×4 placement of frame 0 in the world.
         tool: 4×4 placement of the tool frame in the last link frame.
         gravity: Gravity vector in the world (m/s²).
@@ -253,9 +253,9 @@ class DHTable:
     def n(self) -> int:
         return len(self.links)
 
-    # --------------------------------------------------------------------------------- textbook matrices
+    # --------------------------------------------------------------------------- the matrices of [Egorov, section 4.3]
     def A(self, i: int, qi: float) -> np.ndarray:
-        """Link matrix A_{i-1,i}(q_i), 4×4, i = 1…n: maps coordinates in frame i to frame i−1 (eq. 4.39–4.42).
+        """Link matrix A_{i-1,i}(q_i), 4×4, i = 1…n: maps coordinates in frame i to frame i−1 ([Egorov, 4.39–4.42]).
 
         Standard convention: Rz(θ_i)·Tz(S_i)·Tx(a_i)·Rx(α_i). Modified: Rx(α_{i-1})·Tx(a_{i-1})·Rz(θ_i)·Tz(d_i).
         """
@@ -268,7 +268,7 @@ class DHTable:
         return rot_x(link.alpha) @ trans(x=link.a) @ rot_z(theta) @ trans(z=s)
 
     def B(self, i: int, q: Sequence[float]) -> np.ndarray:
-        """B_{0,i}(q) = A_{0,1}·A_{1,2}·…·A_{i-1,i}: frame i in the base frame 0 (eq. 4.44–4.45); B_{0,0} = I."""
+        """B_{0,i}(q) = A_{0,1}·A_{1,2}·…·A_{i-1,i}: frame i in the base frame 0 ([Egorov, 4.44–4.45]); B_{0,0} = I."""
         if not 0 <= i <= self.n:
             raise InputError(f"link index must be in 0..{self.n}, got {i}")
         out = np.eye(4)
