@@ -186,8 +186,8 @@ def test_monte_carlo_is_seeded_and_follows_the_distributions():
         slope = sensitivities(mech, assemble(mech, {"q1": 1.0}), "C", ["l2"], []).matrix[0, 0, 0]
         assert a.samples[:, 0].std() == pytest.approx(abs(slope) * 1e-3 * sigma, rel=0.02)
         if distribution != "normal":  # bounded: never beyond the ends of the tolerance (the exact model's)
-            x = [mech.with_parameters(l2=0.346 + e).frame_placement(
-                mech.with_parameters(l2=0.346 + e).assemble({"q1": 1.0}), "C").translation[0] for e in (-1e-3, 0, 1e-3)]
+            moved = [mech.with_parameters(l2=0.346 + e) for e in (-1e-3, 0, 1e-3)]
+            x = [frame_placement(m, assemble(m, {"q1": 1.0}), "C").translation[0] for m in moved]
             assert x[0] - x[1] - 1e-15 <= a.samples[:, 0].min() and a.samples[:, 0].max() <= x[2] - x[1] + 1e-15
     c = run_study(mech, sources, [[1.0]], frame="C", methods=["mc"], samples=50000, seed=4)
     assert not np.array_equal(a.samples, c.samples)
