@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop
+from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop, PerturbedLoops
 from mechatron.accuracy.sensitivity import sensitivities
-from mechatron.accuracy.sources import ErrorSource, read_poses, read_tolerances
+from mechatron.accuracy.sources import ErrorSource, read_poses, read_tolerances, reference_pose, workspace_grid
 from mechatron.accuracy.study import run_study
 from mechatron.accuracy.tables import angle_tolerance, linear_tolerance, tolerance_from_grade
 from mechatron.errors import InputError
@@ -222,6 +222,102 @@ def test_vectorized_chain_equals_pinocchio_per_sample_and_rebuilt_dh(rng):
         exact = frame_placement(rebuilt, q + dq[i], "tool").translation
         assert np.allclose(fast[i], exact, atol=1e-12)
         assert np.allclose(loop.position(q, dl[i], dq[i]), exact, atol=1e-12)
+
+
+def test_vectorized_loops_equal_pinocchio_per_sample(rng):
+    """The closed-loop Monte Carlo, vectorized over samples (NumPy placements, Newton for all samples at once),
+    against one sample at a time with Pinocchio and the loop solver; pins, sliders (with a locked angle), a
+    curve; loops that cannot close are NaN in both."""
+    for name, inputs, point in (("crank_slider", {"q1": 1.0}, "C"), ("six_bar_bucket", {"L1": 1.5}, "K"),
+                                ("seven_bar", {"s1": 0.6, "s2": 0.65}, None), ("slotted_link", {"q1": 2.0}, None),
+                                ("scotch_yoke", {}, None), ("grab", {}, None)):
+        mech = mechatron.load(name)
+        point = point or mech.tool_frame
+        q = assemble(mech, inputs)
+        names = list(mech.parameters)
+        fast, slow = PerturbedLoops(mech, point, names), PerturbedLoop(mech, point, names)
+        assert fast.exact == slow.exact
+        values = mech.parameter_values()
+        scale = np.array([2e-2 * max(0.1, abs(values[n])) for n in names])
+        dl = rng.normal(size=(6, len(names))) * scale
+        dq = rng.normal(size=(6, len(mech.actuated))) * 2e-2
+        fast_positions, slow_positions = fast.positions(q, dl, dq), slow.positions(q, dl, dq)
+        assert np.all(np.isfinite(slow_positions)), name
+        assert np.allclose(fast_positions, slow_positions, atol=1e-12, rtol=0), name
+    mech = mechatron.load("crank_slider", l1=0.2, l2=0.346)
+    loops = PerturbedLoops(mech, "C", ["l2"])
+    q = assemble(mech, {"q1": math.pi / 2})
+    positions = loops.positions(q, np.array([[0.0], [-0.15]]), np.zeros((2, 1)))  # l2 = 0.196 < l1: no assembly
+    assert np.isfinite(positions[0]).all() and np.isnan(positions[1]).all()
+    assert np.isnan(PerturbedLoop(mech, "C", ["l2"]).positions(q, np.array([[-0.15]]), np.zeros((1, 1)))).all()
+
+
+# ------------------------------------------------------------------------------------- continuous joints
+ARM = "tests/data/continuous_prismatic_arm.urdf"
+
+
+def arm_sources(mech, scale=1.0):
+    out = [ErrorSource(n, "parameter", "m", scale * 5e-5) for n in mech.parameters]
+    return out + [ErrorSource(n, "coordinate", "rad" if mech.joint_kind(n) == "revolute" else "m", scale * 2e-4)
+                  for n in mech.joint_names]
+
+
+def test_continuous_joint_sensitivities_equal_finite_differences():
+    """A continuous joint (q = (cos θ, sin θ)) beside a revolute and a prismatic one: one coordinate per joint, the
+    sensitivities against central differences of the full model (rebuilt models, poses moved in coordinates)."""
+    mech = mechatron.load(ARM)
+    assert (mech.nq, mech.nv) == (4, 3)
+    coordinates = np.array([2.5, 0.4, 0.1])  # θ beyond π/2: the (cos, sin) of the joint both matter
+    s = sensitivities(mech, mech.configuration(coordinates))
+    values, h = mech.parameter_values(), 1e-6
+    columns = []
+    for name in s.sources:
+        moved = []
+        for sign in (1, -1):
+            if name in values:
+                other, c = mech.with_parameters({name: values[name] + sign * h}), coordinates
+            else:
+                other, c = mech, coordinates + sign * h * (np.array(mech.joint_names) == name)
+            moved.append(frame_placement(other, other.configuration(c), "tool").translation)
+        columns.append((moved[0] - moved[1]) / (2 * h))
+    assert s.sources == (*mech.parameters, "spin", "shoulder", "extend")
+    assert np.allclose(s.matrix[0], np.array(columns).T, atol=1e-9)
+
+
+def test_continuous_joint_nonlinear_model_and_monte_carlo(rng):
+    mech = mechatron.load(ARM)
+    names = list(mech.parameters)
+    coordinates = np.array([2.5, 0.4, 0.1])
+    q = mech.configuration(coordinates)
+    dl, dc = rng.normal(scale=3e-2, size=(5, len(names))), rng.normal(scale=3e-2, size=(5, 3))
+    chain, loop = PerturbedChain(mech, "tool", names), PerturbedLoop(mech, "tool", names)
+    values = mech.parameter_values()
+    for i, (fast, slow) in enumerate(zip(chain.positions(q, dl, dc), loop.positions(q, dl, dc))):
+        rebuilt = mech.with_parameters({n: values[n] + dl[i, k] for k, n in enumerate(names)})
+        exact = frame_placement(rebuilt, rebuilt.configuration(coordinates + dc[i]), "tool").translation
+        assert np.allclose(fast, exact, atol=1e-12) and np.allclose(slow, exact, atol=1e-12)
+    small = run_study(mech, arm_sources(mech, 0.01), coordinates, methods=["rss", "mc"], samples=40000, seed=2)
+    row = small.poses.iloc[0]
+    for axis in ("dx", "dy", "dz"):
+        assert row[f"{axis}_mc"] == pytest.approx(row[f"{axis}_rss"], rel=0.03)
+    poses = workspace_grid(mech, 50, seed=1)
+    assert poses.shape == (50, 3) and np.ptp(poses[:, 0]) > np.pi  # the continuous joint spans a turn
+    table = run_study(mech, arm_sources(mech), poses, methods=["worst", "rss"]).poses
+    for axis in ("dx", "dy", "dz", "dr"):
+        assert np.all(table[f"{axis}_worst"] >= table[f"{axis}_rss"] - 1e-15)
+    assert np.allclose(table["spin"], poses[:, 0])  # the poses table keeps one coordinate per joint
+
+
+def test_continuous_joint_poses_file_and_reference(tmp_path):
+    mech = mechatron.load(ARM)
+    assert reference_pose(mech).tolist() == [[0.0, 0.0, 0.0]]
+    path = write(tmp_path, "label,spin_deg,shoulder,extend_mm\nA,150,0.4,100\n", "poses.csv")
+    poses, labels = read_poses(path, mech)
+    assert labels == ["A"] and np.allclose(poses, [[math.radians(150), 0.4, 0.1]])
+    bad = write(tmp_path, "spin_mm,shoulder,extend\n1,0,0\n", "bad.csv")
+    with pytest.raises(InputError, match="spin is an angle: unknown unit 'mm'") as info:
+        read_poses(bad, mech)
+    assert info.value.field == "spin_mm"
 
 
 # ------------------------------------------------------------------------------------- tables

@@ -174,7 +174,8 @@ class StudyResult(Result):
 
         d = self._monte_carlo_samples() * 1e3
         row = self.poses.iloc[self.critical]
-        ax.hist(np.linalg.norm(d, axis=1), bins=80, color="tab:blue", alpha=0.8, label="Monte Carlo samples")
+        ax.hist(np.linalg.norm(d, axis=1), bins=80, histtype="stepfilled", color="tab:blue", alpha=0.8,
+                label="Monte Carlo samples")
         ax.axvline(row["dr_mc"] * 1e3, color="tab:red", label=f"±{self.k:g}σ coverage: {row['dr_mc'] * 1e3:.4g} mm")
         if "dr_rss" in row:
             ax.axvline(row["dr_rss"] * 1e3, color="tab:green", ls="--", label=f"RSS: {row['dr_rss'] * 1e3:.4g} mm")
@@ -191,7 +192,7 @@ class StudyResult(Result):
         from ..report.figures import style_axes
 
         d = self._monte_carlo_samples() * 1e3
-        shown = d[:: max(1, len(d) // 20000)]
+        shown = d[:: max(1, len(d) // 5000)]
         a, b = sorted(np.argsort(-d.std(axis=0))[:2])
         ax.scatter(shown[:, a], shown[:, b], s=2, alpha=0.3)
         ax.set_aspect("equal", adjustable="datalim")
