@@ -1,5 +1,5 @@
-"""The tolerance command: the public JSON contract, the given-errors check of the textbook example, outputs and
-bad input."""
+"""The tolerance command: the public JSON contract, the given-errors check of the example of [Egorov, fig. 8.3],
+outputs and bad input."""
 
 from __future__ import annotations
 

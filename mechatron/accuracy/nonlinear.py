@@ -128,9 +128,16 @@ def _rotate(x: Floats, axis: Floats, angle: Floats, offset: float = 0.0) -> Floa
 
 def _rotation_matrices(axis: Floats, angle: Floats, offset: float = 0.0) -> Floats:
     """Rotations (N, 3, 3) about the unit ``axis`` by offset + ``angle`` (N,): I + sin θ K + (1 − cos θ) K²."""
+    return _rotated(np.eye(3), axis, angle, offset)
+
+
+def _rotated(R: Floats, axis: Floats, angle: Floats, offset: float = 0.0) -> Floats:
+    """R · Rot(axis, offset + angle) (N, 3, 3) for one (3, 3) or N (N, 3, 3) rotations R: R + sin θ R K +
+    (1 − cos θ) R K², without a product of stacks."""
     c, s = _cos_sin(angle, offset)
     K = _skew(axis)
-    return np.eye(3) + s[:, None, None] * K + (1 - c)[:, None, None] * (K @ K)
+    RK = _product(R, K)
+    return R + s[:, None, None] * RK + (1 - c)[:, None, None] * _product(RK, K)
 
 
 def _exp_parts(xi: Floats, t: Floats) -> tuple[Floats | None, Floats, Floats]:
@@ -386,7 +393,7 @@ class PerturbedLoops(_Factors):
             kind, axis = self.axes[j]
             value = _joint_value(model.joints[j], q)
             if kind == "revolute":
-                R = _product(R, _rotation_matrices(axis, value))
+                R = _rotated(R, axis, value)
             else:
                 p = p + _turn(R, axis) * value[:, None]
             world[j] = _compose(*world[model.parents[j]], R, p)
