@@ -1,6 +1,7 @@
-"""Kinematic accuracy (textbook chapter 8): sensitivities against finite differences of the full model, the
-textbook's two worked examples re-derived, worst case ≥ RSS ≥ 0, Monte Carlo against the linear result and the
-exact model, tolerance tables at their interval edges, and bad input."""
+"""Kinematic accuracy [Egorov, chapter 8]: sensitivities against finite differences of the full model, the book's
+two worked examples re-derived ([Egorov, fig. 8.3, fig. 8.4]), worst case ≥ RSS ≥ 0, Monte Carlo against the linear
+result and the exact model (serial, closed loops, a continuous joint), tolerance tables at their interval edges, and
+bad input."""
 
 from __future__ import annotations
 
@@ -10,9 +11,9 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop
+from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop, PerturbedLoops
 from mechatron.accuracy.sensitivity import sensitivities
-from mechatron.accuracy.sources import ErrorSource, read_poses, read_tolerances
+from mechatron.accuracy.sources import ErrorSource, read_poses, read_tolerances, reference_pose, workspace_grid
 from mechatron.accuracy.study import run_study
 from mechatron.accuracy.tables import angle_tolerance, linear_tolerance, tolerance_from_grade
 from mechatron.errors import InputError
@@ -21,7 +22,7 @@ from mechatron.kinematics.loops import assemble
 
 
 # ------------------------------------------------------------------------------------- sensitivities
-def finite_differences(mech, point, inputs, q, names, h=1e-6):
+def finite_differences(mech, frame, inputs, q, names, h=1e-6):
     """Central differences of the full nonlinear model: rebuilt models for parameters, moved coordinates, loops
     re-closed."""
     values = mech.parameter_values()
@@ -41,7 +42,7 @@ def finite_differences(mech, point, inputs, q, names, h=1e-6):
                 else:
                     qq = q.copy()
                     qq[mech.joint_names.index(name)] += sign * h
-            positions.append(frame_placement(other, qq, point).translation)
+            positions.append(frame_placement(other, qq, frame).translation)
         columns.append((positions[0] - positions[1]) / (2 * h))
     return np.array(columns).T
 
@@ -61,24 +62,24 @@ def test_serial_sensitivities_equal_finite_differences(name, q):
     assert np.allclose(s.matrix[0][:, len(mech.parameters):], mechatron.frame_jacobian(mech, q)[:3], atol=1e-12)
 
 
-@pytest.mark.parametrize("name, inputs, point", [("crank_slider", {"q1": 1.0}, "C"),
+@pytest.mark.parametrize("name, inputs, frame", [("crank_slider", {"q1": 1.0}, "C"),
                                                  ("six_bar_bucket", {"L1": 1.5}, "K"),
                                                  ("seven_bar", {"s1": 0.6, "s2": 0.65}, None),
                                                  ("slotted_link", {"q1": 2.0}, "slot_end")])
-def test_closed_loop_sensitivities_equal_finite_differences(name, inputs, point):
+def test_closed_loop_sensitivities_equal_finite_differences(name, inputs, frame):
     mech = mechatron.load(name)
-    point = point or mech.tool_frame
+    frame = frame or mech.tool_frame
     q = assemble(mech, inputs)
-    s = sensitivities(mech, q, point)
+    s = sensitivities(mech, q, frame)
     assert s.sources[-len(mech.actuated):] == tuple(mech.actuated)
-    reference = finite_differences(mech, point, inputs, q, s.sources)
+    reference = finite_differences(mech, frame, inputs, q, s.sources)
     scale = max(1.0, np.abs(reference).max())
     assert np.allclose(s.matrix[0], reference, atol=1e-7 * scale)
 
 
 # ------------------------------------------------------------------------------------- textbook examples
 def test_textbook_crank_slider_example_8_3():
-    """Fig. 8.3: l1 = 0.2 m, l2 = 0.346 m, q1 = 60°, Δl1 = 1 mm, Δl2 = 1.5 mm, Δq1 = 1e-3 rad.
+    """[Egorov, fig. 8.3]: l1 = 0.2 m, l2 = 0.346 m, q1 = 60°, Δl1 = 1 mm, Δl2 = 1.5 mm, Δq1 = 1e-3 rad.
 
     x_C = l1 cos q1 + √(l2² − l1² sin² q1); with D = √(l2² − l1² sin² q1) = 0.2995263:
     ∂x/∂l1 = cos q1 − l1 sin² q1 / D = −7.9076e-4 (the book rounds 0.15/0.3 and gets 0), ∂x/∂l2 = +l2 / D =
@@ -111,8 +112,8 @@ def test_textbook_crank_slider_example_8_3():
 
 
 def test_textbook_3r_chain_example_8_4():
-    """Fig. 8.4 written out: x = Σ l_k cos(q1 + … + q_k), y = Σ l_k sin(…); the partial derivatives of the book, at
-    the planar 3R arm's l = (0.4, 0.3, 0.2) m and q = (30°, 45°, −60°)."""
+    """[Egorov, fig. 8.4] written out: x = Σ l_k cos(q1 + … + q_k), y = Σ l_k sin(…); the partial derivatives of the
+    book, at the planar 3R arm's l = (0.4, 0.3, 0.2) m and q = (30°, 45°, −60°)."""
     mech = mechatron.load("planar_3r")
     l = np.array([0.4, 0.3, 0.2])
     q = np.radians([30.0, 45.0, -60.0])
@@ -186,8 +187,8 @@ def test_monte_carlo_is_seeded_and_follows_the_distributions():
         slope = sensitivities(mech, assemble(mech, {"q1": 1.0}), "C", ["l2"], []).matrix[0, 0, 0]
         assert a.samples[:, 0].std() == pytest.approx(abs(slope) * 1e-3 * sigma, rel=0.02)
         if distribution != "normal":  # bounded: never beyond the ends of the tolerance (the exact model's)
-            x = [mech.with_parameters(l2=0.346 + e).frame_placement(
-                mech.with_parameters(l2=0.346 + e).assemble({"q1": 1.0}), "C").translation[0] for e in (-1e-3, 0, 1e-3)]
+            moved = [mech.with_parameters(l2=0.346 + e) for e in (-1e-3, 0, 1e-3)]
+            x = [frame_placement(m, assemble(m, {"q1": 1.0}), "C").translation[0] for m in moved]
             assert x[0] - x[1] - 1e-15 <= a.samples[:, 0].min() and a.samples[:, 0].max() <= x[2] - x[1] + 1e-15
     c = run_study(mech, sources, [[1.0]], frame="C", methods=["mc"], samples=50000, seed=4)
     assert not np.array_equal(a.samples, c.samples)
@@ -224,6 +225,121 @@ def test_vectorized_chain_equals_pinocchio_per_sample_and_rebuilt_dh(rng):
         assert np.allclose(loop.position(q, dl[i], dq[i]), exact, atol=1e-12)
 
 
+def test_vectorized_loops_equal_pinocchio_per_sample(rng):
+    """The closed-loop Monte Carlo, vectorized over samples (NumPy placements, Newton for all samples at once),
+    against one sample at a time with Pinocchio and the loop solver; pins, sliders with a locked angle, a curve;
+    loops that cannot close are NaN in both."""
+    for name, inputs, frame in (("crank_slider", {"q1": 1.0}, "C"), ("six_bar_bucket", {"L1": 1.5}, "K"),
+                                ("seven_bar", {"s1": 0.6, "s2": 0.65}, None), ("slotted_link", {"q1": 2.0}, None),
+                                ("scotch_yoke", {}, None), ("grab", {}, None)):
+        mech = mechatron.load(name)
+        frame = frame or mech.tool_frame
+        q = assemble(mech, inputs)
+        names = list(mech.parameters)
+        fast, slow = PerturbedLoops(mech, frame, names), PerturbedLoop(mech, frame, names)
+        assert fast.exact == slow.exact
+        values = mech.parameter_values()
+        scale = np.array([2e-2 * max(0.1, abs(values[n])) for n in names])
+        dl = rng.normal(size=(6, len(names))) * scale
+        dq = rng.normal(size=(6, len(mech.actuated))) * 2e-2
+        fast_positions, slow_positions = fast.positions(q, dl, dq), slow.positions(q, dl, dq)
+        assert np.all(np.isfinite(slow_positions)), name
+        assert np.allclose(fast_positions, slow_positions, atol=1e-12, rtol=0), name
+    mech = mechatron.load("crank_slider", l1=0.2, l2=0.346)
+    loops = PerturbedLoops(mech, "C", ["l2"])
+    q = assemble(mech, {"q1": math.pi / 2})
+    positions = loops.positions(q, np.array([[0.0], [-0.15]]), np.zeros((2, 1)))  # l2 = 0.196 < l1: no assembly
+    assert np.isfinite(positions[0]).all() and np.isnan(positions[1]).all()
+    assert np.isnan(PerturbedLoop(mech, "C", ["l2"]).positions(q, np.array([[-0.15]]), np.zeros((1, 1)))).all()
+
+
+def test_vectorized_loops_with_a_gear_follow_the_closed_form():
+    """A gear closure q_rotor = 5 q_arm driven by the rotor: the arm's tip at 0.4 m is at angle q_rotor/5."""
+    from mechatron.model.planar import GROUND, PlanarBuilder
+
+    b = PlanarBuilder("geared", gravity=0.0)
+    b.point("O", GROUND, (0.0, 0.0))
+    b.point("R", GROUND, (0.5, 0.0))
+    arm = b.revolute("arm", "O", toward=(1.0, 0.0), coordinate="q", mass=1.0)
+    b.point("T", arm, (0.4, 0.0))
+    b.revolute("rotor", "R", coordinate="motor", inertia=1e-4)
+    b.gear(arm, "rotor", 5.0)
+    mech = b.build(actuated=["motor"], tool="T")
+    errors = np.array([[0.3], [-1.0], [2.5]])
+    positions = PerturbedLoops(mech, "T", []).positions(mech.reference_q, np.zeros((3, 0)), errors)
+    angle = errors[:, 0] / 5
+    assert np.allclose(positions, np.column_stack([0.4 * np.cos(angle), 0.4 * np.sin(angle), 0 * angle]),
+                       atol=1e-14)
+
+
+# ------------------------------------------------------------------------------------- continuous joints
+ARM = "tests/data/continuous_prismatic_arm.urdf"
+
+
+def arm_sources(mech, scale=1.0):
+    out = [ErrorSource(n, "parameter", "m", scale * 5e-5) for n in mech.parameters]
+    return out + [ErrorSource(n, "coordinate", "rad" if mech.joint_kind(n) == "revolute" else "m", scale * 2e-4)
+                  for n in mech.joint_names]
+
+
+def test_continuous_joint_sensitivities_equal_finite_differences():
+    """A continuous joint (q = (cos θ, sin θ)) beside a revolute and a prismatic one: one coordinate per joint, the
+    sensitivities against central differences of the full model (rebuilt models, poses moved in coordinates)."""
+    mech = mechatron.load(ARM)
+    assert (mech.nq, mech.nv) == (4, 3)
+    coordinates = np.array([2.5, 0.4, 0.1])  # θ beyond π/2: the (cos, sin) of the joint both matter
+    s = sensitivities(mech, mech.configuration(coordinates))
+    values, h = mech.parameter_values(), 1e-6
+    columns = []
+    for name in s.sources:
+        moved = []
+        for sign in (1, -1):
+            if name in values:
+                other, c = mech.with_parameters({name: values[name] + sign * h}), coordinates
+            else:
+                other, c = mech, coordinates + sign * h * (np.array(mech.joint_names) == name)
+            moved.append(frame_placement(other, other.configuration(c), "tool").translation)
+        columns.append((moved[0] - moved[1]) / (2 * h))
+    assert s.sources == (*mech.parameters, "spin", "shoulder", "extend")
+    assert np.allclose(s.matrix[0], np.array(columns).T, atol=1e-9)
+
+
+def test_continuous_joint_nonlinear_model_and_monte_carlo(rng):
+    mech = mechatron.load(ARM)
+    names = list(mech.parameters)
+    coordinates = np.array([2.5, 0.4, 0.1])
+    q = mech.configuration(coordinates)
+    dl, dc = rng.normal(scale=3e-2, size=(5, len(names))), rng.normal(scale=3e-2, size=(5, 3))
+    chain, loop = PerturbedChain(mech, "tool", names), PerturbedLoop(mech, "tool", names)
+    values = mech.parameter_values()
+    for i, (fast, slow) in enumerate(zip(chain.positions(q, dl, dc), loop.positions(q, dl, dc))):
+        rebuilt = mech.with_parameters({n: values[n] + dl[i, k] for k, n in enumerate(names)})
+        exact = frame_placement(rebuilt, rebuilt.configuration(coordinates + dc[i]), "tool").translation
+        assert np.allclose(fast, exact, atol=1e-12) and np.allclose(slow, exact, atol=1e-12)
+    small = run_study(mech, arm_sources(mech, 0.01), coordinates, methods=["rss", "mc"], samples=40000, seed=2)
+    row = small.poses.iloc[0]
+    for axis in ("dx", "dy", "dz"):
+        assert row[f"{axis}_mc"] == pytest.approx(row[f"{axis}_rss"], rel=0.03)
+    poses = workspace_grid(mech, 50, seed=1)
+    assert poses.shape == (50, 3) and np.ptp(poses[:, 0]) > np.pi  # the continuous joint spans a turn
+    table = run_study(mech, arm_sources(mech), poses, methods=["worst", "rss"]).poses
+    for axis in ("dx", "dy", "dz", "dr"):
+        assert np.all(table[f"{axis}_worst"] >= table[f"{axis}_rss"] - 1e-15)
+    assert np.allclose(table["spin"], poses[:, 0])  # the poses table keeps one coordinate per joint
+
+
+def test_continuous_joint_poses_file_and_reference(tmp_path):
+    mech = mechatron.load(ARM)
+    assert reference_pose(mech).tolist() == [[0.0, 0.0, 0.0]]
+    path = write(tmp_path, "label,spin_deg,shoulder,extend_mm\nA,150,0.4,100\n", "poses.csv")
+    poses, labels = read_poses(path, mech)
+    assert labels == ["A"] and np.allclose(poses, [[math.radians(150), 0.4, 0.1]])
+    bad = write(tmp_path, "spin_mm,shoulder,extend\n1,0,0\n", "bad.csv")
+    with pytest.raises(InputError, match="spin is an angle: unknown unit 'mm'") as info:
+        read_poses(bad, mech)
+    assert info.value.field == "spin_mm"
+
+
 # ------------------------------------------------------------------------------------- tables
 @pytest.mark.parametrize("grade, size_mm, microns", [
     ("IT7", 0.5, 10), ("IT7", 3.0, 10), ("IT7", 3.0001, 12), ("IT7", 18, 18), ("IT7", 18.01, 21),
@@ -241,9 +357,10 @@ def test_angle_tolerance_lookup_at_interval_edges(grade, length_mm, arcsec):
 
 def test_it_table_follows_the_iso_286_formula():
     """IT5–IT16 = a·i with i = 0.45 ∛D + 0.001 D (D ≤ 500 mm) or I = 0.004 D + 2.1 (above), D the geometric
-    mean of the interval and a = 7, 10, 16, 25, 40, 64, 100, 160, 250, 400, 640, 1000: the transcribed table 8.2
-    is within the standard's rounding (10 %; the largest, 9 %, is IT6 of 3–6 mm: 8 µm for 7.3). The first interval
-    (up to 3 mm) is left out: its standard values are not the formula's (15 % above it, the same in ISO 286-1)."""
+    mean of the interval and a = 7, 10, 16, 25, 40, 64, 100, 160, 250, 400, 640, 1000: the transcribed
+    [Egorov, table 8.2] is within the standard's rounding (10 %; the largest, 9 %, is IT6 of 3–6 mm: 8 µm for 7.3). The
+    first interval (up to 3 mm) is left out: its standard values are not the formula's (15 % above it, the same in
+    [ISO 286-1])."""
     import pandas as pd
 
     from mechatron.io.data import data_dir

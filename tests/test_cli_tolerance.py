@@ -1,5 +1,5 @@
-"""The tolerance command: the public JSON contract, the given-errors check of the textbook example, outputs and
-bad input."""
+"""The tolerance command: the public JSON contract, the given-errors check of the example of [Egorov, fig. 8.3],
+outputs and bad input."""
 
 from __future__ import annotations
 
@@ -33,8 +33,8 @@ def test_given_errors_reproduce_the_textbook_example(capsys, crank_files):
                        str(tolerances), "--poses", str(poses), "--method", "given", "--json")
     assert code == 0
     result = json.loads(out)
-    assert isinstance(result, list) and len(result) == 3
-    first = result[0]
+    assert result["methods"] == ["given"] and result["frame"] == "C" and len(result["poses"]) == 3
+    first = result["poses"][0]
     assert first["dx"] == pytest.approx(1.500914e-3, rel=1e-6)  # +1.5 mm, see tests/test_accuracy.py
     assert first["dy"] == pytest.approx(0, abs=1e-15) and first["dz"] == pytest.approx(0, abs=1e-15)
     assert first["dr"] == pytest.approx(abs(first["dx"]))
@@ -47,12 +47,12 @@ def test_every_method_prints_the_contract(capsys, crank_files, method):
     code, out, _ = run(capsys, "tolerance", "crank_slider", "--set", "l1=0.2,l2=0.346", "--tolerances",
                        str(tolerances), "--poses", str(poses), "--method", method, "--samples", "2000", "--json")
     assert code == 0
-    for record in json.loads(out):
+    for record in json.loads(out)["poses"]:
         assert {"dx", "dy", "dz", "dr"} <= set(record)
         assert record["dr"] == pytest.approx(math.sqrt(record["dx"] ** 2 + record["dy"] ** 2 + record["dz"] ** 2)) \
             or method in ("mc", "all") and record["dr"] > 0
     if method == "all":
-        first = json.loads(out)[0]["methods"]
+        first = json.loads(out)["poses"][0]["methods"]
         assert set(first) == {"worst", "rss", "mc"} and first["worst"]["dr"] >= first["rss"]["dr"]
 
 
@@ -76,8 +76,8 @@ def test_serial_arm_reference_pose_and_grades(capsys, tmp_path):
     code, out, _ = run(capsys, "tolerance", "puma560", "--tolerances", str(tolerances), "--method", "worst",
                        "--json")
     assert code == 0
-    (record,) = json.loads(out)
-    assert record["pose"] == "reference" and 0 < record["dr"] < 1e-3
+    (record,) = json.loads(out)["poses"]
+    assert record["label"] == "reference" and 0 < record["dr"] < 1e-3
 
 
 @pytest.mark.parametrize("text, message", [

@@ -1,5 +1,5 @@
-r"""The position of a point with finite errors of the parameters and coordinates (the full nonlinear model of 8.2),
-for Monte Carlo studies and for checking the first-order (8.4).
+r"""The position of a point with finite errors of the parameters and coordinates: the full nonlinear model
+r' = r(l + Δl, q + Δq) [Egorov, 8.2], for Monte Carlo studies and for checking the first-order error [Egorov, 8.4].
 
 A parameter error Δl turns every constant placement M into M · Π_k exp(ξ_k Δl_k) (the twists of
 :func:`~mechatron.accuracy.sensitivity.placement_derivatives`), the factors in the order the parameters enter the
@@ -8,13 +8,21 @@ order makes it exact, and :func:`factor_order` finds it by comparing with the re
 not a product of one-parameter exponentials (a linkage body frame that turns toward a moved pin) the product is
 exact to first order and the second-order terms (products of two errors) are approximate; ``exact`` says which.
 
-Two evaluators of the same model:
+A coordinate error Δq moves the configuration on its manifold: q ⊕ Δq (``pin.integrate``), one error per joint
+coordinate (a continuous joint, whose q is (cos θ, sin θ), has one: its angle).
 
-- :class:`PerturbedChain` — a serial chain, vectorized over samples in NumPy (SE(3) products of the placements,
-  the factor exponentials and the joint motions; revolute and prismatic joints): millions of samples per second;
+Three evaluators of the same model, each with ``positions(q, dl, dq) -> (N, 3)``:
+
+- :class:`PerturbedChain` — a serial chain, vectorized over samples in NumPy (the point carried through the
+  placements, the factor exponentials and the joint motions; revolute, continuous and prismatic joints): millions
+  of samples per second;
+- :class:`PerturbedLoops` — a closed loop, vectorized over samples: the placements of the tree for every sample
+  (NumPy SE(3) products), the closures solved by Newton's method for all samples at once, from the first-order
+  prediction of the dependent coordinates, with the Jacobians by central differences of the residual;
 - :class:`PerturbedLoop` — any mechanism, one sample at a time with Pinocchio: a copy of the model takes the
-  perturbed placements, the loops are closed again by Newton's method with the actuated coordinates at their
-  perturbed values, and the point is read from the frame placement.
+  perturbed placements, the loops are closed again by the loop solver's Newton method with the actuated
+  coordinates at their perturbed values, and the point is read from the frame placement. It is the reference of
+  the two others and the fallback for closures and joints they do not know.
 """
 
 from __future__ import annotations
@@ -26,14 +34,18 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, UnreachableError
-from ..kinematics.loops import loop_solver
+from ..kinematics.loops import TOLERANCE, loop_solver
+from ..model.closures import Gear, OnCurve, Pin, Slider
 from ..model.mechanism import Mechanism
-from .sensitivity import PlacementDerivatives, _placements, placement_derivatives
+from .sensitivity import PlacementDerivatives, _placements, loop_derivatives, placement_derivatives
 
 #: Parameters per placement up to which every factor order is tried.
 MAX_PERMUTED = 5
+
+Floats = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -52,10 +64,14 @@ class FactorOrder:
 def factor_order(mech: Mechanism, derivatives: PlacementDerivatives, probe: float = 1e-3) -> FactorOrder:
     """The factor order of each placement: the permutation of its parameters whose product of exponentials best
     matches the model rebuilt with every parameter moved by ``probe`` (relative, with alternating signs); exact when
-    the mismatch is below 1e-4 of the second-order terms. Cached on the mechanism."""
-    cache = mech.__dict__.setdefault("_factor_order", {})
-    if derivatives.names in cache:
-        return cache[derivatives.names]
+    the mismatch is below 1e-4 of the second-order terms. Kept in the mechanism's cache."""
+    cache = mech.cached("accuracy.factor_order", dict)
+    if derivatives.names not in cache:
+        cache[derivatives.names] = _factor_order(mech, derivatives, probe)
+    return cache[derivatives.names]
+
+
+def _factor_order(mech: Mechanism, derivatives: PlacementDerivatives, probe: float) -> FactorOrder:
     values = mech.parameter_values()
     steps = np.array([probe * max(1.0, abs(values[n])) * (1 if k % 2 == 0 else -1)
                       for k, n in enumerate(derivatives.names)])
@@ -76,17 +92,15 @@ def factor_order(mech: Mechanism, derivatives: PlacementDerivatives, probe: floa
         best = min(candidates, key=mismatch, default=())
         order.append(tuple(best))
         exact.append(second == 0 or mismatch(best) <= 1e-4 * second)
-    result = FactorOrder(tuple(order), tuple(exact))
-    cache[derivatives.names] = result
-    return result
+    return FactorOrder(tuple(order), tuple(exact))
 
 
-# ------------------------------------------------------------------------------------------------ vectorized
+# ------------------------------------------------------------------------------------------ SE(3) over samples
 #: Below this |angle| the sines and cosines come from their Taylor series (error < 1e-18).
 SERIES_LIMIT = 0.01
 
 
-def _cos_sin(angle: np.ndarray, offset: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def _cos_sin(angle: Floats, offset: float = 0.0) -> tuple[Floats, Floats]:
     """cos and sin of offset + angle; with small angles by series and the addition theorem (no trigonometric
     calls per sample)."""
     if np.abs(angle).max(initial=0.0) > SERIES_LIMIT:
@@ -100,11 +114,11 @@ def _cos_sin(angle: np.ndarray, offset: float = 0.0) -> tuple[np.ndarray, np.nda
     return c0 * c - s0 * s, s0 * c + c0 * s
 
 
-def _skew(axis: np.ndarray) -> np.ndarray:
+def _skew(axis: Floats) -> Floats:
     return np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
 
 
-def _rotate(x: np.ndarray, axis: np.ndarray, angle: np.ndarray, offset: float = 0.0) -> np.ndarray:
+def _rotate(x: Floats, axis: Floats, angle: Floats, offset: float = 0.0) -> Floats:
     """Vectors x (N, 3) turned about the unit ``axis`` by offset + ``angle`` (N,) (Rodrigues, without matrices:
     x cos + (a × x) sin + a (a·x)(1 − cos))."""
     c, s = _cos_sin(angle, offset)
@@ -112,15 +126,29 @@ def _rotate(x: np.ndarray, axis: np.ndarray, angle: np.ndarray, offset: float = 
     return (x - along) * c[:, None] + (x @ _skew(axis).T) * s[:, None] + along
 
 
-def _apply_exp(x: np.ndarray, xi: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """exp(ξ t) applied to the points x (N, 3), one twist ξ = [v; ω], N scalars t."""
+def _rotation_matrices(axis: Floats, angle: Floats, offset: float = 0.0) -> Floats:
+    """Rotations (N, 3, 3) about the unit ``axis`` by offset + ``angle`` (N,): I + sin θ K + (1 − cos θ) K²."""
+    return _rotated(np.eye(3), axis, angle, offset)
+
+
+def _rotated(R: Floats, axis: Floats, angle: Floats, offset: float = 0.0) -> Floats:
+    """R · Rot(axis, offset + angle) (N, 3, 3) for one (3, 3) or N (N, 3, 3) rotations R: R + sin θ R K +
+    (1 − cos θ) R K², without a product of stacks."""
+    c, s = _cos_sin(angle, offset)
+    K = _skew(axis)
+    RK = _product(R, K)
+    return R + s[:, None, None] * RK + (1 - c)[:, None, None] * _product(RK, K)
+
+
+def _exp_parts(xi: Floats, t: Floats) -> tuple[Floats | None, Floats, Floats]:
+    """exp(ξ t) for one twist ξ = [v; ω] and N scalars t: (unit rotation axis or None, angles θ = |ω| t (N,),
+    translations p (N, 3)), p = (I + (1 − cos θ)/θ K + (θ − sin θ)/θ K²) v t with K = [axis]×."""
     v, w = xi[:3], xi[3:]
     norm = np.linalg.norm(w)
     if norm < 1e-15:
-        return x + t[:, None] * v
+        return None, np.zeros_like(t), t[:, None] * v
     axis = w / norm
     theta = norm * t
-    # exp(ξ t) = (R, p) with p = (I + (1 − cos θ)/θ K + (θ − sin θ)/θ K²) v t, K = [axis]× (θ = |ω| t)
     if np.abs(theta).max(initial=0.0) > SERIES_LIMIT:
         safe = np.where(theta == 0, 1.0, theta)
         a = np.where(theta == 0, 0.0, (1 - np.cos(theta)) / safe)
@@ -131,130 +159,410 @@ def _apply_exp(x: np.ndarray, xi: np.ndarray, t: np.ndarray) -> np.ndarray:
         b = t2 / 6 * (1 - t2 / 20 * (1 - t2 / 42))
     K = _skew(axis)
     Kv = K @ v
-    p = t[:, None] * v + (a * t)[:, None] * Kv + (b * t)[:, None] * (K @ Kv)
-    return _rotate(x, axis, theta) + p
+    return axis, theta, t[:, None] * v + (a * t)[:, None] * Kv + (b * t)[:, None] * (K @ Kv)
 
 
-def _joint_axis(joint) -> tuple[str, np.ndarray]:
+def _apply_exp(x: Floats, xi: Floats, t: Floats) -> Floats:
+    """exp(ξ t) applied to the points x (N, 3), one twist ξ = [v; ω], N scalars t."""
+    axis, theta, p = _exp_parts(xi, t)
+    return (x if axis is None else _rotate(x, axis, theta)) + p
+
+
+def _product(A: Floats, B: Floats) -> Floats:
+    """A B for rotations that are one (3, 3) or N (N, 3, 3) each (a stack times one matrix as one GEMM)."""
+    if A.ndim == 3 and B.ndim == 2:
+        return (A.reshape(-1, 3) @ B).reshape(A.shape)
+    return A @ B
+
+
+def _turn(R: Floats, x: Floats) -> Floats:
+    """R x for one (3, 3) or N (N, 3, 3) rotations and one (3,) or N (N, 3) vectors."""
+    if R.ndim == 2:
+        return x @ R.T
+    if x.ndim == 1:
+        return (R.reshape(-1, 3) @ x).reshape(R.shape[:2])
+    return R[:, :, 0] * x[:, 0, None] + R[:, :, 1] * x[:, 1, None] + R[:, :, 2] * x[:, 2, None]
+
+
+def _compose(R1: Floats, p1: Floats, R2: Floats, p2: Floats) -> tuple[Floats, Floats]:
+    """(R1, p1) · (R2, p2) for placements that are one (3, 3), (3,) or N (N, 3, 3), (N, 3) each."""
+    return _product(R1, R2), p1 + _turn(R1, p2)
+
+
+def _exp_placement(xi: Floats, t: Floats) -> tuple[Floats, Floats]:
+    """exp(ξ t) as N placements (R (N, 3, 3), p (N, 3))."""
+    axis, theta, p = _exp_parts(xi, t)
+    R = np.broadcast_to(np.eye(3), (len(t), 3, 3)) if axis is None else _rotation_matrices(axis, theta)
+    return R, p
+
+
+# ------------------------------------------------------------------------------------------------ joints
+def _joint_axis(joint: pin.JointModel) -> tuple[str, Floats]:
+    """("revolute" or "prismatic", unit axis in the joint frame) of a one-axis joint (continuous ones included)."""
     short = joint.shortname()
     unit = {"X": np.array([1.0, 0, 0]), "Y": np.array([0, 1.0, 0]), "Z": np.array([0, 0, 1.0])}
-    if short in ("JointModelRX", "JointModelRY", "JointModelRZ"):
+    if short in ("JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRUBX", "JointModelRUBY",
+                 "JointModelRUBZ"):
         return "revolute", unit[short[-1]]
     if short in ("JointModelPX", "JointModelPY", "JointModelPZ"):
         return "prismatic", unit[short[-1]]
-    if short == "JointModelRevoluteUnaligned":
+    if short in ("JointModelRevoluteUnaligned", "JointModelRevoluteUnboundedUnaligned"):
         return "revolute", np.asarray(joint.extract().axis, dtype=float)
     if short == "JointModelPrismaticUnaligned":
         return "prismatic", np.asarray(joint.extract().axis, dtype=float)
-    raise InputError(f"a vectorized error model needs revolute and prismatic joints, not {short}")
+    raise InputError(f"a vectorized error model needs revolute, continuous and prismatic joints, not {short}")
 
 
-class PerturbedChain:
-    """The position of ``frame`` of a serial mechanism for N samples of parameter errors (N, n_l) and
-    coordinate errors (N, nq) at one nominal configuration, vectorized over the samples: the point is carried from
-    the frame back to the world through every factor (constant placement, parameter exponentials, joint motion),
-    so only vectors are transformed."""
+def _joint_value(joint: pin.JointModel, q: Floats) -> Floats:
+    """The joint's coordinate (angle in rad or displacement in m) at q (..., nq): q itself, or the angle
+    atan2(sin, cos) of a continuous joint."""
+    i = joint.idx_q
+    if joint.nq == 2:
+        return np.arctan2(q[..., i + 1], q[..., i])
+    return q[..., i]
 
-    def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
-        if mech.closures:
-            raise InputError(f"{mech.name} is a closed loop: use PerturbedLoop")
+
+def vectorizable(mech: Mechanism) -> bool:
+    """Whether the vectorized evaluators know every joint (one-axis: revolute, continuous, prismatic) and every
+    closure (pin, slider, curve, gear) of ``mech``."""
+    try:
+        for joint in mech.model.joints[1:]:
+            _joint_axis(joint)
+    except InputError:
+        return False
+    return all(isinstance(c, (Pin, Slider, OnCurve, Gear)) for c in mech.closures)
+
+
+class _Factors:
+    """The parameter factors Π_k exp(ξ_k Δl_k) of every placement, in factor order."""
+
+    def __init__(self, mech: Mechanism, parameters: Sequence[str]) -> None:
         self.mech = mech
-        self.fid = mech.frame_id(frame)
         self.derivatives = placement_derivatives(mech, parameters)
         self.order = factor_order(mech, self.derivatives) if len(parameters) else None
-        model = mech.model
-        frame = model.frames[self.fid]
-        self.path = [j for j in model.supports[frame.parentJoint] if j != 0]
-        self.axes = {j: _joint_axis(model.joints[j]) for j in self.path}
 
     @property
     def exact(self) -> bool:
         return self.order is None or self.order.all_exact
 
-    def _factors(self, x: np.ndarray, placement: int, twists: np.ndarray, dl: np.ndarray) -> np.ndarray:
+    def twists(self, placement: int) -> tuple[Floats, tuple[int, ...]]:
+        """(twists (n_l, 6), factor order) of placement ``placement`` (joints first, then frames)."""
+        nj, d = self.mech.model.njoints, self.derivatives
+        twists = d.joints[:, placement] if placement < nj else d.frames[:, placement - nj]
+        return twists, (self.order.order[placement] if self.order is not None else ())
+
+
+# ------------------------------------------------------------------------------------------------ serial
+class PerturbedChain(_Factors):
+    """The position of ``frame`` of a serial mechanism for N samples of parameter errors (N, n_l) and
+    coordinate errors (N, nv) at one nominal configuration, vectorized over the samples: the point is carried from
+    the frame back to the world through every factor (constant placement, parameter exponentials, joint motion),
+    so only vectors are transformed."""
+
+    def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
+        if mech.closures:
+            raise InputError(f"{mech.name} is a closed loop: use PerturbedLoops")
+        super().__init__(mech, parameters)
+        self.fid = mech.frame_id(frame)
+        model = mech.model
+        self.path = [j for j in model.supports[model.frames[self.fid].parentJoint] if j != 0]
+        self.axes = {j: _joint_axis(model.joints[j]) for j in self.path}
+
+    def _factors(self, x: Floats, placement: int, dl: Floats) -> Floats:
         """Π_k exp(ξ_k Δl_k) x for the placement's parameters in factor order (applied last factor first)."""
-        if self.order is None:
-            return x
-        for k in reversed(self.order.order[placement]):
+        twists, order = self.twists(placement)
+        for k in reversed(order):
             x = _apply_exp(x, twists[k], dl[:, k])
         return x
 
-    def positions(self, q: np.ndarray, dl: np.ndarray, dq: np.ndarray) -> np.ndarray:
-        """Point positions (N, 3) at the nominal configuration ``q`` (nq,) with errors ``dl`` (N, n_l) and ``dq``
-        (N, nq)."""
-        model, d = self.mech.model, self.derivatives
-        x = np.zeros((len(dl), 3))
-        x = self._factors(x, model.njoints + self.fid, d.frames[:, self.fid], dl)
+    def positions(self, q: ArrayLike, dl: ArrayLike, dq: ArrayLike) -> Floats:
+        """Point positions (N, 3) (m) at the nominal configuration ``q`` (nq,) with parameter errors ``dl`` (N, n_l)
+        (m, rad) and joint coordinate errors ``dq`` (N, nv) (rad, m)."""
+        model = self.mech.model
+        q, dl, dq = np.asarray(q, dtype=float), np.asarray(dl, dtype=float), np.asarray(dq, dtype=float)
+        x = self._factors(np.zeros((len(dl), 3)), model.njoints + self.fid, dl)
         M = model.frames[self.fid].placement
         x = x @ M.rotation.T + M.translation
         for j in reversed(self.path):
             kind, axis = self.axes[j]
-            index = model.joints[j].idx_q
+            joint = model.joints[j]
+            value = float(_joint_value(joint, q))
             if kind == "revolute":
-                x = _rotate(x, axis, dq[:, index], float(q[index]))
+                x = _rotate(x, axis, dq[:, joint.idx_v], value)
             else:
-                x = x + (q[index] + dq[:, index])[:, None] * axis
-            x = self._factors(x, j, d.joints[:, j], dl)
+                x = x + (value + dq[:, joint.idx_v])[:, None] * axis
+            x = self._factors(x, j, dl)
             M = model.jointPlacements[j]
             x = x @ M.rotation.T + M.translation
         return x
 
 
-def _frame_factors(twists: np.ndarray, order: tuple[int, ...], dl: np.ndarray) -> pin.SE3:
+# ------------------------------------------------------------------------------------------------ closed loops
+def _wrap(angle: Floats) -> Floats:
+    """Angles wrapped to [−π, π]."""
+    return angle - 2 * np.pi * np.round(angle / (2 * np.pi))
+
+
+def _curve(f: Callable[[float], float], x: Floats) -> Floats:
+    """f(x) for an array of x: one call if f takes arrays, else one call per value."""
+    try:
+        y = np.asarray(f(x), dtype=float)
+        if y.shape == x.shape:
+            return y
+    except (TypeError, ValueError):
+        pass
+    return np.array([f(float(v)) for v in x])
+
+
+def _solve_batch(A: Floats, b: Floats) -> Floats:
+    """x (N, n) with A x = b for N systems (least squares where A is not square or singular)."""
+    if A.shape[1] == A.shape[2]:
+        try:
+            return np.linalg.solve(A, b[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            pass
+    return (np.linalg.pinv(A) @ b[..., None])[..., 0]
+
+
+class PerturbedLoops(_Factors):
+    """The position of ``frame`` of a closed-loop mechanism for N samples of parameter errors (N, n_l) and errors
+    of the actuated coordinates (N, n_act) at one assembled configuration, vectorized over the samples.
+
+    For every sample the tree's placements carry the parameter factors; the closures Φ(q, l) = 0 are solved for the
+    dependent coordinates by Newton's method for all samples together, starting from the first-order prediction
+    q + ∂q/∂l Δl + S Δq_a (the implicit-function theorem), with the step halved where it makes a residual grow,
+    until every residual is below the loop solver's tolerance, and one more step. The closure Jacobians ∂Φ/∂q_d
+    come from the frame Jacobians (ω = R a, v = ω × (p_f − p_j) for a revolute joint, v = R a for a prismatic one) as
+    :mod:`mechatron.model.closures` forms them. Samples whose loops do not close in :data:`MAX_ITERATIONS` steps
+    give NaN."""
+
+    #: Newton steps at the most.
+    MAX_ITERATIONS = 50
+
+    def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
+        if not mech.closures:
+            raise InputError(f"{mech.name} has no closures: use PerturbedChain")
+        if not vectorizable(mech):
+            raise InputError(f"{mech.name}: a vectorized error model needs one-axis joints and pin, slider, curve "
+                             "or gear closures: use PerturbedLoop")
+        super().__init__(mech, parameters)
+        model = mech.model
+        self.solver = loop_solver(mech)
+        self.closures = list(self.solver.system.closures)
+        self.fid = mech.frame_id(frame)
+        self.frame_ids = {name: mech.frame_id(name) for name in self.solver.system.frame_names}
+        frames = {self.fid, *self.frame_ids.values()}
+        joints = {j for f in frames for j in model.supports[model.frames[f].parentJoint] if j != 0}
+        self.joints = sorted(joints)  # a parent's index is below its children's
+        self.frames = sorted(frames)
+        self.axes = {j: _joint_axis(model.joints[j]) for j in self.joints}
+        by_index = {model.joints[j].idx_v: j for j in range(1, model.njoints)}
+        self.dep = self.solver.dep
+        self.dep_joints = [by_index[int(i)] for i in self.dep]
+        self.moved_by = {f: [(c, j) for c, j in enumerate(self.dep_joints)
+                             if j in model.supports[model.frames[f].parentJoint]] for f in self.frame_ids.values()}
+
+    # --------------------------------------------------------------------------------------- placements
+    def _constant(self, placement: int, M: pin.SE3, dl: Floats) -> tuple[Floats, Floats]:
+        R, p = M.rotation, M.translation
+        twists, order = self.twists(placement)
+        for k in order:
+            R, p = _compose(R, p, *_exp_placement(twists[k], dl[:, k]))
+        return R, p
+
+    def _constants(self, dl: Floats) -> dict[tuple[str, int], tuple[Floats, Floats]]:
+        """The perturbed constant placements of the joints and frames used, one per sample (or one for all)."""
+        model = self.mech.model
+        out = {("joint", j): self._constant(j, model.jointPlacements[j], dl) for j in self.joints}
+        out.update({("frame", f): self._constant(model.njoints + f, model.frames[f].placement, dl)
+                    for f in self.frames})
+        return out
+
+    @staticmethod
+    def _select(constants: dict, rows: NDArray[np.intp]) -> dict:
+        return {key: (R[rows] if R.ndim == 3 else R, p[rows] if p.ndim == 2 else p)
+                for key, (R, p) in constants.items()}
+
+    def _placements(self, q: Floats, constants: dict
+                    ) -> tuple[dict[int, tuple[Floats, Floats]], dict[int, tuple[Floats, Floats]]]:
+        """World placements (R, p) of the frames used and of the joints at the configurations q (N, nq)."""
+        model = self.mech.model
+        world: dict[int, tuple[Floats, Floats]] = {0: (np.eye(3), np.zeros(3))}
+        for j in self.joints:
+            R, p = constants[("joint", j)]
+            kind, axis = self.axes[j]
+            value = _joint_value(model.joints[j], q)
+            if kind == "revolute":
+                R = _rotated(R, axis, value)
+            else:
+                p = p + _turn(R, axis) * value[:, None]
+            world[j] = _compose(*world[model.parents[j]], R, p)
+        n = len(q)
+        frames = {}
+        for f in self.frames:
+            R, p = _compose(*world[model.frames[f].parentJoint], *constants[("frame", f)])
+            frames[f] = np.broadcast_to(R, (n, 3, 3)), np.broadcast_to(p, (n, 3))
+        return frames, world
+
+    def _frame_jacobians(self, frames: dict, world: dict, n: int) -> dict[int, tuple[Floats, Floats]]:
+        """(∂p/∂q_d (N, 3, n_dep), ∂ω/∂q_d (N, 3, n_dep)) of every closure frame, world-aligned."""
+        out = {}
+        for f in self.frame_ids.values():
+            linear, angular = np.zeros((n, 3, len(self.dep))), np.zeros((n, 3, len(self.dep)))
+            for c, j in self.moved_by[f]:
+                kind, axis = self.axes[j]
+                R, p = world[j]
+                direction = np.broadcast_to(_turn(R, axis), (n, 3))
+                if kind == "revolute":
+                    angular[:, :, c] = direction
+                    linear[:, :, c] = np.cross(direction, frames[f][1] - p)
+                else:
+                    linear[:, :, c] = direction
+            out[f] = linear, angular
+        return out
+
+    def _evaluate(self, q: Floats, constants: dict) -> tuple[Floats, Floats]:
+        """(Φ (N, rows), ∂Φ/∂q_d (N, rows, n_dep)) of every closure at the configurations q (N, nq)."""
+        frames, world = self._placements(q, constants)
+        J = self._frame_jacobians(frames, world, len(q))
+        position = {name: frames[f][1] for name, f in self.frame_ids.items()}
+        angle = {name: np.arctan2(frames[f][0][:, 1, 0], frames[f][0][:, 0, 0]) for name, f in self.frame_ids.items()}
+        linear = {name: J[f][0] for name, f in self.frame_ids.items()}
+        turn = {name: J[f][1][:, 2] for name, f in self.frame_ids.items()}  # ∂θ/∂q_d of a planar angle
+        rows, jacobians = [], []
+        for c in self.closures:
+            if isinstance(c, Pin):
+                rows.append((position[c.a] - position[c.b])[:, : c.nrows])
+                jacobians.append((linear[c.a] - linear[c.b])[:, : c.nrows])
+            elif isinstance(c, Slider):
+                theta = angle[c.line]
+                d = np.stack([np.cos(theta), np.sin(theta)], axis=1)
+                normal = np.stack([-d[:, 1], d[:, 0]], axis=1)
+                r = (position[c.point] - position[c.line])[:, :2]
+                rows.append(np.einsum("ni,ni->n", normal, r)[:, None])
+                dr = (linear[c.point] - linear[c.line])[:, :2]
+                jacobians.append((np.einsum("ni,nic->nc", normal, dr)
+                                  - np.einsum("ni,ni->n", d, r)[:, None] * turn[c.line])[:, None])
+                if c.lock_angle:
+                    rows.append(_wrap(angle[c.point] - theta - c.angle_offset)[:, None])
+                    jacobians.append((turn[c.point] - turn[c.line])[:, None])
+            elif isinstance(c, OnCurve):
+                x, y = position[c.point][:, 0], position[c.point][:, 1]
+                rows.append((y - _curve(c.f, x))[:, None])
+                jacobians.append((linear[c.point][:, 1] - _curve(c.df, x)[:, None] * linear[c.point][:, 0])[:, None])
+            else:  # Gear
+                a, b = c.columns
+                rows.append((q[:, b] - c.ratio * q[:, a] - c.offset)[:, None])
+                row = np.zeros(len(self.dep))
+                for column, value in ((a, -c.ratio), (b, 1.0)):
+                    if column in self.dep:
+                        row[list(self.dep).index(column)] += value
+                jacobians.append(np.broadcast_to(row, (len(q), 1, len(self.dep))))
+        return np.concatenate(rows, axis=1), np.concatenate(jacobians, axis=1)
+
+    # --------------------------------------------------------------------------------------- Newton
+    def _close(self, q: Floats, constants: dict) -> tuple[Floats, NDArray[np.bool_]]:
+        """The configurations (N, nq) with the closures solved for the dependent coordinates, and which closed."""
+        phi, J = self._evaluate(q, constants)
+        error = np.abs(phi).max(axis=1, initial=0.0)
+        for _ in range(self.MAX_ITERATIONS):
+            rows = np.flatnonzero(error >= TOLERANCE)  # NaN errors are failures: not iterated further
+            if not len(rows):
+                break
+            local = self._select(constants, rows)
+            step = _solve_batch(J[rows], -phi[rows])
+            t = np.ones(len(rows))
+            pending = np.arange(len(rows))
+            while len(pending):  # halve the step where it makes the residual grow
+                at = rows[pending]
+                trial = q[at].copy()
+                trial[:, self.dep] += t[pending, None] * step[pending]
+                phi_t, J_t = self._evaluate(trial, self._select(local, pending))
+                error_t = np.abs(phi_t).max(axis=1, initial=0.0)
+                accept = (error_t < error[at]) | (t[pending] < 1e-3)
+                done = at[accept]
+                q[done], phi[done], J[done], error[done] = trial[accept], phi_t[accept], J_t[accept], error_t[accept]
+                pending = pending[~accept]
+                t[pending] /= 2
+        closed = error < TOLERANCE
+        rows = np.flatnonzero(closed & (error > 0))
+        if len(rows):  # one more step: the residual to rounding level
+            q[rows[:, None], self.dep] += _solve_batch(J[rows], -phi[rows])
+        return q, closed
+
+    def positions(self, q: ArrayLike, dl: ArrayLike, dq: ArrayLike) -> Floats:
+        """Point positions (N, 3) (m) at the assembled nominal configuration ``q`` (nq,) with parameter errors
+        ``dl`` (N, n_l) (m, rad) and errors of the actuated coordinates ``dq`` (N, n_act) (rad, m); NaN where the
+        loops do not close."""
+        q, dl, dq = np.asarray(q, dtype=float), np.asarray(dl, dtype=float), np.asarray(dq, dtype=float)
+        dq_dl, S = loop_derivatives(self.mech, self.solver, self.derivatives, q)
+        start = q + dl @ dq_dl.T + dq @ S.T  # the actuated coordinates exactly at their values, the others predicted
+        constants = self._constants(dl)
+        closed_q, closed = self._close(start, constants)
+        out = self._placements(closed_q, constants)[0][self.fid][1].copy()
+        out[~closed] = np.nan
+        return out
+
+
+# ------------------------------------------------------------------------------------------------ per sample
+def _frame_factors(twists: Floats, order: tuple[int, ...], dl: Floats) -> pin.SE3:
     out = pin.SE3.Identity()
     for k in order:
         out = out * pin.exp6(twists[k] * dl[k])
     return out
 
 
-class PerturbedLoop:
+class PerturbedLoop(_Factors):
     """The position of ``frame`` for one sample of errors at a time, with Pinocchio on a perturbed copy of the
     model; closed loops are re-closed (Newton) with the actuated coordinates at their perturbed values."""
 
     def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
-        self.mech = mech
-        self.derivatives = placement_derivatives(mech, parameters)
-        self.order = factor_order(mech, self.derivatives) if len(parameters) else None
+        super().__init__(mech, parameters)
         self.copy = replace(mech, model=pin.Model(mech.model))
         self.fid = mech.frame_id(frame)
         self.nominal = _placements(mech.model)
         self.solver = loop_solver(self.copy) if mech.closures else None
         self.data = self.copy.model.createData()
 
-    @property
-    def exact(self) -> bool:
-        return self.order is None or self.order.all_exact
-
-    def _perturb(self, dl: np.ndarray) -> None:
-        model, d = self.copy.model, self.derivatives
+    def _perturb(self, dl: Floats) -> None:
+        model = self.copy.model
         nj = model.njoints
         if self.order is None:
             return
         for j in range(1, nj):
-            model.jointPlacements[j] = self.nominal[j] * _frame_factors(d.joints[:, j], self.order.order[j], dl)
+            model.jointPlacements[j] = self.nominal[j] * _frame_factors(*self.twists(j), dl)
         for f in range(model.nframes):
             frame = model.frames[f]
-            frame.placement = self.nominal[nj + f] * _frame_factors(d.frames[:, f], self.order.order[nj + f], dl)
+            frame.placement = self.nominal[nj + f] * _frame_factors(*self.twists(nj + f), dl)
             model.frames[f] = frame
 
-    def position(self, q: np.ndarray, dl: np.ndarray, dq_actuated: np.ndarray) -> np.ndarray:
-        """The point (3,) at the assembled nominal ``q`` with parameter errors ``dl`` and errors of the error
-        coordinates ``dq_actuated`` (a full (nq,) vector of joint errors for a serial mechanism, the actuated ones of
-        a closed loop)."""
-        self._perturb(dl)
-        q = np.array(q, dtype=float)
+    def position(self, q: ArrayLike, dl: ArrayLike, dq: ArrayLike) -> Floats:
+        """The point (3,) (m) at the assembled nominal ``q`` (nq,) with parameter errors ``dl`` (n_l,) and errors of
+        the error coordinates ``dq`` (rad, m): a joint error vector (nv,) for a serial mechanism (q ⊕ dq), the
+        actuated coordinates' errors (n_act,) of a closed loop.
+
+        Raises:
+            UnreachableError: if the loops do not close.
+        """
+        self._perturb(np.asarray(dl, dtype=float))
+        q, dq = np.array(q, dtype=float), np.asarray(dq, dtype=float)
         if self.solver is None:
-            q = q + dq_actuated
+            q = pin.integrate(self.copy.model, q, dq)
         else:
             self.solver.system.states.refresh_fixed()
-            q[self.solver.act] += dq_actuated
+            q[self.solver.act] += dq
             q, _ = self.solver.newton(q, polish=True)
         pin.framesForwardKinematics(self.copy.model, self.data, q)
         return self.data.oMf[self.fid].translation.copy()
 
+    def positions(self, q: ArrayLike, dl: ArrayLike, dq: ArrayLike) -> Floats:
+        """:meth:`position` for N samples (N, 3); NaN where the loops do not close."""
+        dl, dq = np.asarray(dl, dtype=float), np.asarray(dq, dtype=float)
+        return sample_positions(lambda n: self.position(q, dl[n], dq[n]), len(dl))[0]
 
-def sample_positions(evaluate: Callable[[int], np.ndarray], count: int,
-                     progress: Callable[[int, int], None] | None = None) -> tuple[np.ndarray, int]:
+
+def sample_positions(evaluate: Callable[[int], Floats], count: int,
+                     progress: Callable[[int, int], None] | None = None) -> tuple[Floats, int]:
     """Run ``evaluate(i)`` for i < count, collecting positions (count, 3); samples whose loops do not close are NaN
     and counted."""
     out = np.full((count, 3), np.nan)
@@ -268,3 +576,12 @@ def sample_positions(evaluate: Callable[[int], np.ndarray], count: int,
         if progress and (i + 1) % step == 0:
             progress(i + 1, count)
     return out, failures
+
+
+def perturbed_positions(mech: Mechanism, frame: str, parameters: Sequence[str]
+                        ) -> PerturbedChain | PerturbedLoops | PerturbedLoop:
+    """The fastest evaluator of the nonlinear model that knows ``mech``: :class:`PerturbedChain` (serial),
+    :class:`PerturbedLoops` (closed loops), else :class:`PerturbedLoop` (one sample at a time)."""
+    if not vectorizable(mech):
+        return PerturbedLoop(mech, frame, parameters)
+    return PerturbedLoops(mech, frame, parameters) if mech.closures else PerturbedChain(mech, frame, parameters)

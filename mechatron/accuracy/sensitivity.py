@@ -1,12 +1,12 @@
-r"""Sensitivities of a point's position to the geometric parameters and the coordinates (textbook eq. 8.3–8.5).
+r"""Sensitivities of a point's position to the geometric parameters and the coordinates [Egorov, 8.3–8.5].
 
-The position of the output point r(l, q) (8.1) depends on the named geometric parameters l of the mechanism
+The position of the output point r(l, q) [Egorov, 8.1] depends on the named geometric parameters l of the mechanism
 (DH a, d, α, θ; URDF joint origins; linkage lengths and pin coordinates) and on the coordinates q. To first order
-(8.3–8.5)
+[Egorov, 8.4]
 
-    Δr = Σ_i ∂r/∂l_i Δl_i + Σ_j ∂r/∂q_j Δq_j .
+    Δr = Σ_i ∂r/∂l_i Δl_i + Σ_j ∂r/∂q_j Δq_j ,
 
-How they are computed:
+and per axis Δx, Δy, Δz [Egorov, 8.5]. How the derivatives are computed:
 
 - a parameter l_k moves the constant placements of the model: every joint placement M_j and frame placement M_f
   turns into M exp(ξ Δl_k) (a local twist ξ per placement and parameter). The twists depend only on how the model is
@@ -14,10 +14,11 @@ How they are computed:
   (:func:`placement_derivatives`);
 - at a configuration, Pinocchio's frame kinematic regressor maps the joint-placement twists to the motion of the
   output frame (``computeFrameKinematicRegressor``), the frame's own placement twist adds R_f ξ_f, and the frame
-  Jacobian gives ∂r/∂q;
+  Jacobian gives ∂r/∂q, one column per joint coordinate (a continuous joint, whose q is (cos θ, sin θ), has one
+  coordinate, its angle: the Jacobian's velocity column);
 - in a closed loop the dependent coordinates move to keep the loops closed (implicit-function theorem on the
   closures Φ(q, l) = 0): ∂q_d/∂l = −J_d⁻¹ ∂Φ/∂l and ∂q_d/∂q_a = −J_d⁻¹ J_a, with ∂Φ/∂l from the same placement
-  twists of the closures' frames. The coordinates with errors are then the actuated ones.
+  twists of the closures' frames (:func:`loop_derivatives`). The coordinates with errors are then the actuated ones.
 """
 
 from __future__ import annotations
@@ -27,9 +28,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..kinematics.loops import loop_solver
+from ..kinematics.loops import LoopSolver, loop_solver
 from ..model.mechanism import Mechanism, unknown_name_error
 
 LWA = pin.LOCAL_WORLD_ALIGNED
@@ -41,8 +43,8 @@ class PlacementDerivatives:
     for the joint placements, ``frames`` (n_l, nframes, 6) for the frame placements ([v; ω] order)."""
 
     names: tuple[str, ...]
-    joints: np.ndarray
-    frames: np.ndarray
+    joints: NDArray[np.float64]
+    frames: NDArray[np.float64]
 
 
 def _structure(model: pin.Model) -> tuple:
@@ -56,11 +58,15 @@ def _placements(model: pin.Model) -> list[pin.SE3]:
 
 def placement_derivatives(mech: Mechanism, names: Sequence[str] | None = None) -> PlacementDerivatives:
     """The placement twists of ``names`` (default every parameter), by central differences of the rebuilt model's
-    placements (step 1e-6 of max(1, |l|)); cached on the mechanism."""
+    placements (step 1e-6 of max(1, |l|), m or rad); kept in the mechanism's cache."""
     names = tuple(mech.parameters) if names is None else tuple(names)
-    cache = mech.__dict__.setdefault("_placement_derivatives", {})
-    if names in cache:
-        return cache[names]
+    cache = mech.cached("accuracy.placement_derivatives", dict)
+    if names not in cache:
+        cache[names] = _placement_derivatives(mech, names)
+    return cache[names]
+
+
+def _placement_derivatives(mech: Mechanism, names: tuple[str, ...]) -> PlacementDerivatives:
     for name in names:
         if name not in mech.parameters:
             raise unknown_name_error(f"parameter of {mech.name}", name, list(mech.parameters))
@@ -80,14 +86,13 @@ def placement_derivatives(mech: Mechanism, names: Sequence[str] | None = None) -
             twists.append(np.array([pin.log6(m.actInv(p)).vector for m, p in zip(nominal, _placements(other))]))
         xi = (twists[0] - twists[1]) / (2 * h)
         joints[k], frames[k] = xi[:nj], xi[nj:]
-    result = PlacementDerivatives(names, joints, frames)
-    cache[names] = result
-    return result
+    return PlacementDerivatives(names, joints, frames)
 
 
-def frame_parameter_twists(mech: Mechanism, derivatives: PlacementDerivatives, frame: int) -> np.ndarray:
-    """World-aligned twists (6, n_l) of frame ``frame`` per unit of each parameter at the configuration last given to
-    ``mech.data`` (forward kinematics and frame placements up to date)."""
+def frame_parameter_twists(mech: Mechanism, derivatives: PlacementDerivatives, frame: int) -> NDArray[np.float64]:
+    """World-aligned twists (6, n_l) of frame ``frame`` (index) per unit of each parameter (m/m, rad/m, m/rad,
+    rad/rad) at the configuration last given to ``mech.data`` (forward kinematics and frame placements up to
+    date)."""
     model, data = mech.model, mech.data
     regressor = pin.computeFrameKinematicRegressor(model, data, frame, LWA)  # (6, 6 (njoints − 1))
     joint_twists = derivatives.joints[:, 1:, :].reshape(len(derivatives.names), -1).T  # (6 (nj − 1), n_l)
@@ -106,11 +111,12 @@ class Sensitivities:
     nominal positions; ``q`` (N, nq) the configurations."""
 
     sources: tuple[str, ...]
-    matrix: np.ndarray
-    positions: np.ndarray
-    q: np.ndarray
+    matrix: NDArray[np.float64]
+    positions: NDArray[np.float64]
+    q: NDArray[np.float64]
 
-    def column(self, name: str) -> np.ndarray:
+    def column(self, name: str) -> NDArray[np.float64]:
+        """∂r/∂e (N, 3) of the source called ``name``."""
         return self.matrix[:, :, self.sources.index(name)]
 
 
@@ -129,11 +135,11 @@ def resolve_coordinate(mech: Mechanism, name: str) -> str | None:
     return None
 
 
-def sensitivities(mech: Mechanism, q, frame: str | None = None, parameters: Sequence[str] | None = None,
+def sensitivities(mech: Mechanism, q: ArrayLike, frame: str | None = None, parameters: Sequence[str] | None = None,
                   coordinates: Sequence[str] | None = None) -> Sensitivities:
-    """∂r/∂l and ∂r/∂q of ``frame`` (default the tool frame) at the configurations ``q`` ((nq,) or (N, nq),
-    assembled ones for a closed loop), for ``parameters`` (default all) and ``coordinates`` (default every joint, or
-    the actuated ones of a closed loop)."""
+    """∂r/∂l and ∂r/∂q [Egorov, 8.4] of ``frame`` (default the tool frame) at the configurations ``q`` ((nq,) or
+    (N, nq), assembled ones for a closed loop), for ``parameters`` (default all) and ``coordinates`` (default every
+    joint, or the actuated ones of a closed loop): m per m of a length, m per rad of an angle."""
     Q = np.atleast_2d(np.asarray(q, dtype=float))
     if Q.shape[1] != mech.nq:
         raise InputError(f"configurations of {mech.name} need {mech.nq} values, got {Q.shape[1]}")
@@ -156,19 +162,30 @@ def sensitivities(mech: Mechanism, q, frame: str | None = None, parameters: Sequ
             out[i, :, :n_l] = d_point
             out[i, :, n_l:] = J[:3, columns]
             continue
-        closure_twists = closure_parameter_twists(mech, solver, derivatives, qi)
-        phi, Jc = solver.system.evaluate(qi)
-        dphi_dl = solver.system.jacobian_for(closure_twists) if n_l else np.zeros((len(phi), 0))
-        inverse = solver.dependent_inverse(qi, Jc)
-        S = solver.velocity_matrix(qi, Jc)  # q̇ = S q̇_a
-        out[i, :, :n_l] = d_point - J[:3, solver.dep] @ (inverse @ dphi_dl)
+        dq_dl, S = loop_derivatives(mech, solver, derivatives, qi)
+        out[i, :, :n_l] = d_point + J[:3] @ dq_dl
         actuated = {name: k for k, name in enumerate(mech.actuated)}
         out[i, :, n_l:] = (J[:3] @ S)[:, [actuated[c] for c in coordinates]]
     return Sensitivities(tuple(parameters) + tuple(coordinates), out, positions, Q)
 
 
-def closure_parameter_twists(mech: Mechanism, solver, derivatives: PlacementDerivatives, q: np.ndarray
-                             ) -> np.ndarray:
+def loop_derivatives(mech: Mechanism, solver: LoopSolver, derivatives: PlacementDerivatives, q: ArrayLike
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(∂q/∂l (nv, n_l), S = ∂q/∂q_a (nv, n_act)) of a closed loop at the assembled ``q``: how the coordinates
+    move with the parameters and with the actuated coordinates to keep the loops closed (implicit-function theorem:
+    ∂q_d/∂l = −J_d⁻¹ ∂Φ/∂l, ∂q_d/∂q_a = −J_d⁻¹ J_a; the actuated rows of ∂q/∂l are zero)."""
+    q = np.asarray(q, dtype=float)
+    twists = closure_parameter_twists(mech, solver, derivatives, q)
+    phi, Jc = solver.system.evaluate(q)
+    n_l = len(derivatives.names)
+    dphi_dl = solver.system.jacobian_for(twists) if n_l else np.zeros((len(phi), 0))
+    dq_dl = np.zeros((mech.nv, n_l))
+    dq_dl[solver.dep] = -solver.dependent_inverse(q, Jc) @ dphi_dl
+    return dq_dl, solver.velocity_matrix(q, Jc)
+
+
+def closure_parameter_twists(mech: Mechanism, solver: LoopSolver, derivatives: PlacementDerivatives, q: ArrayLike
+                             ) -> NDArray[np.float64]:
     """World-aligned twists (n_closure_frames, 6, n_l) of the closures' frames per unit of each parameter at q."""
     model, data = mech.model, mech.data
     pin.forwardKinematics(model, data, q)

@@ -4,17 +4,21 @@
 
 - ``parameter`` (required): a geometric parameter of the mechanism (``a2``, ``l1``…) or a coordinate (a joint name,
   ``q1``… for the k-th; the actuated ones of a closed loop): a coordinate's row is a joint error;
-- the tolerance t, the largest error either side: ``tolerance`` (SI: m or rad) or with a unit,
-  ``tolerance_mm``, ``tolerance_um``, ``tolerance_deg``, ``tolerance_arcmin``, ``tolerance_arcsec``,
-  ``tolerance_mrad``, ``tolerance_urad`` (a row fills one of them); or ``grade``: ``IT2``…``IT17`` for lengths
-  (table 8.2) or ``AT5``…``AT14`` for angles (table 8.1), t = half the zone width, looked up by the parameter's
-  nominal size or by ``size`` / ``size_mm`` (required for angles: the length of the shorter side);
+- the tolerance t, the largest error either side: ``tolerance`` (SI: m or rad) or with a unit suffix of
+  :data:`mechatron.units.UNITS` (lengths ``tolerance_mm``, ``tolerance_um``, …; angles ``tolerance_deg``,
+  ``tolerance_arcmin``, ``tolerance_arcsec``, ``tolerance_mrad``, ``tolerance_urad``; a row fills one of them);
+  or ``grade``: ``IT2``…``IT17`` for lengths ([Egorov, table 8.2], the grades of [ISO 286-1]) or ``AT5``…``AT14``
+  for angles ([Egorov, table 8.1]), t = half the zone width, looked up by the parameter's nominal size or by
+  ``size`` / ``size_<length unit>`` (required for angles: the length of the shorter side);
 - ``distribution``: ``normal`` (σ = t/k, default), ``uniform`` (σ = t/√3) or ``triangular`` (σ = t/√6);
 - ``bias``: a systematic offset of the error (same unit columns as the tolerance), default 0;
 - ``error``: the signed error of one given set of errors (``--method given``; same unit columns).
 
-``poses.csv`` — one row per configuration: a column per coordinate (joint names or q1…qn; for a closed loop the
-actuated coordinates), in rad and m, or ``<name>_deg`` / ``<name>_mm``; an optional ``label`` column.
+``poses.csv`` — one row per configuration: a column per coordinate (joint names or q1…qn, one per joint — a
+continuous joint's angle too; for a closed loop the actuated coordinates), in rad and m, or with a unit suffix
+(``<name>_deg``, ``<name>_mm``, …); an optional ``label`` column.
+
+Both are read by :func:`mechatron.io.tables.read_csv`: a problem is reported with the file, the row and the column.
 """
 
 from __future__ import annotations
@@ -22,16 +26,21 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
+from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..io.tables import number, read_csv
 from ..kinematics.loops import loop_solver
 from ..model.mechanism import Mechanism, unknown_name_error
 from ..units import UNITS
 from .sensitivity import coordinate_names, resolve_coordinate
 from .tables import tolerance_from_grade
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 DISTRIBUTIONS = ("normal", "uniform", "triangular")
 LENGTH_UNITS = UNITS["length"]
@@ -70,34 +79,12 @@ def source_unit(mech: Mechanism, name: str) -> tuple[str, str]:
                              list(mech.parameters) + coordinate_names(mech))
 
 
-def _read_csv(path: Path) -> pd.DataFrame:
-    try:
-        frame = pd.read_csv(path, dtype=str, keep_default_na=False, comment="#", skipinitialspace=True)
-    except FileNotFoundError:
-        raise InputError("no such file", file=path) from None
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"not a readable CSV file: {str(exc).splitlines()[0]}", file=path) from None
-    frame.columns = [c.strip() for c in frame.columns]
-    if frame.empty:
-        raise InputError("the file has no rows", file=path)
-    return frame
-
-
-def _number(text: str, path: Path, row: int, column: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(f"not a number: {text!r}", file=path, row=row, field=column) from None
-    if not math.isfinite(value):
-        raise InputError(f"not a finite number: {text!r}", file=path, row=row, field=column)
-    return value
-
-
 def _unit_columns(frame: pd.DataFrame, path: Path) -> dict[str, list[tuple[str, str]]]:
     """For tolerance, bias and error: their columns with the unit suffix of each."""
     known = set(LENGTH_UNITS) | set(ANGLE_UNITS)
     out: dict[str, list[tuple[str, str]]] = {f: [] for f in VALUE_FIELDS}
-    allowed = {"parameter", "grade", "size", "size_mm", "distribution", "label", "note", "description"}
+    allowed = {"parameter", "grade", "distribution", "label", "note", "description"}
+    allowed |= {"size" + (f"_{u}" if u else "") for u in LENGTH_UNITS}
     for column in frame.columns:
         base, _, suffix = column.partition("_")
         if base in VALUE_FIELDS:
@@ -106,13 +93,13 @@ def _unit_columns(frame: pd.DataFrame, path: Path) -> dict[str, list[tuple[str, 
                                  file=path, field=column)
             out[base].append((column, suffix))
         elif column not in allowed:
-            raise InputError("unknown column (expected parameter, tolerance[_unit], grade, size[_mm], distribution, "
+            raise InputError("unknown column (expected parameter, tolerance[_unit], grade, size[_unit], distribution, "
                              "bias[_unit], error[_unit])", file=path, field=column)
     return out
 
 
 def _value(row: dict, columns: list[tuple[str, str]], unit: str, path: Path, line: int, field: str) -> float | None:
-    given = [(c, s) for c, s in columns if row[c].strip()]
+    given = [(c, s) for c, s in columns if row[c]]
     if len(given) > 1:
         raise InputError(f"give the {field} in one column, not {' and '.join(c for c, _ in given)}", file=path,
                          row=line, field=given[1][0])
@@ -123,14 +110,19 @@ def _value(row: dict, columns: list[tuple[str, str]], unit: str, path: Path, lin
     if suffix not in units:
         what = {"m": "a length", "rad": "an angle"}.get(unit, "a ratio")
         raise InputError(f"{what} cannot be given in {suffix}", file=path, row=line, field=column)
-    return _number(row[column], path, line, column) * units[suffix]
+    return number(row[column], file=path, row=line, field=column) * units[suffix]
 
 
 def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") -> list[ErrorSource]:
-    """The error sources of ``path`` for ``mech``; ``need`` is ``"tolerance"`` (every row needs a tolerance or
-    grade) or ``"error"`` (every row needs an error, for ``--method given``)."""
+    """The error sources of the tolerances file ``path`` for ``mech`` (values in SI: m, rad); ``need`` is
+    ``"tolerance"`` (every row needs a tolerance or grade) or ``"error"`` (every row needs an error, for the method
+    ``given``).
+
+    Raises:
+        InputError: naming the file, the row and the column of a bad value.
+    """
     path = Path(path)
-    frame = _read_csv(path)
+    frame = read_csv(path)
     columns = _unit_columns(frame, path)
     if "parameter" not in frame.columns:
         raise InputError("missing column 'parameter'", file=path, field="parameter")
@@ -140,7 +132,7 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
         raise InputError("missing column 'error' (the given errors of --method given)", file=path, field="error")
     sources, seen = [], {}
     for i, row in enumerate(frame.to_dict(orient="records"), start=2):
-        raw = row["parameter"].strip()
+        raw = row["parameter"]
         if not raw:
             raise InputError("missing value", file=path, row=i, field="parameter")
         try:
@@ -151,7 +143,7 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
             raise InputError(f"{name} repeats row {seen[name]}", file=path, row=i, field="parameter")
         seen[name] = i
         tolerance = _value(row, columns["tolerance"], unit, path, i, "tolerance")
-        grade = row.get("grade", "").strip()
+        grade = row.get("grade", "")
         if grade:
             if tolerance is not None:
                 raise InputError("give a tolerance or a grade, not both", file=path, row=i, field="grade")
@@ -160,8 +152,8 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
             raise InputError("missing tolerance (or grade)", file=path, row=i, field="tolerance")
         if tolerance is not None and tolerance < 0:
             raise InputError(f"a tolerance must be >= 0, got {tolerance:g}", file=path, row=i,
-                             field=next((c for c, _ in columns["tolerance"] if row[c].strip()), "tolerance"))
-        distribution = row.get("distribution", "").strip().lower() or "normal"
+                             field=next((c for c, _ in columns["tolerance"] if row[c]), "tolerance"))
+        distribution = row.get("distribution", "").lower() or "normal"
         if distribution not in DISTRIBUTIONS:
             raise InputError(f"unknown distribution {distribution!r}; expected one of: {', '.join(DISTRIBUTIONS)}",
                              file=path, row=i, field="distribution")
@@ -180,10 +172,13 @@ def _grade_tolerance(mech: Mechanism, name: str, unit: str, grade: str, row: dic
         raise InputError(f"{grade} is a {'length' if prefix == 'IT' else 'angle'} grade but {name} is "
                          f"{'an angle' if unit == 'rad' else 'a length' if unit == 'm' else 'a ratio'}",
                          file=path, row=line, field="grade")
-    size_text = row.get("size", "").strip() or row.get("size_mm", "").strip()
-    if size_text:
-        column = "size" if row.get("size", "").strip() else "size_mm"
-        size = _number(size_text, path, line, column) * (1e-3 if column == "size_mm" else 1.0)
+    sizes = [(c, LENGTH_UNITS[c.partition("_")[2]]) for c in row if c.partition("_")[0] == "size" and row[c]]
+    if len(sizes) > 1:
+        raise InputError(f"give the size in one column, not {' and '.join(c for c, _ in sizes)}", file=path,
+                         row=line, field=sizes[1][0])
+    if sizes:
+        column, factor = sizes[0]
+        size = number(row[column], file=path, row=line, field=column) * factor
     elif unit == "m" and name in mech.parameters:
         size = abs(mech.parameter_values()[name])
     else:
@@ -195,23 +190,41 @@ def _grade_tolerance(mech: Mechanism, name: str, unit: str, grade: str, row: dic
         raise InputError(exc.message, file=path, row=line, field="grade") from None
 
 
-def read_poses(path: str | Path, mech: Mechanism) -> tuple[np.ndarray, list[str]]:
-    """The poses of ``path``: values of the coordinates (N, n_c) in SI (coordinate_names order) and labels."""
+def _pose_column(mech: Mechanism, column: str, path: Path) -> tuple[str, float]:
+    """(coordinate, factor to SI) of a poses column: a coordinate's name (or ``qk``), with a unit suffix or not."""
+    name = resolve_coordinate(mech, column)
+    if name is not None:
+        return name, 1.0
+    base, _, suffix = column.rpartition("_")
+    name = resolve_coordinate(mech, base) if base else None
+    if name is None:
+        names = coordinate_names(mech)
+        raise InputError(f"not a coordinate of {mech.name} (expected {', '.join(names)}, or q1…q{len(names)})",
+                         file=path, field=column)
+    kind = "angle" if mech.joint_kind(name) == "revolute" else "length"
+    factor = UNITS[kind].get(suffix)
+    if not suffix or factor is None:
+        known = ", ".join(u for u in UNITS[kind] if u)
+        raise InputError(f"{name} is {'an angle' if kind == 'angle' else 'a length'}: unknown unit {suffix!r} "
+                         f"(known: {known})", file=path, field=column)
+    return name, factor
+
+
+def read_poses(path: str | Path, mech: Mechanism) -> tuple[NDArray[np.float64], list[str]]:
+    """The poses of the poses file ``path``: values of the coordinates (N, n_c) in SI (rad, m; in
+    :func:`~mechatron.accuracy.sensitivity.coordinate_names` order) and a label per pose.
+
+    Raises:
+        InputError: naming the file, the row and the column of a bad value.
+    """
     path = Path(path)
-    frame = _read_csv(path)
+    frame = read_csv(path)
     names = coordinate_names(mech)
     lookup: dict[str, tuple[str, float]] = {}
     for column in frame.columns:
         if column == "label":
             continue
-        base, factor = column, 1.0
-        for suffix, scale in (("_deg", math.pi / 180), ("_mm", 1e-3)):
-            if column.endswith(suffix):
-                base, factor = column[: -len(suffix)], scale
-        name = resolve_coordinate(mech, base)
-        if name is None:
-            raise InputError(f"not a coordinate of {mech.name} (expected {', '.join(names)}, or q1…q{len(names)})",
-                             file=path, field=column)
+        name, factor = _pose_column(mech, column, path)
         if name in lookup:
             raise InputError(f"{name} is given twice", file=path, field=column)
         lookup[name] = (column, factor)
@@ -219,38 +232,50 @@ def read_poses(path: str | Path, mech: Mechanism) -> tuple[np.ndarray, list[str]
     if missing:
         raise InputError(f"missing column(s) {', '.join(missing)}", file=path, field=missing[0])
     values = np.empty((len(frame), len(names)))
-    for i, row in enumerate(frame.to_dict(orient="records")):
+    for i, row in enumerate(frame.to_dict(orient="records"), start=2):
         for j, name in enumerate(names):
             column, factor = lookup[name]
-            if not row[column].strip():
-                raise InputError("missing value", file=path, row=i + 2, field=column)
-            values[i, j] = _number(row[column], path, i + 2, column) * factor
-    labels = [r.strip() or str(i + 1) for i, r in enumerate(frame["label"])] if "label" in frame.columns else \
+            if not row[column]:
+                raise InputError("missing value", file=path, row=i, field=column)
+            values[i - 2, j] = number(row[column], file=path, row=i, field=column) * factor
+    labels = [r or str(i + 1) for i, r in enumerate(frame["label"])] if "label" in frame.columns else \
         [str(i + 1) for i in range(len(frame))]
     return values, labels
 
 
-def reference_pose(mech: Mechanism) -> np.ndarray:
-    """One pose (1, n_c): the reference configuration's coordinates (a closed loop's actuated inputs), or the
-    neutral configuration of a serial arm moved inside its limits."""
+def _coordinate_limits(mech: Mechanism) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(lower, upper) limits (rad, m) of the error coordinates; ±inf for joints without limits (continuous)."""
+    names = coordinate_names(mech)
+    lower, upper = np.full(len(names), -np.inf), np.full(len(names), np.inf)
+    model = mech.model
+    for j, name in enumerate(names):
+        joint = model.joints[mech.joint_id(name)]
+        if joint.nq == 1:
+            lower[j], upper[j] = model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]
+    return lower, upper
+
+
+def reference_pose(mech: Mechanism) -> NDArray[np.float64]:
+    """One pose (1, n_c) (rad, m): the reference configuration's coordinates (a closed loop's actuated inputs), or
+    the coordinates of a serial arm's neutral configuration moved inside its limits."""
     if mech.closures:
         solver = loop_solver(mech)
         return np.asarray(mech.reference_q, dtype=float)[solver.act][None, :]
     q = np.asarray(mech.reference_q if mech.reference_q is not None else mech.neutral(), dtype=float)
-    return np.clip(q, mech.model.lowerPositionLimit, mech.model.upperPositionLimit)[None, :]
+    return np.clip(mech.coordinates(q), *_coordinate_limits(mech))[None, :]
 
 
-def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> np.ndarray:
-    """Poses over the coordinates' ranges: a full count^n grid for n ≤ 2 coordinates, else ``count`` random poses
-    (seeded). Unlimited revolute coordinates span one turn, unlimited prismatic ones ±0.5 m about the reference."""
+def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> NDArray[np.float64]:
+    """Poses (rad, m) over the coordinates' ranges: a full count^n grid for n ≤ 2 coordinates, else ``count``
+    random poses (seeded). Unlimited revolute (and continuous) coordinates span one turn, unlimited prismatic ones
+    ±0.5 m about the reference."""
     if count < 1:
         raise InputError(f"a grid needs at least 1 point per coordinate, got {count}")
     names = coordinate_names(mech)
     reference = reference_pose(mech)[0]
-    lower, upper = np.empty(len(names)), np.empty(len(names))
+    lower, upper = _coordinate_limits(mech)
     for j, name in enumerate(names):
-        index = mech.model.joints[mech.joint_id(name)].idx_q
-        lo, hi = mech.model.lowerPositionLimit[index], mech.model.upperPositionLimit[index]
+        lo, hi = lower[j], upper[j]
         if not (np.isfinite(lo) and np.isfinite(hi) and hi - lo < 1e10):
             half = np.pi if mech.joint_kind(name) == "revolute" else 0.5
             lo, hi = reference[j] - half, reference[j] + half

@@ -1,55 +1,62 @@
-r"""Tolerance studies of a point's position over poses (textbook chapter 8; anchors C for what tools report).
+r"""Tolerance studies of a point's position over poses [Egorov, chapter 8].
 
 With the sensitivities J = ∂r/∂e of the error sources e (:mod:`~mechatron.accuracy.sensitivity`), tolerances
 t_i, biases b_i and standard deviations σ_i (:class:`~mechatron.accuracy.sources.ErrorSource`), per axis:
 
-- ``given`` — one set of signed errors e: Δr = J e (8.4), Δx, Δy, Δz (8.5), |Δr| (8.6); also the full nonlinear
-  model's Δr for the same errors;
+- ``given`` — one set of signed errors e: Δr = J e [Egorov, 8.4], Δx, Δy, Δz [Egorov, 8.5], |Δr| [Egorov, 8.6];
+  also the full nonlinear model's Δr for the same errors [Egorov, 8.2];
 - ``worst`` — worst case: Δ = |J b| + Σ_i |J_i| t_i, every error at the end of its tolerance that hurts most;
-- ``rss`` — statistical: Δ = |J b| + k √(Σ_i (J_i σ_i)²) (k = 3: with normal errors σ = t/3 and Δ = √Σ(J t)²);
+- ``rss`` — statistical (root sum of squares): Δ = |J b| + k √(Σ_i (J_i σ_i)²) (k = 3: with normal errors σ = t/3
+  and Δ = √Σ(J t)²);
 - ``mc`` — Monte Carlo of the full nonlinear model: seeded samples of every error from its distribution, the
   point's position computed exactly (:mod:`~mechatron.accuracy.nonlinear`); per axis |mean| + k·std, |Δr| at the
   coverage of ±k σ of a normal (99.73 % for k = 3), mean, standard deviation, percentiles, the yield against a
   limit, and each source's share of the variance (least-squares regression of Δr on the sampled errors).
 
-For worst and rss the modulus is (8.6) of the per-axis values (an upper bound of the largest |Δr|). The shares of
-the linear methods are Σ_axes |J_i| t_i / Σ (worst) and Σ_axes (J_i σ_i)² / Σ (variance).
+The worst case and RSS are the usual tolerance stack-ups built on the first-order error [Egorov, 8.4]; for both the
+modulus is [Egorov, 8.6] of the per-axis values (an upper bound of the largest |Δr|). The shares of the linear
+methods are Σ_axes |J_i| t_i / Σ (worst) and Σ_axes (J_i σ_i)² / Σ (variance).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, SingularityError, UnreachableError
 from ..kinematics.loops import assemble
 from ..model.mechanism import Mechanism
-from .nonlinear import PerturbedChain, PerturbedLoop, sample_positions
+from .nonlinear import PerturbedLoop, perturbed_positions
+from .result import StudyResult
 from .sensitivity import Sensitivities, coordinate_names, sensitivities
 from .sources import ErrorSource
 
+__all__ = ["METHODS", "StudyResult", "configurations", "draw_errors", "run_study", "tolerance_study"]
+
+Floats = NDArray[np.float64]
+
 METHODS = ("given", "worst", "rss", "mc")
-#: Samples per chunk of the vectorized Monte Carlo.
-CHUNK = 32768
+#: Samples per chunk of the vectorized Monte Carlo (and of the one-sample-at-a-time one).
+CHUNK, SLOW_CHUNK = 32768, 1024
 #: Samples used for the Monte Carlo's variance shares (a least-squares fit).
 REGRESSION_SAMPLES = 100_000
 
 
-def configurations(mech: Mechanism, poses: np.ndarray, labels: Sequence[str] | None = None) -> np.ndarray:
-    """Full configurations (N, nq) for poses given as coordinate values (N, n_c): the joints of a serial mechanism,
-    the actuated inputs of a closed loop (assembled in order, each from the previous one)."""
+def configurations(mech: Mechanism, poses: ArrayLike, labels: Sequence[str] | None = None) -> Floats:
+    """Full configurations q (N, nq) for poses given as coordinate values (N, n_c) (rad, m): one per joint of a
+    serial mechanism (q = :meth:`~mechatron.model.Mechanism.configuration`, a continuous joint's angle becoming its
+    (cos, sin)), the actuated inputs of a closed loop (assembled in order, each from the previous one)."""
     poses = np.atleast_2d(np.asarray(poses, dtype=float))
     names = coordinate_names(mech)
     if poses.shape[1] != len(names):
         raise InputError(f"a pose of {mech.name} gives {len(names)} values ({', '.join(names)})")
     labels = list(labels) if labels is not None else [str(i + 1) for i in range(len(poses))]
     if not mech.closures:
-        return poses.copy()
+        return np.atleast_2d(mech.configuration(poses))
     out, guess = np.empty((len(poses), mech.nq)), None
     for i, pose in enumerate(poses):
         try:
@@ -59,67 +66,31 @@ def configurations(mech: Mechanism, poses: np.ndarray, labels: Sequence[str] | N
     return out
 
 
-@dataclass
-class StudyResult:
-    """The study over every pose: ``poses`` (per-pose table: label, coordinates, nominal x, y, z and, per method,
-    dx_, dy_, dz_, dr_<method> and Monte Carlo statistics), ``contributions`` (per source, at the critical pose and
-    averaged over the poses), the sensitivities, and the Monte Carlo samples of the critical pose (Δr, (N, 3))."""
-
-    mechanism: str
-    frame: str
-    methods: tuple[str, ...]
-    k: float
-    sources: list[ErrorSource]
-    poses: pd.DataFrame
-    contributions: pd.DataFrame
-    sensitivities: Sensitivities
-    critical: int
-    samples: np.ndarray | None = None
-    limit: float | None = None
-    notes: list[str] = field(default_factory=list)
-
-    @property
-    def main_method(self) -> str:
-        return self.methods[0]
-
-    def records(self) -> list[dict]:
-        """One object per pose: label, coordinates, x, y, z, dx, dy, dz, dr of the main method (the first of
-        ``methods``), and every method's numbers under ``methods``."""
-        out = []
-        names = coordinate_names_from(self.poses)
-        for _, row in self.poses.iterrows():
-            record = {"pose": row["label"], "coordinates": {n: float(row[n]) for n in names},
-                      "x": float(row["x"]), "y": float(row["y"]), "z": float(row["z"])}
-            for axis in ("dx", "dy", "dz", "dr"):
-                record[axis] = float(row[f"{axis}_{self.main_method}"])
-            record["methods"] = {m: {c[: -len(m) - 1]: _plain(row[c]) for c in self.poses.columns
-                                     if c.endswith("_" + m)} for m in self.methods}
-            out.append(record)
-        return out
-
-
-def coordinate_names_from(table: pd.DataFrame) -> list[str]:
-    fixed = {"label", "x", "y", "z"}
-    return [c for c in table.columns if c not in fixed and not any(c.endswith("_" + m) for m in METHODS)]
-
-
-def _plain(value):
-    value = float(value)
-    return value if math.isfinite(value) else None
-
-
-def _columns(study_sources: Sequence[ErrorSource], sens: Sensitivities) -> np.ndarray:
+def _columns(study_sources: Sequence[ErrorSource], sens: Sensitivities) -> Floats:
     index = {name: i for i, name in enumerate(sens.sources)}
     return sens.matrix[:, :, [index[s.name] for s in study_sources]]
 
 
-def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray, labels: Sequence[str] | None = None,
+def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike, labels: Sequence[str] | None = None,
               *, frame: str | None = None, methods: Sequence[str] = ("worst", "rss"), k: float = 3.0,
               samples: int = 10000, seed: int = 0, limit: float | None = None,
               progress: Callable[[int, int], None] | None = None) -> StudyResult:
-    """Run the ``methods`` (of :data:`METHODS`) for the error ``sources`` at every pose (coordinate values, see
-    :func:`configurations`). ``k``: the coverage factor (σ = t/k for normal errors, results at ±kσ); ``samples``
-    and ``seed``: the Monte Carlo; ``limit``: the largest acceptable |Δr| (m) for the yield."""
+    """Run the ``methods`` (of :data:`METHODS`, see the module) for the error ``sources`` at every pose.
+
+    Args:
+        mech: The mechanism.
+        sources: The error sources (tolerances, biases and errors in SI: m, rad).
+        poses: Coordinate values (N, n_c) or (n_c,) (rad, m): one per joint of a serial mechanism, the actuated
+            coordinates of a closed loop (see :func:`configurations`).
+        labels: A label per pose (default 1, 2, …).
+        frame: The frame whose position is studied (default the tool frame).
+        methods: Of ``given`` (Δr of the sources' errors [Egorov, 8.4–8.6]), ``worst``, ``rss``, ``mc``; the first
+            is the main one.
+        k: The coverage factor: σ = t/k for normal errors, results at ±kσ.
+        samples, seed: Monte Carlo samples per pose and the seed of their generator.
+        limit: The largest acceptable |Δr| (m) for the Monte Carlo yield.
+        progress: Called with (samples done, samples in all) during the Monte Carlo.
+    """
     methods = tuple(methods)
     for m in methods:
         if m not in METHODS:
@@ -143,12 +114,14 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray
     t = np.array([s.tolerance for s in sources])
     sigma = np.array([s.sigma(k) for s in sources])
     bias = np.array([s.bias for s in sources])
+    import pandas as pd
+
     table = pd.DataFrame({"label": labels})
     for j, name in enumerate(coordinate_names(mech)):
         table[name] = poses[:, j]
     table["x"], table["y"], table["z"] = sens.positions.T
     shift = np.abs(J @ bias)
-    results: dict[str, np.ndarray] = {}
+    results: dict[str, Floats] = {}
     notes: list[str] = []
     if "given" in methods:
         error = np.array([s.error for s in sources])
@@ -184,12 +157,11 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: np.ndarray
         contributions["mc_share"] = mc_shares
     contributions = contributions.sort_values("variance_share", ascending=False, kind="stable").reset_index(drop=True)
     return StudyResult(mech.name, frame, methods, k, list(sources), table, contributions, sens, critical, mc_samples,
-                       limit, notes)
+                       limit, notes, tuple(coordinate_names(mech)))
 
 
-def _nonlinear_given(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: np.ndarray,
-                     error: np.ndarray) -> np.ndarray:
-    """Positions (N, 3) of the full model with the given errors at every pose."""
+def _nonlinear_given(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: Floats, error: Floats) -> Floats:
+    """Positions (N, 3) (m) of the full model [Egorov, 8.2] with the given errors at every pose."""
     parameters = [s.name for s in sources if s.kind == "parameter"]
     dl = np.array([e for s, e in zip(sources, error) if s.kind == "parameter"])
     loop = PerturbedLoop(mech, frame, parameters)
@@ -203,24 +175,24 @@ def _nonlinear_given(mech: Mechanism, frame: str, sources: Sequence[ErrorSource]
     return out
 
 
-def _coordinate_errors(mech: Mechanism, sources: Sequence[ErrorSource], errors: np.ndarray) -> np.ndarray:
-    """Errors of the error coordinates (N, n) as the evaluators take them: a full (N, nq) joint vector for a serial
-    mechanism, the actuated coordinates (N, n_act) of a closed loop."""
-    names = list(mech.actuated) if mech.closures else mech.joint_names
-    out = np.zeros((len(errors), len(names)))
+def _coordinate_errors(mech: Mechanism, sources: Sequence[ErrorSource], errors: Floats) -> Floats:
+    """Errors of the error coordinates as the evaluators take them: a joint error vector (N, nv) (velocity order,
+    one coordinate per joint) of a serial mechanism, the actuated coordinates (N, n_act) of a closed loop."""
+    if mech.closures:
+        names = list(mech.actuated)
+        columns = {name: n for n, name in enumerate(names)}
+        out = np.zeros((len(errors), len(names)))
+    else:
+        columns = {name: mech.model.joints[mech.joint_id(name)].idx_v for name in mech.joint_names}
+        out = np.zeros((len(errors), mech.nv))
     for j, s in enumerate(sources):
         if s.kind == "coordinate":
-            out[:, names.index(s.name)] = errors[:, j]
-    if not mech.closures:  # joint order → q index
-        full = np.zeros((len(errors), mech.nq))
-        for n, name in enumerate(names):
-            full[:, mech.model.joints[mech.joint_id(name)].idx_q] = out[:, n]
-        return full
+            out[:, columns[s.name]] = errors[:, j]
     return out
 
 
-def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Generator, k: float) -> np.ndarray:
-    """``count`` samples (count, n_e) of every source's error: bias + normal(σ = t/k), uniform on ±t or
+def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Generator, k: float) -> Floats:
+    """``count`` samples (count, n_e) of every source's error (SI): bias + normal(σ = t/k), uniform on ±t or
     triangular on ±t (drawn in single precision: ample for errors, twice as fast)."""
     out = np.empty((count, len(sources)))
     for j, s in enumerate(sources):
@@ -234,11 +206,16 @@ def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Gener
     return out
 
 
-def _monte_carlo(mech, frame, sources, Q, nominal, samples, seed, k, limit, critical, progress, notes):
+def _monte_carlo(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: Floats, nominal: Floats,
+                 samples: int, seed: int, k: float, limit: float | None, critical: int | None,
+                 progress: Callable[[int, int], None] | None, notes: list[str]
+                 ) -> tuple[dict[str, Floats], Floats, Floats, int]:
+    """Monte Carlo statistics per pose, the Δr samples (m) and the variance shares (%) at the critical pose (the
+    given one, else the largest |Δr| at the coverage), and that pose."""
     parameters = [j for j, s in enumerate(sources) if s.kind == "parameter"]
     names = [sources[j].name for j in parameters]
-    serial = not mech.closures
-    evaluator = PerturbedChain(mech, frame, names) if serial else PerturbedLoop(mech, frame, names)
+    evaluator = perturbed_positions(mech, frame, names)
+    chunk = SLOW_CHUNK if isinstance(evaluator, PerturbedLoop) else CHUNK
     if not evaluator.exact:
         notes.append("some placements are not products of one-parameter exponentials: the Monte Carlo is exact "
                      "in the coordinates and to first order in those parameters")
@@ -254,17 +231,13 @@ def _monte_carlo(mech, frame, sources, Q, nominal, samples, seed, k, limit, crit
         delta = np.empty((samples, 3))
         regression = min(samples, REGRESSION_SAMPLES)
         errors_kept = np.empty((regression, len(sources)))
-        for start in range(0, samples, CHUNK):
-            count = min(CHUNK, samples - start)
+        for start in range(0, samples, chunk):
+            count = min(chunk, samples - start)
             errors = draw_errors(sources, count, rng, k)
             if start < regression:
                 errors_kept[start:min(start + count, regression)] = errors[: regression - start]
             dl, dq = errors[:, parameters], _coordinate_errors(mech, sources, errors)
-            if serial:
-                delta[start:start + count] = evaluator.positions(q, dl, dq) - nominal[i]
-            else:
-                positions, _ = sample_positions(lambda n: evaluator.position(q, dl[n], dq[n]), count)
-                delta[start:start + count] = positions - nominal[i]
+            delta[start:start + count] = evaluator.positions(q, dl, dq) - nominal[i]
             if progress:
                 progress(i * samples + start + count, total)
         good = np.all(np.isfinite(delta), axis=1)
@@ -288,7 +261,7 @@ def _monte_carlo(mech, frame, sources, Q, nominal, samples, seed, k, limit, crit
     return stats, d, _variance_shares(d[: len(e)], e), i
 
 
-def _variance_shares(delta: np.ndarray, errors: np.ndarray) -> np.ndarray:
+def _variance_shares(delta: Floats, errors: Floats) -> Floats:
     """Each source's share (%) of the total variance of Δr: Σ_axes (β_i σ_i)² / Σ_axes var, β from a least-squares
     fit of Δr on the sampled errors."""
     centred = errors - errors.mean(axis=0)
@@ -299,10 +272,11 @@ def _variance_shares(delta: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return 100 * part / max(response.var(axis=0).sum(), 1e-300)
 
 
-def tolerance_study(mech: Mechanism, tolerances, poses=None, labels: Sequence[str] | None = None,
+def tolerance_study(mech: Mechanism, tolerances: Sequence[ErrorSource] | str | Path,
+                    poses: ArrayLike | str | Path | None = None, labels: Sequence[str] | None = None,
                     **options) -> StudyResult:
     """The positioning error of a point of ``mech`` from the tolerances of its parameters and joints
-    ([Egorov, chapter 8]): :func:`run_study` with its inputs read from files where paths are given.
+    [Egorov, chapter 8]: :func:`run_study` with its inputs read from files where paths are given.
 
     Args:
         tolerances: A list of :class:`~mechatron.accuracy.sources.ErrorSource` or a tolerances CSV path.

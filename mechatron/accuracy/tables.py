@@ -1,5 +1,6 @@
-"""Tolerance tables of the textbook's chapter 8 as data: linear sizes IT2–IT17 (table 8.2, GOST 25346-82 = ISO
-286-1, ``catalogs/it_grades.csv``) and angles AT5–AT14 (table 8.1, GOST 8908-81, ``catalogs/angle_tolerances.csv``).
+"""The tolerance tables of [Egorov, chapter 8] as data: linear sizes IT2–IT17 ([Egorov, table 8.2], GOST 25346-82,
+the IT grades of [ISO 286-1]; ``catalogs/it_grades.csv``) and angles AT5–AT14 ([Egorov, table 8.1], GOST 8908-81;
+``catalogs/angle_tolerances.csv``).
 
 A grade's tolerance is the width of the tolerance zone (upper minus lower limit) for a size in the interval
 over < size ≤ up_to (mm); the first row covers every size up to its upper end. Sizes beyond the last row are
@@ -11,17 +12,21 @@ from __future__ import annotations
 import math
 import re
 from functools import lru_cache
-
-import pandas as pd
+from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from ..io.data import data_dir
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 LINEAR_FILE, ANGLE_FILE = "it_grades.csv", "angle_tolerances.csv"
 
 
 @lru_cache(maxsize=2)
 def _table(name: str) -> pd.DataFrame:
+    import pandas as pd
+
     return pd.read_csv(data_dir("catalogs") / name, comment="#")
 
 
@@ -46,13 +51,13 @@ def _lookup(name: str, prefix: str, unit: str, grade: str, size_mm: float, facto
 
 
 def linear_tolerance(grade: str, size: float) -> float:
-    """The IT tolerance zone width (m) of grade ``"IT7"``… for a size (m), table 8.2."""
+    """The IT tolerance zone width (m) of grade ``"IT7"``… for a size (m), [Egorov, table 8.2] ([ISO 286-1])."""
     return _lookup(LINEAR_FILE, "IT", "um", grade, size * 1e3, 1e-6)
 
 
 def angle_tolerance(grade: str, length: float) -> float:
     """The AT tolerance zone width (rad) of degree ``"AT7"``… for an angle whose shorter side is ``length`` (m),
-    table 8.1."""
+    [Egorov, table 8.1]."""
     return _lookup(ANGLE_FILE, "AT", "arcsec", grade, length * 1e3, math.pi / 648000)
 
 
@@ -63,4 +68,4 @@ def tolerance_from_grade(grade: str, size: float) -> float:
         return linear_tolerance(text, size)
     if text.startswith("AT"):
         return angle_tolerance(text, size)
-    raise InputError(f"unknown grade {grade!r}: give ITn (lengths, table 8.2) or ATn (angles, table 8.1)")
+    raise InputError(f"unknown grade {grade!r}: give ITn (lengths, ISO 286-1) or ATn (angles)")

@@ -1,21 +1,15 @@
-"""``mechatron tolerance``."""
+"""``mechatron tolerance``: the positioning error of a point from the tolerances of parameters and coordinates."""
 
 from __future__ import annotations
 
 import argparse
 
 from ..errors import InputError
-from .common import (
-    _load,
-    _print_json,
-    _robot_arguments,
-    _write_table,
-)
+from .common import _load, _robot_arguments, add_output_options, emit
 
 
 def cmd_tolerance(args: argparse.Namespace) -> int:
-    """Positioning error of a point from the tolerances of parameters and coordinates (textbook chapter 8)."""
-    from ..accuracy.plots import write_charts
+    """Positioning error of a point from the tolerances of parameters and coordinates [Egorov, chapter 8]."""
     from ..accuracy.sources import read_poses, read_tolerances, reference_pose, workspace_grid
     from ..accuracy.study import run_study
     from ..report.progress import progress_bar
@@ -40,51 +34,38 @@ def cmd_tolerance(args: argparse.Namespace) -> int:
                        samples=args.samples, seed=args.seed, limit=limit,
                        progress=progress_bar(f"{mech.name}: Monte Carlo") if long_run else None)
     written = []
-    if args.csv:
-        written.append(_write_table(result.poses, args.csv))
     if args.contributions:
-        written.append(_write_table(result.contributions, args.contributions))
+        from ..io.output import write_table
+
+        written.append(write_table(result.contributions, args.contributions))
     if args.plots:
-        written += [str(p) for p in write_charts(result, args.plots)]
-    if args.json:
-        _print_json(result.records())
-        return 0
-    print(f"{mech.name}: positioning error of {result.frame} ({', '.join(methods)}; k = {args.k:g}; "
-          f"{len(sources)} error sources, {len(poses)} pose{'s' if len(poses) > 1 else ''})")
-    shown = result.poses[["label", *[f"dr_{m}" for m in methods]]].copy()
-    shown.iloc[:, 1:] *= 1e3
-    shown.columns = ["pose", *[f"|Δr| {m} (mm)" for m in methods]]
-    print(shown.head(20).to_string(index=False, float_format=lambda x: f"{x:.5g}"))
-    if len(shown) > 20:
-        print(f"… {len(shown) - 20} more poses; the largest at pose {result.poses['label'].iloc[result.critical]}")
-    print("\ncontributions at the critical pose (% of the variance):")
-    c = result.contributions
-    print(c[["source", "unit", "tolerance", "sensitivity", "worst_share", "variance_share"]
-            + (["mc_share"] if "mc_share" in c else [])].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
-    for note in result.notes:
-        print(f"note: {note}")
-    for path in written:
-        print(f"wrote {path}")
+        from ..io.output import output_directory, save_figure
+
+        directory = output_directory(args.plots)
+        written += [save_figure(figure, directory / f"{result.mechanism}_{name}.png")
+                    for name, figure in result.charts().items()]
+    emit(result, args, written)
     return 0
 
 
-def register(sub) -> None:
+def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("tolerance", help="positioning error of a point from parameter and joint tolerances: "
                                          "worst case, RSS, Monte Carlo, or a given set of errors")
     _robot_arguments(p)
     p.add_argument("--tolerances", required=True, metavar="FILE",
                    help="CSV: parameter, tolerance (or tolerance_mm, …, or grade), distribution, bias, error")
-    p.add_argument("--poses", metavar="FILE", help="CSV: a configuration per row (closed loops: actuated inputs)")
+    p.add_argument("--poses", metavar="FILE", help="CSV: one coordinate per joint per row (closed loops: actuated "
+                                                   "inputs)")
     p.add_argument("--grid", type=int, metavar="N", help="poses over the workspace: N per coordinate (≤ 2 "
                                                          "coordinates) or N random ones")
     p.add_argument("--method", default="all", choices=["worst", "rss", "mc", "all", "given"],
-                   help="all = worst, rss and mc (default); given: the Δr of the error column (8.4)")
+                   help="all = worst, rss and mc (default); given: the Δr of the error column [Egorov, 8.4]")
     p.add_argument("--samples", type=int, default=10000, help="Monte Carlo samples per pose (default 10000)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--k", type=float, default=3.0, help="coverage factor: σ = t/k for normal errors (default 3)")
     p.add_argument("--limit-mm", type=float, help="largest acceptable |Δr| (mm) for the Monte Carlo yield")
     p.add_argument("--frame", help="the frame whose position is studied (default: the tool)")
-    p.add_argument("--csv", metavar="FILE", help="write the per-pose results")
-    p.add_argument("--contributions", metavar="FILE", help="write the contributions table")
+    add_output_options(p)
+    p.add_argument("--contributions", metavar="FILE", help="write the contributions table (CSV)")
     p.add_argument("--plots", metavar="DIR", help="write the error map, Monte Carlo and contribution charts")
     p.set_defaults(func=cmd_tolerance)

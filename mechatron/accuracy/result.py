@@ -1,0 +1,266 @@
+"""What a tolerance study returns: :class:`StudyResult`, with its text report and its charts (the error over the
+poses, the Monte Carlo spread at the critical pose, each error source's contribution).
+
+It follows the result protocol (:class:`~mechatron.report.result.Result`): ``to_frame()`` is the per-pose table,
+``as_dict()`` the study as plain data, ``plot()`` the charts in one figure, ``str()`` the report printed by
+``mechatron tolerance``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError
+from ..report.result import Result, frame_records, json_ready
+from .sensitivity import Sensitivities
+from .sources import ErrorSource
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+#: Colour classes of the error map.
+MAP_CLASSES = 5
+#: Poses the text report lists (the critical one is named when there are more).
+SHOWN_POSES = 20
+
+
+@dataclass
+class StudyResult(Result):
+    """A tolerance study over every pose [Egorov, chapter 8].
+
+    Attributes:
+        mechanism: The mechanism's name.
+        frame: The frame whose position was studied.
+        methods: The methods run (of ``given``, ``worst``, ``rss``, ``mc``); the first is the main one.
+        k: The coverage factor (σ = t/k for normal errors; results at ±kσ).
+        sources: The error sources.
+        poses: The per-pose table: ``label``, the coordinates (rad, m), nominal ``x``, ``y``, ``z`` (m) and, per
+            method, ``dx_<method>``, ``dy_<method>``, ``dz_<method>``, ``dr_<method>`` (m); with ``given`` also
+            ``dr_nonlinear_given`` (the full model's |Δr| for the same errors, m); with ``mc`` the Monte Carlo's
+            ``mean_dr_mc``, ``std_dr_mc``, ``p50_dr_mc``, ``p95_dr_mc``, ``p99_dr_mc``, ``max_dr_mc`` (m),
+            ``failed_mc`` (samples whose loops did not close) and, with a limit, ``yield_mc`` (fraction ≤ limit).
+        contributions: One row per source at the critical pose: ``source``, ``kind``, ``unit``, ``tolerance``,
+            ``distribution``, ``bias`` (SI, in ``unit``), ``sensitivity`` (|∂r/∂e|, m per unit), ``worst_share``,
+            ``variance_share`` (%), ``mean_variance_share`` (% averaged over the poses), ``mc_share`` (% of the
+            Monte Carlo variance, with ``mc``); largest variance share first.
+        sensitivities: ∂r/∂e at every pose.
+        critical: Index of the critical pose (the main method's largest |Δr|).
+        samples: The Monte Carlo's Δr samples (N, 3) (m) at the critical pose, with ``mc``.
+        limit: The largest acceptable |Δr| (m) of the yield, if given.
+        notes: Remarks on the study.
+        coordinates: The names of the coordinate columns of ``poses``.
+    """
+
+    mechanism: str
+    frame: str
+    methods: tuple[str, ...]
+    k: float
+    sources: list[ErrorSource]
+    poses: pd.DataFrame
+    contributions: pd.DataFrame
+    sensitivities: Sensitivities
+    critical: int
+    samples: NDArray[np.float64] | None = None
+    limit: float | None = None
+    notes: list[str] = field(default_factory=list)
+    coordinates: tuple[str, ...] = ()
+
+    @property
+    def main_method(self) -> str:
+        return self.methods[0]
+
+    @property
+    def critical_label(self) -> str:
+        return str(self.poses["label"].iloc[self.critical])
+
+    # ---------------------------------------------------------------------------------------------- protocol
+    def to_frame(self) -> pd.DataFrame:
+        """The per-pose table (see :attr:`poses`; SI units)."""
+        return self.poses.copy()
+
+    def records(self) -> list[dict]:
+        """One object per pose: label, coordinates, x, y, z, dx, dy, dz, dr of the main method (m) and every
+        method's numbers under ``methods``."""
+        out = []
+        for row in self.poses.to_dict(orient="records"):
+            record = {"label": str(row["label"]), "coordinates": {n: float(row[n]) for n in self.coordinates},
+                      "x": float(row["x"]), "y": float(row["y"]), "z": float(row["z"])}
+            for axis in ("dx", "dy", "dz", "dr"):
+                record[axis] = float(row[f"{axis}_{self.main_method}"])
+            record["methods"] = {m: {c[: -len(m) - 1]: row[c] for c in self.poses.columns if c.endswith("_" + m)}
+                                 for m in self.methods}
+            out.append(record)
+        return json_ready(out)
+
+    def as_dict(self) -> dict:
+        """The study as plain data: ``mechanism``, ``frame``, ``methods``, ``k``, ``limit`` (m or None),
+        ``critical_pose`` (its label), ``poses`` (:meth:`records`), ``contributions`` (the rows of
+        :attr:`contributions`) and ``notes``."""
+        return json_ready({"mechanism": self.mechanism, "frame": self.frame, "methods": list(self.methods),
+                           "k": self.k, "limit": self.limit, "critical_pose": self.critical_label,
+                           "poses": self.records(), "contributions": frame_records(self.contributions),
+                           "notes": list(self.notes)})
+
+    def __str__(self) -> str:
+        methods, count = self.methods, len(self.poses)
+        lines = [f"{self.mechanism}: positioning error of {self.frame} ({', '.join(methods)}; k = {self.k:g}; "
+                 f"{len(self.sources)} error sources, {count} pose{'s' if count > 1 else ''})"]
+        shown = self.poses[["label", *[f"dr_{m}" for m in methods]]].copy()
+        shown.iloc[:, 1:] *= 1e3
+        shown.columns = ["pose", *[f"|Δr| {m} (mm)" for m in methods]]
+        lines.append(shown.head(SHOWN_POSES).to_string(index=False, float_format=lambda x: f"{x:.5g}"))
+        if count > SHOWN_POSES:
+            lines.append(f"… {count - SHOWN_POSES} more poses; the largest at pose {self.critical_label}")
+        lines.append("\ncontributions at the critical pose (% of the variance):")
+        c = self.contributions
+        columns = ["source", "unit", "tolerance", "sensitivity", "worst_share", "variance_share"]
+        lines.append(c[columns + (["mc_share"] if "mc_share" in c else [])].to_string(
+            index=False, float_format=lambda x: f"{x:.4g}"))
+        lines += [f"note: {note}" for note in self.notes]
+        return "\n".join(lines)
+
+    # ---------------------------------------------------------------------------------------------- charts
+    def plot(self, ax: Axes | None = None) -> Figure:
+        """The error map (:meth:`draw_error_map`); without ``ax`` beside it the Monte Carlo histogram at the
+        critical pose (with ``mc``) and each source's share of the variance."""
+        from ..report.figures import figure_axes, new_figure
+
+        if ax is not None:
+            figure, ax = figure_axes(ax)
+            self.draw_error_map(ax)
+            return figure
+        panels = [self.draw_error_map] + ([self.draw_histogram] if self.samples is not None else []) \
+            + [self.draw_contributions]
+        figure = new_figure(6.0 * len(panels), 5.5)
+        for panel, axes in zip(panels, np.atleast_1d(figure.subplots(1, len(panels)))):
+            panel(axes)
+        return figure
+
+    def draw_error_map(self, ax: Axes, method: str | None = None, axes: tuple[str, str] = ("x", "y")) -> Axes:
+        """The nominal positions of the point (m) over the poses, in :data:`MAP_CLASSES` classes of |Δr| of
+        ``method`` (default the main one, mm), the critical pose starred."""
+        from ..report.figures import style_axes
+
+        method = method or self.main_method
+        table = self.poses
+        dr = table[f"dr_{method}"].to_numpy() * 1e3
+        a, b = axes
+        finite = np.isfinite(dr)
+        low, high = (dr[finite].min(), dr[finite].max()) if finite.any() else (0.0, 0.0)
+        edges = np.linspace(low, high, MAP_CLASSES + 1) if high > low else np.array([low, high])
+        classes = np.clip(np.searchsorted(edges, dr, side="right") - 1, 0, len(edges) - 2)
+        colours = _colours(len(edges) - 1)
+        for n in range(len(edges) - 1):
+            chosen = (classes == n) & finite
+            if chosen.any():
+                ax.scatter(table[a][chosen], table[b][chosen], s=18, color=colours[n],
+                           label=f"|Δr| {edges[n]:.4g}–{edges[n + 1]:.4g} mm")
+        ax.plot(table[a].iloc[self.critical], table[b].iloc[self.critical], "r*", ms=14,
+                label=f"critical pose {self.critical_label}")
+        ax.set_aspect("equal", adjustable="datalim")
+        return style_axes(ax, f"{a} (m)", f"{b} (m)", f"{self.mechanism}: |Δr| {method} of {self.frame} over "
+                          f"{len(table)} pose{'s' if len(table) > 1 else ''}", legend=True)
+
+    def draw_histogram(self, ax: Axes) -> Axes:
+        """Histogram of the Monte Carlo |Δr| (mm) at the critical pose with the coverage, RSS, worst-case and limit
+        lines."""
+        from ..report.figures import style_axes
+
+        d = self._monte_carlo_samples() * 1e3
+        row = self.poses.iloc[self.critical]
+        ax.hist(np.linalg.norm(d, axis=1), bins=80, histtype="stepfilled", color="tab:blue", alpha=0.8,
+                label="Monte Carlo samples")
+        ax.axvline(row["dr_mc"] * 1e3, color="tab:red", label=f"±{self.k:g}σ coverage: {row['dr_mc'] * 1e3:.4g} mm")
+        if "dr_rss" in row:
+            ax.axvline(row["dr_rss"] * 1e3, color="tab:green", ls="--", label=f"RSS: {row['dr_rss'] * 1e3:.4g} mm")
+        if "dr_worst" in row:
+            ax.axvline(row["dr_worst"] * 1e3, color="k", ls=":", label=f"worst case: {row['dr_worst'] * 1e3:.4g} mm")
+        if self.limit is not None:
+            ax.axvline(self.limit * 1e3, color="tab:orange", label=f"limit {self.limit * 1e3:g} mm")
+        return style_axes(ax, "|Δr| (mm)", "samples (count)",
+                          f"Monte Carlo: {len(d)} samples at pose {row['label']}", legend=True)
+
+    def draw_spread(self, ax: Axes) -> Axes:
+        """The Monte Carlo Δr samples (mm) at the critical pose in the plane of the two axes with the largest
+        spread."""
+        from ..report.figures import style_axes
+
+        d = self._monte_carlo_samples() * 1e3
+        shown = d[:: max(1, len(d) // 5000)]
+        a, b = sorted(np.argsort(-d.std(axis=0))[:2])
+        ax.scatter(shown[:, a], shown[:, b], s=2, alpha=0.3)
+        ax.set_aspect("equal", adjustable="datalim")
+        return style_axes(ax, f"Δ{'xyz'[a]} (mm)", f"Δ{'xyz'[b]} (mm)",
+                          f"Monte Carlo spread at pose {self.critical_label}")
+
+    def draw_contributions(self, ax: Axes) -> Axes:
+        """Each source's share (%) of the variance of Δr (RSS) at the critical pose, and of the Monte Carlo."""
+        from ..report.figures import style_axes
+
+        c = self.contributions.iloc[::-1]
+        y = np.arange(len(c))
+        both = "mc_share" in c
+        ax.barh(y, c["variance_share"], height=0.4 if both else 0.7, label="linear (RSS)")
+        if both:
+            ax.barh(y - 0.4, c["mc_share"], height=0.4, label="Monte Carlo")
+        ax.set_yticks(y - (0.2 if both else 0), c["source"])
+        return style_axes(ax, "share of the variance of Δr (%)", "error source (parameter or coordinate)",
+                          f"contributions at pose {self.critical_label}", legend=True)
+
+    def _monte_carlo_samples(self) -> NDArray[np.float64]:
+        if self.samples is None:
+            raise InputError("no Monte Carlo samples: run the study with method mc")
+        return self.samples
+
+    def error_map(self, method: str | None = None) -> Figure:
+        """The error map as a figure: x–y, and x–z beside it when the point leaves the plane z = const."""
+        from ..report.figures import new_figure
+
+        planar = np.ptp(self.poses["z"]) < 1e-9
+        figure = new_figure(7.0 if planar else 12.0, 5.5)
+        for ax, axes in zip(np.atleast_1d(figure.subplots(1, 1 if planar else 2)), (("x", "y"), ("x", "z"))):
+            self.draw_error_map(ax, method, axes)
+        return figure
+
+    def monte_carlo_chart(self) -> Figure:
+        """The Monte Carlo histogram of |Δr| and the Δr spread at the critical pose."""
+        from ..report.figures import new_figure
+
+        self._monte_carlo_samples()
+        figure = new_figure(12.0, 5.0)
+        left, right = figure.subplots(1, 2)
+        self.draw_histogram(left)
+        self.draw_spread(right)
+        return figure
+
+    def contribution_chart(self) -> Figure:
+        """Each source's share of the variance at the critical pose."""
+        from ..report.figures import new_figure
+
+        figure = new_figure(8.0, 0.3 * len(self.contributions) + 1.8)
+        self.draw_contributions(figure.add_subplot())
+        return figure
+
+    def charts(self) -> dict[str, Figure]:
+        """The charts that apply, by name: ``error_map`` (several poses), ``monte_carlo`` (with ``mc``),
+        ``contributions``."""
+        out = {}
+        if len(self.poses) > 1:
+            out["error_map"] = self.error_map()
+        if self.samples is not None:
+            out["monte_carlo"] = self.monte_carlo_chart()
+        out["contributions"] = self.contribution_chart()
+        return out
+
+
+def _colours(count: int) -> list:
+    from matplotlib import colormaps
+
+    return [colormaps["viridis"](x) for x in (np.linspace(0, 1, count) if count > 1 else [0.5])]
+
