@@ -317,6 +317,8 @@ class ClosureSystem:
         """(Φ(q), J(q)); also fills the frame states (positions, Jacobians) at q."""
         if self.frame_names:
             self.states.update(q)
+        else:
+            self.states.q = q  # gear closures read the coordinates themselves
         if not self.closures:
             return self._empty
         s = self.states
