@@ -77,7 +77,8 @@ class DriveSizing(Result):
         return [{**head, **{("check" if k == "name" else k): v for k, v in c.as_dict().items()}} for c in self.checks]
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per check (:data:`COLUMNS`): value and limit in SI, in the row's ``unit``; margin = 1 − value/limit."""
+        """One row per check (:data:`COLUMNS`): value and limit in SI, in the row's ``unit``; margin = 1 −
+        value/limit."""
         import pandas as pd
 
         return pd.DataFrame(self.rows(), columns=list(COLUMNS))
