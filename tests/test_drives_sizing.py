@@ -136,7 +136,9 @@ def random_duty(rng, n=600):
 
 
 def test_envelope_is_exact(monkeypatch, puma_sizing, rng):
-    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    """The per-sample checks over the envelope's samples equal those over every sample, for every pair of a third
+    of the motors (rotor inertias and speed–torque curves across the catalog's range) and every converter."""
+    motors, gearboxes = default_catalog("motors").iloc[::3].reset_index(drop=True), default_catalog("gearboxes")
     duties = [j.duty for j in puma_sizing.joints] + [random_duty(rng) for _ in range(3)]
     pruned = [evaluate(d, motors, converters_for(d, gearboxes)) for d in duties]
     assert any(len(d.envelope()) < len(d.t) / 10 for d in duties)

@@ -28,15 +28,15 @@ class Converters:
 
     key: NDArray[np.str_]
     kind: NDArray[np.str_]
-    ratio: NDArray[np.float64]
-    efficiency: NDArray[np.float64]
-    inertia: NDArray[np.float64]
-    rated_torque: NDArray[np.float64]
-    peak_torque: NDArray[np.float64]
-    emergency_torque: NDArray[np.float64]
-    max_input_speed: NDArray[np.float64]
-    rated_input_speed: NDArray[np.float64]
-    mass: NDArray[np.float64]
+    ratio: NDArray[np.float64]  # rad/rad, rad/m
+    efficiency: NDArray[np.float64]  # 0…1
+    inertia: NDArray[np.float64]  # kg·m²
+    rated_torque: NDArray[np.float64]  # N·m
+    peak_torque: NDArray[np.float64]  # N·m
+    emergency_torque: NDArray[np.float64]  # N·m
+    max_input_speed: NDArray[np.float64]  # rad/s
+    rated_input_speed: NDArray[np.float64]  # rad/s
+    mass: NDArray[np.float64]  # kg
     price: NDArray[np.float64]
 
     def __len__(self) -> int:
