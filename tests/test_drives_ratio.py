@@ -188,9 +188,17 @@ def test_rms_band_endpoints_and_optimum():
     assert band.feasible and band.lower < band.optimal < band.upper
     assert _rms(band.lower, J, t, acc, torque, speed, eta) == pytest.approx(rated, rel=1e-9)
     assert _rms(band.upper, J, t, acc, torque, speed, eta) == pytest.approx(rated, rel=1e-9)
-    grid = np.geomspace(band.lower, band.upper, 20001)
-    values = [_rms(u, J, t, acc, torque, speed, eta) for u in grid]
-    assert grid[int(np.argmin(values))] == pytest.approx(band.optimal, rel=1e-3)
+    effective = np.where(torque * speed >= 0, torque / eta, torque * eta)
+
+    def rms_on(grid):  # _rms at every ratio of the grid
+        return np.sqrt(np.trapezoid((J * grid[:, None] * acc + effective / grid[:, None]) ** 2, t, axis=1)
+                       / (t[-1] - t[0]))
+
+    coarse = np.geomspace(band.lower, band.upper, 1001)  # the minimum on the band, then finer around it
+    k = int(np.argmin(rms_on(coarse)))
+    grid = np.geomspace(coarse[max(k - 2, 0)], coarse[min(k + 2, len(coarse) - 1)], 1001)
+    values = rms_on(grid)
+    assert grid[int(np.argmin(values))] == pytest.approx(band.optimal, rel=1e-4)
     assert band.rms_at_optimal == pytest.approx(min(values), rel=1e-6)
     # a motor too small for the cycle: no ratio works
     small = rms_ratio_band(J, 0.5 * band.rms_at_optimal, t, acc, torque, eta, load_speed=speed)
