@@ -22,6 +22,9 @@ from ..units import UNITS
 
 @dataclass(frozen=True)
 class Field:
+    """One column of a catalog: its name, kind of quantity (a key of :data:`mechatron.units.UNITS`), whether every
+    row must give it, whether it must be > 0 (else ≥ 0) and its largest value (SI)."""
+
     name: str
     kind: str
     required: bool = True
@@ -58,11 +61,11 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("mass_per_stroke", "linear_density", False),
         Field("price", "money", False),
     ),
-    "rotary_tables": (
+    "rotary_tables": (  # the direct-drive rotary tables of [Egorov, table 2.11]
         Field("key", "text"), Field("torque_30min", "torque"), Field("torque_5min", "torque"),
         Field("diameter", "length"), Field("height", "length"), Field("positioning_error", "angle"),
     ),
-    "gearmotor_ranges": (
+    "gearmotor_ranges": (  # the gearmotor families of [Egorov, section 2.2], as printed
         Field("maker", "text"), Field("family", "text"), Field("codes", "text"), Field("stages", "text", False),
         Field("ratio_min", "ratio", False), Field("ratio_max", "ratio", False),
         Field("output_speed_min", "speed", False), Field("output_speed_max", "speed", False),

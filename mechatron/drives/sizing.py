@@ -338,6 +338,8 @@ class SizingResult(Result):
         return pd.DataFrame([row for j in self.joints for row in j.rows()], columns=list(COLUMNS))
 
     def as_dict(self) -> dict:
+        """mechanism, task, objective, feasible, time_scale, task_time (the task's duration as sized, s) and joints
+        (every joint's ``as_dict``), JSON-ready."""
         return json_ready({"mechanism": self.mechanism, "task": self.task, "objective": self.objective,
                            "feasible": self.feasible, "time_scale": self.time_scale,
                            "task_time": self.duration if self.joints else None,
