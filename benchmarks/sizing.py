@@ -1,6 +1,6 @@
 """Drive sizing of a 6-axis arm: every motor × converter of the example catalogs against a 2,000-sample cycle.
 
-mechatron's ``size_mechanism`` (the dynamics, then all checks of all pairs of every joint as array operations
+``mechatron.size`` (the dynamics, then all checks of all pairs of every joint as array operations
 over the decisive samples) against a baseline written the way a sizing script usually is: a loop over the pairs,
 each checked with NumPy over all samples. The baseline runs on a slice of the pairs and is scaled to all of them;
 both must agree on every pair of the slice. Goal: the whole sizing under 1 s.
@@ -22,7 +22,6 @@ from mechatron.drives.checks import evaluate
 from mechatron.drives.converters import converters_for
 from mechatron.drives.duty import joint_duties
 from mechatron.drives.motor import continuous_torque, peak_torque_limit
-from mechatron.drives.sizing import size_mechanism
 from mechatron.dynamics.motion import Trajectory
 from mechatron.model.payload import with_payload
 
@@ -79,7 +78,7 @@ def main() -> None:
           f"{args.samples}-sample cycle; best of {args.repeats}")
 
     t_dynamics = best_time(lambda: joint_duties(puma, trajectory), args.repeats)
-    t_total = best_time(lambda: size_mechanism(puma, trajectory, motors, gearboxes), args.repeats)
+    t_total = best_time(lambda: mechatron.size(puma, trajectory, motors=motors, gearboxes=gearboxes), args.repeats)
 
     duties = joint_duties(puma, trajectory)
     slice_motors = motors.iloc[:: max(1, len(motors) // args.baseline_motors)].reset_index(drop=True)

@@ -1,12 +1,14 @@
-"""Transmission ratios of the textbook's cylindrical robot (fig. 4.8) by section 4.4's formulas, side by side with
-the numerical optimum of the same move model (CasADi), and the move time against the ratio for every joint.
+"""Transmission ratios of the cylindrical robot of [Egorov, fig. 4.8] by the formulas of [Egorov, section 4.4], side
+by side with the numerical optimum of the same move model (CasADi), and the move time against the ratio for every
+joint.
 
     python examples/cylindrical_robot_ratios.py [--motor SM60-0.64-30] [--payload 2] [--plot FILE]
 
-Joint q1 turns the column (rotary: u in rad/rad, eq. 4.65); q2 lifts the carriage and q3 extends the arm through
-ball screws (rotary→linear: u = 2π/lead in rad/m, eq. 4.70). Every joint uses the same motor: Ω_d its rated speed,
-J_d = 1.2 J_rotor (4.67), M_i its peak torque (half of it on the vertical q2, the other half holds the weight);
-γ = γ_max/2 (4.64); the load inertia P_h is the largest the joint sees (the mass matrix over the workspace).
+Joint q1 turns the column (rotary: u in rad/rad, [Egorov, 4.65]); q2 lifts the carriage and q3 extends the arm
+through ball screws (rotary→linear: u = 2π/lead in rad/m, [Egorov, 4.70]). Every joint uses the same motor: Ω_d its
+rated speed, J_d = 1.2 J_rotor [Egorov, 4.67], M_i its peak torque (half of it on the vertical q2, the other half
+holds the weight); γ = γ_max/2 [Egorov, 4.64]; the load inertia P_h is the largest the joint sees (the mass matrix
+over the workspace). The columns (4.63) and (4.66) of the printed table are those equations of [Egorov].
 """
 
 from __future__ import annotations
@@ -53,7 +55,7 @@ def main() -> None:
     print(header)
     for (name, unit, eta, effort), ax in zip(joints, axes):
         k = robot.joint_names.index(name)
-        gamma = (upper[k] - lower[k]) / 2  # (4.64)
+        gamma = (upper[k] - lower[k]) / 2  # [Egorov, 4.64]
         load = inertia[k]
         book = textbook_ratio(speed, load, gamma, effort, rotor, eta)
         best, t_best = optimal_ratio(speed, load, gamma, effort, eta, drive)
@@ -77,9 +79,9 @@ def main() -> None:
         ax.set_title(f"{name}: P_h = {load:.3g} {'kg·m²' if unit == 'rad' else 'kg'}")
         ax.grid(True, alpha=0.3, which="both")
         ax.legend(fontsize=8)
-    print("\n(4.66) is J_h/(u² J_d) at the minimum-time ratio. The numerical optimum equals (4.63) while the move "
-          "reaches the motor's speed limit (J_h/(u² J_d) ≥ η) and √(J_h/(η J_d)) otherwise; the book switches at 1 "
-          "and drops η from (4.69).")
+    print("\nThe column (4.66) is J_h/(u² J_d) at the minimum-time ratio [Egorov, 4.66]. The numerical optimum equals "
+          "[Egorov, 4.63] while the move reaches the motor's speed limit (J_h/(u² J_d) ≥ η) and √(J_h/(η J_d)) "
+          "otherwise; the book switches at 1 and drops η from [Egorov, 4.69].")
     fig.suptitle(f"cylindrical robot, motor {args.motor}: move time against the ratio")
     fig.savefig(args.plot, dpi=110)
     print(f"wrote {args.plot}")

@@ -1,4 +1,4 @@
-"""Choose the boom, stick and bucket cylinders of the front shovel (seed 001) from a cylinder catalog for two load
+"""Choose the boom, stick and bucket cylinders of the front shovel [Shovel] from a cylinder catalog for two load
 cases of a working cycle, and compare them with the illustrative cylinders of mechatron.machines.excavator.
 
     python examples/front_shovel_cylinders.py [--dig-force 200] [--payload 4000] [--pressure 32] [--charts DIR]
@@ -18,9 +18,8 @@ import numpy as np
 
 import mechatron
 from mechatron.drives.catalogs import default_catalog
-from mechatron.drives.report import text_report, write_charts
-from mechatron.drives.sizing import size_mechanism
 from mechatron.dynamics.motion import Trajectory, cycle
+from mechatron.dynamics.task import Task
 from mechatron.kinematics.frames import point_velocity
 from mechatron.kinematics.loops import assemble, joint_velocity
 from mechatron.machines.excavator import DEFAULT_CYLINDERS
@@ -57,11 +56,11 @@ def main() -> None:
     }
     chosen = {}
     for name, (trajectory, loads) in cases.items():
-        result = size_mechanism(shovel, trajectory, cylinders=catalog, loads=loads, task=name,
+        result = mechatron.size(shovel, Task(name, shovel, trajectory, loads), cylinders=catalog,
                                 pressure=args.pressure * 1e6)
-        print(text_report(result) + "\n")
+        print(f"{result}\n")
         if args.charts:
-            for path in write_charts(result, args.charts):
+            for path in result.save_plots(args.charts):
                 print(f"wrote {path}")
         for joint in result.joints:
             mass = joint.ranking["mass"].iloc[0] if joint.feasible else np.inf

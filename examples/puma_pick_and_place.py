@@ -15,9 +15,8 @@ import numpy as np
 
 import mechatron
 from mechatron.drives.catalogs import default_catalog
-from mechatron.drives.report import text_report, write_charts, write_csv
-from mechatron.drives.sizing import size_mechanism
 from mechatron.dynamics.motion import cycle
+from mechatron.dynamics.task import Task
 from mechatron.model.payload import with_payload
 
 ABOVE_PICK = [-40, 40, -170, 0, 40, -40]
@@ -35,27 +34,28 @@ def main() -> None:
 
     puma = with_payload(mechatron.load("puma560"), 2.5, com=(0.0, 0.0, 0.05))
     waypoints = np.radians([ABOVE_PICK, PICK, ABOVE_PICK, ABOVE_PLACE, PLACE, ABOVE_PLACE, ABOVE_PICK])
-    task = cycle(puma, waypoints, dwell=0.2, vmax=np.radians([90, 90, 90, 180, 180, 180]),
-                 amax=np.radians([270, 270, 270, 540, 540, 540]), dt=0.005)
+    motion = cycle(puma, waypoints, dwell=0.2, vmax=np.radians([90, 90, 90, 180, 180, 180]),
+                   amax=np.radians([270, 270, 270, 540, 540, 540]), dt=0.005)
+    task = Task("pick and place, 2.5 kg", puma, motion)
     motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
     print(f"catalogs: {len(motors)} motors × {len(gearboxes) + 1} converters (direct drive included); "
-          f"task: {task.t[-1]:.2f} s, {len(task)} samples\n")
+          f"task: {task.duration:.2f} s, {len(motion)} samples\n")
 
-    result = size_mechanism(puma, task, motors, gearboxes, objective=args.objective, task="pick and place, 2.5 kg")
-    print(text_report(result))
+    result = mechatron.size(puma, task, motors=motors, gearboxes=gearboxes, objective=args.objective)
+    print(result)
     if args.csv:
-        print(f"wrote {write_csv(result, args.csv)}")
+        print(f"wrote {result.write_csv(args.csv)}")
     if args.charts:
-        for path in write_charts(result, args.charts):
+        for path in result.save_plots(args.charts):
             print(f"wrote {path}")
 
     print("\nthe objectives side by side (motor + converter per joint; total mass and price):")
     for objective in ("mass", "cost", "margin", "time"):
-        other = result if objective == args.objective else size_mechanism(puma, task, motors, gearboxes,
-                                                                          objective=objective)
+        other = result if objective == args.objective else mechatron.size(puma, task, motors=motors,
+                                                                          gearboxes=gearboxes, objective=objective)
         mass = sum(j.ranking.iloc[0]["mass"] for j in other.joints)
         price = sum(j.ranking.iloc[0]["price"] for j in other.joints)
-        pace = f", cycle {task.t[-1] * other.time_scale:.2f} s" if objective == "time" else ""
+        pace = f", cycle {other.duration:.2f} s" if objective == "time" else ""
         print(f"  {objective:<7} {mass:6.2f} kg {price:7.0f} EUR{pace}: "
               + "; ".join(f"{j.joint} {j.motor}+{j.converter}" for j in other.joints))
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import mechatron
@@ -52,25 +53,44 @@ def test_size_puma_json_contract(puma_json):
 
 def test_size_json_equals_the_api(puma_json):
     _, result = puma_json
+    api = mechatron.size(mechatron.load("puma560"))
+    assert result == json.loads(api.to_json())  # --json is as_dict()
     task = default_task(mechatron.load("puma560"))
-    api = size_mechanism(task.mechanism, task.trajectory, loads=task.loads)
-    for j, joint in zip(result["joints"], api.joints):
+    lower = size_mechanism(task.mechanism, task.trajectory, loads=task.loads)
+    for j, joint in zip(result["joints"], lower.joints):
         assert (j["motor"], j["gearbox"], j["ratio"]) == (joint.motor, joint.converter, joint.ratio)
         peak = next(c for c in j["checks"] if c["name"] == "peak torque")
         assert peak["value"] == pytest.approx(np.abs(joint.operating_points()[1]).max(), rel=1e-12)
 
 
-def test_size_text_csv_and_charts(tmp_path, capsys):
+def test_size_outputs_are_the_results(tmp_path, capsys):
+    """--json prints as_dict(), --csv writes to_frame(), --plot draws plot(), the text is str(), --plots DIR writes
+    each joint's chart: all of the result mechatron.size returns for the same input."""
+    api = mechatron.size(mechatron.load("planar_2r"), objective="cost")
     code, out, _ = run(capsys, "size", "planar_2r", "--objective", "cost", "--csv", str(tmp_path / "s.csv"),
-                       "--plots", str(tmp_path / "charts"))
+                       "--plot", str(tmp_path / "s.png"), "--plots", str(tmp_path / "charts"))
     assert code == 0
+    text, _, written = out.partition("\nwrote ")
+    assert text == str(api)
     assert "q1: motor" in out and "PASS" in out and "every joint has a feasible drive" in out
-    table = (tmp_path / "s.csv").read_text().splitlines()
-    assert table[0].startswith("joint,motor,converter,ratio,check,value,limit,unit,margin,pass")
-    assert len(table) == 1 + 2 * 10
+    table = pd.read_csv(tmp_path / "s.csv")
+    expected = api.to_frame()
+    assert list(table.columns) == ["joint", "motor", "converter", "ratio", "check", "value", "limit", "unit",
+                                   "margin", "pass"]
+    assert len(table) == 2 * 10
+    assert table[["joint", "motor", "converter", "check", "unit"]].equals(expected[["joint", "motor", "converter",
+                                                                                   "check", "unit"]])
+    assert np.allclose(table[["ratio", "value", "limit", "margin"]], expected[["ratio", "value", "limit", "margin"]],
+                       rtol=1e-9)
+    assert (table["pass"] == expected["pass"]).all()
+    assert (tmp_path / "s.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    api.save_plot(tmp_path / "api.png")
+    assert (tmp_path / "s.png").read_bytes() == (tmp_path / "api.png").read_bytes()
     charts = sorted(p.name for p in (tmp_path / "charts").iterdir())
     assert charts == ["planar_2r_q1.png", "planar_2r_q2.png"]
     assert all((tmp_path / "charts" / c).stat().st_size > 10_000 for c in charts)
+    files = ("s.csv", "s.png", "charts/planar_2r_q1.png", "charts/planar_2r_q2.png")
+    assert {line.strip() for line in ("wrote " + written).splitlines()} == {f"wrote {tmp_path / f}" for f in files}
 
 
 def test_infeasible_sizing_exits_1_and_names_failed_checks(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""Transmission ratio (textbook section 4.4): every closed form against the numerical optimum of the same move-time
+"""Transmission ratio [Egorov, section 4.4]: every closed form against the numerical optimum of the same move-time
 model (CasADi/Ipopt) and an independent brute-force grid, and the RMS ratio band against direct RMS sums.
 
 The move model (derived in mechatron/drives/ratio.py): a rest-to-rest move of γ, motor torque M_i, motor speed
@@ -64,8 +64,8 @@ def test_minimum_time_ratio_is_the_numerical_optimum_for_a_load_dominated_drive(
 
 
 def test_motor_inertia_does_not_move_the_trapezoidal_optimum():
-    # J_d only adds Ω_d J_d / M_i to the trapezoidal time: the optimum stays at (4.63) while the profile stays
-    # trapezoidal
+    # J_d only adds Ω_d J_d / M_i to the trapezoidal time: the optimum stays at [Egorov, 4.63] while the profile
+    # stays trapezoidal
     for drive in (0.0, 1e-6, 1e-5, 5e-5):
         u, _ = optimal_ratio(OMEGA, JH, GAMMA, MI, ETA, drive)
         assert u == pytest.approx(minimum_time_ratio(OMEGA, JH, GAMMA, MI, ETA), rel=1e-6)
@@ -77,19 +77,19 @@ def test_inertia_matching_is_the_optimum_when_the_drive_inertia_dominates(eta):
     u_mt = minimum_time_ratio(OMEGA, JH, GAMMA, MI, eta)
     assert load_dominance(JH, u_mt, drive) < eta
     u, t = optimal_ratio(OMEGA, JH, GAMMA, MI, eta, drive)
-    assert u == pytest.approx(math.sqrt(JH / (eta * drive)), rel=1e-6)  # √(J_h/(η J_d)); the book's (4.69) has η = 1
+    assert u == pytest.approx(math.sqrt(JH / (eta * drive)), rel=1e-6)  # √(J_h/(η J_d)); [Egorov, 4.69] has η = 1
     assert u == pytest.approx(inertia_matching_ratio(JH, drive, eta), rel=1e-6)
     u_grid, t_grid = grid_optimum(lambda x: move_time(x, OMEGA, JH, GAMMA, MI, eta, drive), 1, 1000)
     assert u_grid == pytest.approx(u, rel=1e-3)
     assert t == pytest.approx(t_grid, rel=1e-9)
     if eta == 1.0:
-        assert u == pytest.approx(44.72136, rel=1e-6)  # √(2/0.001), (4.69) exactly
+        assert u == pytest.approx(44.72136, rel=1e-6)  # √(2/0.001), [Egorov, 4.69] exactly
     else:
         assert u == pytest.approx(47.14045, rel=1e-6)  # the book's 44.72 is 5 % low with η = 0.9
 
 
 def test_textbook_switch_follows_eq_4_66():
-    rotor = 1e-3 / 1.2  # J_d = 1.2 J_rotor = 1e-3 (4.67)
+    rotor = 1e-3 / 1.2  # J_d = 1.2 J_rotor = 1e-3 [Egorov, 4.67]
     choice = textbook_ratio(OMEGA, JH, GAMMA, MI, rotor, ETA)
     assert choice.rule.startswith("inertia matching")
     assert choice.dominance == pytest.approx(JH / (60.2859**2 * 1e-3), rel=1e-5)
@@ -103,7 +103,8 @@ def test_textbook_switch_follows_eq_4_66():
 
 def test_exact_switch_is_dominance_equal_to_eta_not_one():
     """Where the book and the numerical optimum differ: for η < 1 the minimum-time ratio stays optimal down to
-    J_h/(u² J_d) = η (the profile is trapezoidal exactly while η J_d u² ≤ J_h), but (4.66) switches at 1."""
+    J_h/(u² J_d) = η (the profile is trapezoidal exactly while η J_d u² ≤ J_h), but [Egorov, 4.66] switches at
+    1."""
     eta = 0.8
     u_mt = minimum_time_ratio(OMEGA, JH, GAMMA, MI, eta)
     drive = JH / (0.9 * u_mt**2)  # dominance 0.9: between η and 1
@@ -157,9 +158,9 @@ def test_cycle_ratio_4_72_to_4_75_minimizes_the_cycle_time():
 
 
 def test_static_ratio_and_design_displacement():
-    u = static_ratio(load=120.0, motor_effort=1.5, efficiency=0.8)  # (4.59-4.62)
+    u = static_ratio(load=120.0, motor_effort=1.5, efficiency=0.8)  # [Egorov, 4.59-4.62]
     assert 120.0 / (u * 0.8) == pytest.approx(1.5)
-    assert design_displacement(math.pi) == pytest.approx(math.pi / 2)  # (4.64)
+    assert design_displacement(math.pi) == pytest.approx(math.pi / 2)  # [Egorov, 4.64]
     for bad in (0.0, -1.0, math.nan, math.inf):
         with pytest.raises(InputError, match="load"):
             static_ratio(bad, 1.0)
@@ -187,9 +188,17 @@ def test_rms_band_endpoints_and_optimum():
     assert band.feasible and band.lower < band.optimal < band.upper
     assert _rms(band.lower, J, t, acc, torque, speed, eta) == pytest.approx(rated, rel=1e-9)
     assert _rms(band.upper, J, t, acc, torque, speed, eta) == pytest.approx(rated, rel=1e-9)
-    grid = np.geomspace(band.lower, band.upper, 20001)
-    values = [_rms(u, J, t, acc, torque, speed, eta) for u in grid]
-    assert grid[int(np.argmin(values))] == pytest.approx(band.optimal, rel=1e-3)
+    effective = np.where(torque * speed >= 0, torque / eta, torque * eta)
+
+    def rms_on(grid):  # _rms at every ratio of the grid
+        return np.sqrt(np.trapezoid((J * grid[:, None] * acc + effective / grid[:, None]) ** 2, t, axis=1)
+                       / (t[-1] - t[0]))
+
+    coarse = np.geomspace(band.lower, band.upper, 1001)  # the minimum on the band, then finer around it
+    k = int(np.argmin(rms_on(coarse)))
+    grid = np.geomspace(coarse[max(k - 2, 0)], coarse[min(k + 2, len(coarse) - 1)], 1001)
+    values = rms_on(grid)
+    assert grid[int(np.argmin(values))] == pytest.approx(band.optimal, rel=1e-4)
     assert band.rms_at_optimal == pytest.approx(min(values), rel=1e-6)
     # a motor too small for the cycle: no ratio works
     small = rms_ratio_band(J, 0.5 * band.rms_at_optimal, t, acc, torque, eta, load_speed=speed)

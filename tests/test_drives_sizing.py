@@ -136,7 +136,9 @@ def random_duty(rng, n=600):
 
 
 def test_envelope_is_exact(monkeypatch, puma_sizing, rng):
-    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    """The per-sample checks over the envelope's samples equal those over every sample, for every pair of a third
+    of the motors (rotor inertias and speed–torque curves across the catalog's range) and every converter."""
+    motors, gearboxes = default_catalog("motors").iloc[::3].reset_index(drop=True), default_catalog("gearboxes")
     duties = [j.duty for j in puma_sizing.joints] + [random_duty(rng) for _ in range(3)]
     pruned = [evaluate(d, motors, converters_for(d, gearboxes)) for d in duties]
     assert any(len(d.envelope()) < len(d.t) / 10 for d in duties)
@@ -315,4 +317,52 @@ def test_rack_and_pinion_counts_the_pinion_once():
     assert joint.converter_data["inertia"] == pytest.approx(row["inertia"])  # no per-length part
     checks = {c.name: c for c in joint.checks}
     J = joint.motor_data["rotor_inertia"]
-    assert checks["inertia ratio"].value == pytest.approx((joint.duty.load_inertia / joint.ratio**2 + row["inertia"]) / J)
+    reflected = joint.duty.load_inertia / joint.ratio**2 + row["inertia"]
+    assert checks["inertia ratio"].value == pytest.approx(reflected / J)
+
+
+# ------------------------------------------------------------------------------------- continuous joints
+URDF = """<robot name="{name}">
+  <link name="base"/>
+  <link name="arm"><inertial><origin xyz="0.3 0 0"/><mass value="4"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.12" iyz="0" izz="0.12"/></inertial></link>
+  <link name="slide"><inertial><origin xyz="0.1 0 0"/><mass value="2"/>
+    <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="turn" type="{kind}"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>{limit}</joint>
+  <joint name="reach" type="prismatic"><parent link="arm"/><child link="slide"/><origin xyz="0.2 0 0"/>
+    <axis xyz="1 0 0"/><limit lower="0" upper="0.5" effort="500" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_continuous_joint_is_sized_like_its_revolute_twin(tmp_path):
+    """A URDF turntable on a continuous joint (q = (cos θ, sin θ), nq = 3, nv = 2) carrying a prismatic slide: its
+    duties and drives equal those of the same robot with a revolute joint, and the slide's stroke (the screw
+    length) is the slide's travel, whether the trajectory gives configurations or one coordinate per joint."""
+    from mechatron.model.urdf import load_urdf
+
+    paths = {}
+    for kind, limit in (("continuous", ""), ("revolute", '<limit lower="-4" upper="4" effort="500" velocity="3"/>')):
+        paths[kind] = tmp_path / f"{kind}.urdf"
+        paths[kind].write_text(URDF.format(name=kind, kind=kind, limit=limit))
+    endless, twin = load_urdf(paths["continuous"]), load_urdf(paths["revolute"])
+    assert (endless.nq, endless.nv, twin.nq) == (3, 2, 2)
+    t = np.linspace(0.0, 1.5, 301)
+    tau = t / t[-1]
+    s, ds, dds = 10 * tau**3 - 15 * tau**4 + 6 * tau**5, (30 * tau**2 - 60 * tau**3 + 30 * tau**4) / t[-1], \
+        (60 * tau - 180 * tau**2 + 120 * tau**3) / t[-1] ** 2
+    travel = np.array([2.8, 0.35])  # the turn passes θ = π: the continuous joint's (cos, sin) wraps
+    start = np.array([0.5, 0.05])
+    coordinates = start + np.outer(s, travel)
+    motion = Trajectory(t, coordinates, np.outer(ds, travel), np.outer(dds, travel), ["turn", "reach"])
+    configurations = Trajectory(t, endless.configuration(coordinates), motion.v, motion.a, motion.names)
+    reference = joint_duties(twin, motion)
+    assert reference[1].stroke == pytest.approx(0.35)
+    for trajectory in (motion, configurations):
+        for duty, expected in zip(joint_duties(endless, trajectory), reference):
+            assert duty.kind == expected.kind and duty.stroke == pytest.approx(expected.stroke, rel=1e-12)
+            assert np.allclose(duty.torque, expected.torque, rtol=1e-9, atol=1e-9)
+            assert duty.load_inertia == pytest.approx(expected.load_inertia, rel=1e-9)
+    sized, twin_sized = size_mechanism(endless, configurations), size_mechanism(twin, motion)
+    assert [(j.motor, j.converter) for j in sized.joints] == [(j.motor, j.converter) for j in twin_sized.joints]
+    assert [j.converter_kind for j in sized.joints][1] in ("ball screw", "rack and pinion")

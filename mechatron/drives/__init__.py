@@ -1,2 +1,2 @@
-"""Drive sizing: transmission ratios (textbook section 4.4), catalogs, motor and gearbox selection with the checks
-vendor tools run, and reports."""
+"""Drive sizing: transmission ratios [Egorov, section 4.4], catalogs, motor and converter selection with the checks
+vendor tools run (:func:`mechatron.size`), and the results they return."""

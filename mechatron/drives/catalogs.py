@@ -1,7 +1,7 @@
 """Catalogs of drive components in CSV files (schemas in ``catalogs/README.md``).
 
 Each catalog kind has a schema: its fields, their kind of quantity (which fixes the accepted unit suffixes, see
-:mod:`mechatron.drives.units`), whether they are required, and their bounds. Reading a file checks every row and
+:data:`mechatron.units.UNITS`), whether they are required, and their bounds. Reading a file checks every row and
 every value and converts to SI; a problem raises :class:`~mechatron.errors.InputError` naming the file, the row
 (as in a spreadsheet: the header is row 1) and the column.
 """
@@ -16,11 +16,15 @@ import pandas as pd
 
 from ..errors import InputError
 from ..io.data import data_dir
+from ..io.tables import number, read_csv
 from ..units import UNITS
 
 
 @dataclass(frozen=True)
 class Field:
+    """One column of a catalog: its name, kind of quantity (a key of :data:`mechatron.units.UNITS`), whether every
+    row must give it, whether it must be > 0 (else ≥ 0) and its largest value (SI)."""
+
     name: str
     kind: str
     required: bool = True
@@ -57,11 +61,11 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("mass_per_stroke", "linear_density", False),
         Field("price", "money", False),
     ),
-    "rotary_tables": (
+    "rotary_tables": (  # the direct-drive rotary tables of [Egorov, table 2.11]
         Field("key", "text"), Field("torque_30min", "torque"), Field("torque_5min", "torque"),
         Field("diameter", "length"), Field("height", "length"), Field("positioning_error", "angle"),
     ),
-    "gearmotor_ranges": (
+    "gearmotor_ranges": (  # the gearmotor families of [Egorov, section 2.2], as printed
         Field("maker", "text"), Field("family", "text"), Field("codes", "text"), Field("stages", "text", False),
         Field("ratio_min", "ratio", False), Field("ratio_max", "ratio", False),
         Field("output_speed_min", "speed", False), Field("output_speed_max", "speed", False),
@@ -98,20 +102,23 @@ def _column_field(column: str, schema: tuple[Field, ...], path: Path) -> tuple[F
 
 
 def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
-    """A validated catalog as a DataFrame in SI units with the schema's field names (extra columns kept as text)."""
+    """A validated catalog of ``kind`` (a key of :data:`SCHEMAS`) as a DataFrame in SI units with the schema's field
+    names (extra columns kept as text; a value left empty in an optional column is NaN).
+
+    Every cell is checked (a number, finite, > 0 or ≥ 0, within the field's maximum), converted by the unit of its
+    column (:data:`mechatron.units.UNITS`), and so are keys (unique) and relations between columns (peak ≥ rated…).
+
+    Raises:
+        InputError: naming the file, the row (as in a spreadsheet: the header is row 1) and the column.
+    """
     if kind not in SCHEMAS:
         raise InputError(f"unknown catalog kind {kind!r}; expected one of: {', '.join(SCHEMAS)}")
     path = Path(path)
-    try:
-        raw = pd.read_csv(path, dtype=str, keep_default_na=False, comment="#")
-    except FileNotFoundError:
-        raise InputError("no such file", file=path) from None
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"not a readable CSV file: {str(exc).splitlines()[0]}", file=path) from None
+    raw = read_csv(path, allow_empty=True)
     schema = SCHEMAS[kind]
     columns: dict[str, tuple[str, float]] = {}
     for column in raw.columns:
-        found = _column_field(column.strip(), schema, path)
+        found = _column_field(column, schema, path)
         if found is not None:
             field, factor = found
             if field.name in {name for name, _ in columns.values()}:
@@ -124,35 +131,8 @@ def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
     if raw.empty:
         raise InputError("the catalog has no rows", file=path)
     by_name = {f.name: f for f in schema}
-    out: dict[str, list] = {}
-    for column, (name, factor) in columns.items():
-        field = by_name[name]
-        values = []
-        for i, text in enumerate(raw[column], start=2):
-            text = text.strip()
-            if field.kind in ("text",):
-                if not text and field.required:
-                    raise InputError("missing value", file=path, row=i, field=column)
-                values.append(text)
-                continue
-            if not text:
-                if field.required:
-                    raise InputError("missing value", file=path, row=i, field=column)
-                values.append(math.nan)
-                continue
-            try:
-                value = float(text) * factor
-            except ValueError:
-                raise InputError(f"not a number: {text!r}", file=path, row=i, field=column) from None
-            if not math.isfinite(value):
-                raise InputError(f"not a finite number: {text!r}", file=path, row=i, field=column)
-            if value < 0 or (field.positive and value == 0):
-                raise InputError(f"must be {'> 0' if field.positive else '>= 0'}, got {text}", file=path, row=i,
-                                 field=column)
-            if field.maximum is not None and value > field.maximum:
-                raise InputError(f"must be <= {field.maximum:g}, got {text}", file=path, row=i, field=column)
-            values.append(value)
-        out[name] = values
+    out = {name: _column_values(raw[column], by_name[name], factor, path, column)
+           for column, (name, factor) in columns.items()}
     table = pd.DataFrame(out)
     if "key" in table:
         duplicated = table["key"][table["key"].duplicated()]
@@ -161,6 +141,29 @@ def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
             raise InputError(f"key {duplicated.iloc[0]!r} repeats an earlier row", file=path, row=row, field="key")
     _check_consistency(table, kind, path, {name: column for column, (name, _) in columns.items()})
     return table
+
+
+def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, column: str) -> list:
+    """The cells of one column (text, stripped) as the field's values: text as is, numbers × ``factor`` (SI), NaN for
+    an empty optional cell."""
+    values: list = []
+    for row, text in enumerate(cells, start=2):
+        if not text:
+            if field.required:
+                raise InputError("missing value", file=path, row=row, field=column)
+            values.append("" if field.kind == "text" else math.nan)
+            continue
+        if field.kind == "text":
+            values.append(text)
+            continue
+        value = number(text, file=path, row=row, field=column) * factor
+        if value < 0 or (field.positive and value == 0):
+            raise InputError(f"must be {'> 0' if field.positive else '>= 0'}, got {text}", file=path, row=row,
+                             field=column)
+        if field.maximum is not None and value > field.maximum:
+            raise InputError(f"must be <= {field.maximum:g}, got {text}", file=path, row=row, field=column)
+        values.append(value)
+    return values
 
 
 def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: dict[str, str]) -> None:

@@ -14,7 +14,7 @@ check                                 value                                     
 peak torque                           max |T_m|                                                       T_peak
 speed-torque curve                    max |T_m| / T_int(|n|), the intermittent curve of               1
                                       :func:`~mechatron.drives.motor.peak_torque_limit`
-RMS torque (thermal)                  √⟨T_m²⟩                                                         T_S1 at the mean |n|
+RMS torque (thermal)                  √⟨T_m²⟩                                                         T_S1(⟨|n|⟩)
 max speed                             max |n|                                                         n_max
 inertia ratio                         (J_L/u² + J_c) / J_m, J_L the largest load inertia              10 (option)
 transmission equivalent torque        (Σ |ω| |τ|³ Δt / Σ |ω| Δt)^(1/3)                                T2N
@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 
 from .converters import Converters
 from .duty import JointDuty
@@ -71,7 +72,7 @@ class Check:
                 "margin": float(self.margin), "pass": bool(self.passed)}
 
 
-def _load_factor(value, limit):
+def _load_factor(value: ArrayLike, limit: ArrayLike) -> NDArray[np.float64] | float:
     """value / limit with 0/0 = 0, x/0 = inf and x/inf = 0."""
     value, limit = np.asarray(value, dtype=float), np.asarray(limit, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -79,9 +80,12 @@ def _load_factor(value, limit):
     return out if out.ndim else float(out)
 
 
-def motor_side(duty: JointDuty, u, eta, inertia):
-    """(n, a, b): motor speed u ω (rad/s), motor acceleration u ω̇ and the motor torque without the rotor,
-    J_c u ω̇ + τ*/u (N·m); ``u``, ``eta``, ``inertia`` broadcast against the samples (give them as columns)."""
+def motor_side(duty: JointDuty, u: ArrayLike, eta: ArrayLike, inertia: ArrayLike
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(n, a, b): motor speed n = u ω (rad/s), motor acceleration a = u ω̇ (rad/s²) and the motor torque without the
+    rotor, b = J_c u ω̇ + τ*/u (N·m), for the ratio u (rad/rad or rad/m), efficiency η and motor-side converter
+    inertia J_c (kg·m²); ``u``, ``eta``, ``inertia`` broadcast against the samples (give them as columns). The
+    motor torque is then T_m = J_m a + b (the module docstring)."""
     from .transmission import transmitted_torque
 
     load = transmitted_torque(duty.torque, duty.speed, u, eta)
@@ -141,14 +145,16 @@ class Evaluation:
         keep = duty.envelope()
         self._n, self._accel, self._base = n[:, keep], accel[:, keep], base[:, keep]
 
-    def _per_sample(self, m: np.ndarray, c: np.ndarray, n, accel, base) -> tuple[np.ndarray, np.ndarray]:
+    def _per_sample(self, m: NDArray[np.intp], c: NDArray[np.intp], n: NDArray[np.float64],
+                    accel: NDArray[np.float64], base: NDArray[np.float64]
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(max |T_m|, max |T_m| / T_intermittent(|n|)) of the pairs (m[i], c[i]) over the given samples."""
         torque = np.abs(self.rotor[m, None] * accel[c] + base[c])
         available = peak_torque_limit(n[c], self.peak[m, None], self.rated[m, None], self.rated_speed[m, None],
                                       self.top_speed[m, None])
         return torque.max(axis=1), _load_factor(torque, available).max(axis=1)
 
-    def refine(self, m: np.ndarray, c: np.ndarray, batch: int = 512) -> None:
+    def refine(self, m: ArrayLike, c: ArrayLike, batch: int = 512) -> None:
         """Make the per-sample checks exact for the pairs (m[i], c[i])."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         todo = ~self.exact[m, c]
@@ -164,19 +170,19 @@ class Evaluation:
         self.refine(m, c)
         return self
 
-    def load_factors(self) -> np.ndarray:
+    def load_factors(self) -> NDArray[np.float64]:
         """value/limit of every check, (N_m, N_c, len(CHECKS)); > 1 fails."""
         return _load_factor(self.values, self.limits)
 
-    def load_factors_of(self, m, c) -> np.ndarray:
+    def load_factors_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """value/limit of every check of the pairs (m, c): (..., len(CHECKS))."""
         return _load_factor(self.values[m, c], self.limits[m, c])
 
-    def worst_of(self, m, c) -> np.ndarray:
+    def worst_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """The largest load factor of the pairs (m, c)."""
         return self.load_factors_of(m, c).max(axis=-1)
 
-    def worst(self) -> np.ndarray:
+    def worst(self) -> NDArray[np.float64]:
         """The largest load factor of every pair, (N_m, N_c): exact where :attr:`exact`, else a lower bound."""
         return self.load_factors().max(axis=2)
 

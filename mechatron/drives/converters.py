@@ -9,6 +9,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from .duty import JointDuty
@@ -20,27 +21,29 @@ LENGTH_ALLOWANCE = 0.2
 
 @dataclass(frozen=True)
 class Converters:
-    """Converters of one joint: key, kind, ratio u (motor speed / joint speed), efficiency η, motor-side inertia
-    J_c (kg·m²), output torque limits (N·m; rated T2N, peak T2B, emergency T2Stop), input speed limits (rad/s; max
-    n1max, rated mean n1N), mass (kg) and price; a limit that does not apply is inf."""
+    """Converters of one joint, one array entry each: key, kind, ratio u (motor speed / joint speed; rad/rad, or
+    rad/m for a screw or rack), efficiency η, motor-side inertia J_c (kg·m²), output torque limits (N·m; rated
+    T2N, peak T2B, emergency T2Stop), input speed limits (rad/s; max n1max, rated mean n1N), mass (kg) and price;
+    a limit that does not apply is inf."""
 
-    key: np.ndarray
-    kind: np.ndarray
-    ratio: np.ndarray
-    efficiency: np.ndarray
-    inertia: np.ndarray
-    rated_torque: np.ndarray
-    peak_torque: np.ndarray
-    emergency_torque: np.ndarray
-    max_input_speed: np.ndarray
-    rated_input_speed: np.ndarray
-    mass: np.ndarray
-    price: np.ndarray
+    key: NDArray[np.str_]
+    kind: NDArray[np.str_]
+    ratio: NDArray[np.float64]  # rad/rad, rad/m
+    efficiency: NDArray[np.float64]  # 0…1
+    inertia: NDArray[np.float64]  # kg·m²
+    rated_torque: NDArray[np.float64]  # N·m
+    peak_torque: NDArray[np.float64]  # N·m
+    emergency_torque: NDArray[np.float64]  # N·m
+    max_input_speed: NDArray[np.float64]  # rad/s
+    rated_input_speed: NDArray[np.float64]  # rad/s
+    mass: NDArray[np.float64]  # kg
+    price: NDArray[np.float64]
 
     def __len__(self) -> int:
         return len(self.key)
 
-    def subset(self, index) -> Converters:
+    def subset(self, index: ArrayLike) -> Converters:
+        """The converters at ``index`` (an index array or a boolean mask)."""
         return Converters(**{f.name: getattr(self, f.name)[index] for f in fields(self)})
 
 
@@ -77,7 +80,12 @@ def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linea
     """The converters to try on ``duty``'s joint: direct drive (if ``direct``) and every gearbox for a revolute
     joint; every linear drive, ``stroke + LENGTH_ALLOWANCE`` long, for a prismatic joint. ``chain_efficiency``
     multiplies every converter's efficiency: the rest of the chain between motor and joint (couplings, bearings,
-    a belt; build it with :func:`mechatron.efficiency.series`, 7.53)."""
+    a belt; the series product η = Π η_i [Egorov, 7.53], :func:`mechatron.mechanics.efficiency.series`).
+
+    Returns:
+        :class:`Converters`: ratio u (rad/rad, or rad/m for a screw or rack: u = 2π / lead), efficiency, motor-side
+        inertia (kg·m²), limits (N·m, rad/s), mass (kg) and price of each.
+    """
     if not 0 < chain_efficiency <= 1:
         raise InputError(f"the chain efficiency must be in (0, 1], got {chain_efficiency!r}")
     rows: list[dict] = []

@@ -18,14 +18,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
 
 from ..errors import InputError
 from ..model.mechanism import Cylinder
+from ..report.result import json_ready
 from .checks import PASS_TOLERANCE, Check, _load_factor
 from .duty import JointDuty
+from .report import REPORTED, DriveSizing
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 STEEL_MODULUS = 2.1e11  # Pa
 BUCKLING_SAFETY = 3.5
@@ -33,8 +40,23 @@ CYLINDER_CHECKS = ("push pressure", "pull pressure", "stroke", "rod buckling")
 
 
 @dataclass
-class CylinderSizing:
-    """The chosen catalog cylinder of one cylinder coordinate (or the closest one when none is feasible)."""
+class CylinderSizing(DriveSizing):
+    """The chosen catalog cylinder of one cylinder coordinate (or the closest one when none is feasible), a result:
+    its table is one row per check, its chart the force per cylinder over the speed with the push and pull limits.
+
+    Attributes:
+        joint: the cylinder coordinate's name.
+        objective: how the feasible cylinders were ranked (``mass``, ``cost``, ``margin``).
+        feasible: whether any catalog cylinder passes every check.
+        cylinder, count: the chosen cylinder's key and how many work side by side.
+        checks: push and pull pressure (Pa), stroke (m), rod buckling (N).
+        peak_flow: Q = count · max(A_p v⁺, A_a v⁻) (m³/s).
+        ranking: the feasible cylinders, best first (cylinder, bore, rod, mass, price, smallest margin, peak flow,
+            score).
+        closest: the cylinders with the smallest worst load factor and the checks they fail.
+        duty: the coordinate's duty: force (N, > 0 pushes) and speed (m/s) over time.
+        cylinder_data: the chosen cylinder's catalog data (SI).
+    """
 
     joint: str
     objective: str
@@ -51,17 +73,50 @@ class CylinderSizing:
     kind = "cylinder"
 
     @property
-    def failed(self) -> list[Check]:
-        return [c for c in self.checks if not c.passed]
+    def areas(self) -> tuple[float, float]:
+        """(A_p, A_a): the chosen cylinder's piston area π D²/4 and annulus area A_p − π d²/4 (m²)."""
+        piston = math.pi * self.cylinder_data["bore"] ** 2 / 4
+        return piston, piston - math.pi * self.cylinder_data["rod"] ** 2 / 4
+
+    def drive_columns(self) -> dict:
+        return {"motor": None, "converter": self.cylinder, "ratio": None}
+
+    def headline(self) -> str:
+        c = self.cylinder_data
+        return (f"{self.joint}: cylinder {self.cylinder} ×{self.count} (bore {c['bore'] * 1e3:g} mm, rod "
+                f"{c['rod'] * 1e3:g} mm), peak flow {self.peak_flow * 6e4:.1f} l/min")
+
+    def candidate(self, row: dict) -> str:
+        return str(row["cylinder"])
 
     def as_dict(self) -> dict:
-        return {"joint": self.joint, "kind": "cylinder", "feasible": self.feasible, "motor": None, "gearbox": None,
-                "ratio": None, "cylinder": self.cylinder, "count": self.count,
-                "bore": self.cylinder_data["bore"], "rod": self.cylinder_data["rod"],
-                "peak_flow": self.peak_flow, "peak_flow_l_min": self.peak_flow * 60e3,
-                "checks": [c.as_dict() for c in self.checks],
-                "alternatives": self.ranking.head(5).to_dict(orient="records"),
-                "closest": [] if self.feasible else self.closest.to_dict(orient="records")}
+        """joint, kind, feasible, motor/gearbox/ratio (None), cylinder, count, bore and rod (m), peak_flow (m³/s) and
+        peak_flow_l_min, checks (SI), alternatives, closest (when none is feasible)."""
+        return json_ready({
+            "joint": self.joint, "kind": "cylinder", "feasible": self.feasible, "motor": None, "gearbox": None,
+            "ratio": None, "cylinder": self.cylinder, "count": self.count,
+            "bore": self.cylinder_data["bore"], "rod": self.cylinder_data["rod"],
+            "peak_flow": self.peak_flow, "peak_flow_l_min": self.peak_flow * 60e3,
+            "checks": [c.as_dict() for c in self.checks],
+            "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
+            "closest": [] if self.feasible else self.closest.to_dict(orient="records")})
+
+    def plot(self, ax: Axes | None = None) -> Figure:
+        """The force per cylinder over the cylinder speed along the task (coloured by time), with the push limit
+        p A_p and the pull limit −p A_a at the pressure of the push-pressure check; force in kN, speed in m/s."""
+        from ..report.figures import figure_axes, style_axes
+
+        figure, ax = figure_axes(ax, 7.5, 5)
+        push = next(x for x in self.checks if x.name == "push pressure")
+        piston, annulus = self.areas
+        ax.scatter(self.duty.speed, self.duty.torque / self.count / 1e3, s=6, c=self.duty.t, cmap="viridis",
+                   label="force per cylinder along the task (colour: time)")
+        ax.axhline(push.limit * piston / 1e3, color="tab:red", label="push limit p·A_piston")
+        ax.axhline(-push.limit * annulus / 1e3, color="tab:purple", label="pull limit p·A_annulus")
+        style_axes(ax, "cylinder speed (m/s)", "force (kN, + pushes)",
+                   f"{self.joint}: {self.count}× {self.cylinder}" + ("" if self.feasible else " — NOT FEASIBLE"),
+                   legend=True)
+        return figure
 
 
 def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pressure: float = 32e6,
@@ -99,7 +154,7 @@ def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pre
                             "mass": mass[index] * spec.count, "price": price[index] * spec.count,
                             "smallest_margin": 1 - worst[index], "peak_flow": flow[index], "score": score[index]})
     ranking = ranking.sort_values(["score", "mass"], kind="stable").reset_index(drop=True)
-    order = np.argsort(worst, kind="stable")[:5]
+    order = np.argsort(worst, kind="stable")[:REPORTED]
     closest = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[order], "worst_load_factor": worst[order],
                             "failed": ["; ".join(f"{n} ×{factors[i, k]:.2f}" for k, n in enumerate(CYLINDER_CHECKS)
                                                  if factors[i, k] > 1 + PASS_TOLERANCE) or "none" for i in order]})

@@ -8,15 +8,20 @@ external loads) unchanged.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..kinematics.loops import loop_solver
+from ..model.loads import Loads
 from ..model.mechanism import Mechanism
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dynamics.motion import Trajectory
 
 
 @dataclass(frozen=True)
@@ -35,11 +40,11 @@ class JointDuty:
 
     name: str
     kind: str
-    t: np.ndarray
-    speed: np.ndarray
-    acceleration: np.ndarray
-    torque: np.ndarray
-    static_torque: np.ndarray
+    t: NDArray[np.float64]
+    speed: NDArray[np.float64]
+    acceleration: NDArray[np.float64]
+    torque: NDArray[np.float64]
+    static_torque: NDArray[np.float64]
     load_inertia: float
     stroke: float = 0.0
 
@@ -55,7 +60,7 @@ class JointDuty:
         return replace(self, t=self.t[0] + (self.t - self.t[0]) * k, speed=self.speed / k,
                        acceleration=self.acceleration / k**2, torque=dynamic / k**2 + self.static_torque)
 
-    def time_weights(self) -> np.ndarray:
+    def time_weights(self) -> NDArray[np.float64]:
         """Trapezoidal-rule weights w_i with Σ w_i f_i / duration = the time mean of f (one sample: weight 1)."""
         if len(self.t) < 2:
             return np.ones(1)
@@ -65,7 +70,7 @@ class JointDuty:
         w[:-1] += step / 2
         return w / self.duration
 
-    def strong_samples(self, count: int = 4, among: np.ndarray | None = None) -> np.ndarray:
+    def strong_samples(self, count: int = 4, among: NDArray[np.intp] | None = None) -> NDArray[np.intp]:
         """Indices of samples likely to decide the peak motor torque whatever the drive: the ``count`` largest of
         several weighted sums of |ω|, |ω̇| and |τ| (each scaled to its maximum), ``among`` the given samples."""
         among = np.arange(len(self.t)) if among is None else among
@@ -77,7 +82,7 @@ class JointDuty:
                             [1, 1, 0], [1, 0, 1], [0, 1, 1], [0, 1, 3], [0, 3, 1]], dtype=float)
         return np.unique(among[np.argsort(-(scaled @ weights.T), axis=0, kind="stable")[:count].ravel()])
 
-    def envelope(self) -> np.ndarray:
+    def envelope(self) -> NDArray[np.intp]:
         """Indices of the samples that can decide a per-sample motor check, for *every* converter and motor.
 
         Through a converter of ratio u and efficiency η, sample i loads a motor (with the converter's inertia,
@@ -94,7 +99,7 @@ class JointDuty:
         motoring = self.torque * self.speed >= 0
         index = np.arange(len(s))
 
-        def dominated(rows: np.ndarray, by: np.ndarray) -> np.ndarray:
+        def dominated(rows: NDArray[np.intp], by: NDArray[np.intp]) -> NDArray[np.bool_]:
             """Which ``rows`` some sample of ``by`` (aligned samples) makes redundant; strict, with ties broken
             by index, so the relation is a strict partial order and every removed sample has a kept dominator."""
             r, d = rows[:, None], by[None, :]
@@ -115,14 +120,18 @@ class JointDuty:
                                for part in np.array_split(left, max(1, len(left) // 1024))])
 
 
-def joint_duties(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None = None) -> list[JointDuty]:
-    """The duty of every driven coordinate along a :class:`~mechatron.motion.Trajectory` (``loads`` as in
-    :func:`mechatron.dynamics.inverse_dynamics`), from the model with its drive inertia (armature) removed.
+def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> list[JointDuty]:
+    """The duty of every driven coordinate along a :class:`~mechatron.dynamics.motion.Trajectory` (``loads``:
+    external :class:`~mechatron.model.Load` s, N and N·m, as in :func:`mechatron.dynamics.tree.inverse_dynamics`),
+    from the model with its drive inertia (armature) removed.
 
-    A serial mechanism: every joint, torques from RNEA, load inertia the diagonal of the mass matrix. A closed-loop
-    mechanism (the trajectory gives its actuated coordinates): every actuated coordinate, forces from the
-    constrained inverse dynamics, load inertia the reduced inertia Sᵀ M S of that coordinate (6.8) with the other
-    inputs held; its kind is ``"cylinder"`` for a hydraulic cylinder."""
+    A serial mechanism: every joint, torques from RNEA, load inertia the diagonal of the mass matrix; the
+    trajectory's q holds Pinocchio configurations (nq columns) or one coordinate per joint (nv columns, turned into
+    configurations by :meth:`~mechatron.model.Mechanism.configuration`, so a continuous joint's angle becomes its
+    (cos, sin)). A closed-loop mechanism (the trajectory gives its actuated coordinates): every actuated coordinate,
+    forces from the constrained inverse dynamics, load inertia the reduced inertia Sᵀ M S of that coordinate with
+    the other inputs held (the reduced moment of inertia [Egorov, 6.8]); its kind is ``"cylinder"`` for a
+    hydraulic cylinder. Joints of more than one coordinate (spherical, free-flyer) cannot be sized."""
     model = pin.Model(mech.model)
     model.armature[:] = 0.0
     bare = replace(mech, model=model)
@@ -135,22 +144,38 @@ def joint_duties(mech: Mechanism, trajectory, loads: Sequence[Sequence] | None =
         names = list(mech.actuated)
         kinds = ["cylinder" if n in mech.cylinders else mech.joint_kind(n) for n in names]
         positions = np.asarray(trajectory.q, dtype=float)
+        columns = list(range(len(names)))
     else:
         from ..dynamics.tree import inverse_dynamics, mass_matrix
 
-        Q = positions = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
+        for name in mech.joint_names:
+            joint = mech.model.joints[mech.joint_id(name)]
+            if joint.nv != 1:
+                raise InputError(f"joint {name}: cannot size a {mech.joint_kind(name)} joint (only revolute and "
+                                 "prismatic)")
+        Q = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
+        positions = Q
+        if mech.nq != mech.nv and Q.shape[1] == mech.nv:  # one coordinate per joint
+            Q = mech.configuration(Q)
+        elif mech.nq != mech.nv:  # continuous joints' angles come back in (−π, π]: unwrap them along the motion
+            positions = mech.coordinates(Q)
+            angles = mech.angular_coordinates()
+            positions[:, angles] = np.unwrap(positions[:, angles], axis=0)
         tau = inverse_dynamics(bare, Q, V, A, loads)
         static = inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads)
         step = max(1, len(Q) // 200)
         inertia = np.max(np.diagonal(mass_matrix(bare, Q[::step]), axis1=1, axis2=2), axis=0)
         names = mech.joint_names
         kinds = [mech.joint_kind(n) for n in names]
+        columns = [mech.model.joints[mech.joint_id(n)].idx_v for n in names]
     return [JointDuty(name, kind, t, V[:, j], A[:, j], tau[:, j], static[:, j], float(inertia[j]),
                       float(np.ptp(positions[:, j])))
-            for j, (name, kind) in enumerate(zip(names, kinds))]
+            for name, kind, j in zip(names, kinds, columns)]
 
 
-def _closed_loop(mech: Mechanism, trajectory, loads) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _closed_loop(mech: Mechanism, trajectory: Trajectory, loads: Loads
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(Q, forces, holding forces, largest reduced inertia of each actuated coordinate) along the trajectory."""
     from ..dynamics.trajectory import actuator_forces, holding_forces
     from ..dynamics.tree import mass_matrix
 
