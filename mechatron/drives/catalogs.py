@@ -71,7 +71,6 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("output_speed_min", "speed", False), Field("output_speed_max", "speed", False),
         Field("output_torque_min", "torque", False), Field("output_torque_max", "torque", False),
         Field("input_power_min", "power", False), Field("input_power_max", "power", False),
-        Field("source_line", "count", False),
     ),
 }
 

@@ -24,9 +24,9 @@ transmission max input speed          max |n|                                   
 transmission mean input speed         ⟨|n|⟩                                                           n1N
 ====================================  ==============================================================  ==========
 
-⟨·⟩ is the time mean over the task (trapezoidal rule). The S1 torque at the mean speed follows Siemens'
-configuration manuals; the speed-weighted cubic mean is the gearbox makers' equivalent output torque (Neugart,
-Wittenstein); the emergency check is Siemens' M_max,gear ≥ M_0 i with the peak torque for M_0.
+⟨·⟩ is the time mean over the task (trapezoidal rule). The S1 torque at the mean speed follows the drive makers'
+configuration manuals; the speed-weighted cubic mean is the gearbox makers' equivalent output torque; the emergency
+check is M_max,gear ≥ M_0 i with the peak torque for M_0 ([Vendor sizing]).
 """
 
 from __future__ import annotations

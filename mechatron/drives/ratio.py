@@ -20,7 +20,7 @@ is inertia matching with the efficiency, u = √(P_h / (η J_d)). :func:`optimal
 t(u) with CasADi (Ipopt), so each formula can be checked against it.
 
 For duty cycles where the RMS torque decides, :func:`rms_ratio_band` gives the ratios for which a motor's RMS torque
-stays within its rating (van de Straete et al. 1998; Giberti et al. 2010) and the RMS-optimal ratio.
+stays within its rating ([vdStraete]; [Giberti]) and the RMS-optimal ratio.
 """
 
 from __future__ import annotations
