@@ -83,7 +83,8 @@ def test_book_formulas_by_hand():
 
 
 def test_structural_groups_and_synthesis():
-    # planar groups of lower pairs (3.9): (n, p5) = (2, 3), (4, 6), (6, 9); spatial class-5 groups (3.6): 5 links, 6 pairs
+    # planar groups of lower pairs (3.9): (n, p5) = (2, 3), (4, 6), (6, 9);
+    # spatial class-5 groups (3.6): 5 links, 6 pairs
     for n, p in ((2, 3), (4, 6), (6, 9)):
         assert F.group_links({5: p}, planar=True) == n and F.group_mobility(n, {5: p}, planar=True) == 0
     assert F.group_links({5: 6}) == 5 and F.group_links({5: 5}) == Fraction(25, 6)

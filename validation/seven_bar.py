@@ -24,7 +24,8 @@ TABLE2 = {"V_C": 18.462, "V_D": 18.774, "beta1_deg": 13.480, "omega_CD": 0.00712
           "beta2_deg": 16.511}
 
 
-def _law_of_cosines(a: float, b: float, opposite: float) -> float:
+def law_of_cosines(a: float, b: float, opposite: float) -> float:
+    """The angle (rad) between the sides a and b of a triangle with the third side ``opposite``."""
     return math.acos((a * a + b * b - opposite * opposite) / (2 * a * b))
 
 
@@ -32,13 +33,13 @@ def paper_closed_forms(v1: float = 5.0, v2: float = 6.0) -> dict[str, float]:
     """Table 2's quantities from the paper's closed forms [ShiLiang, 3–20] at t = 0, in its units (lengths mm,
     cylinder speeds ``v1``, ``v2`` and the results in mm/s, degrees, rad/s), as read (see the module docstring)."""
     l1, l2, l3, l5, l7, l8, l9, l10, l11, s1, s2 = 800, 585, 375, 200, 160, 165, 675, 565, 250, 520, 565
-    alpha1 = _law_of_cosines(l7, l2, 460)  # ∠BAC from the triangle ABC
-    abf = _law_of_cosines(l7, s1, l10)  # (3)
+    alpha1 = law_of_cosines(l7, l2, 460)  # ∠BAC from the triangle ABC
+    abf = law_of_cosines(l7, s1, l10)  # (3)
     e = l7 * math.sin(abf)
     vc = l2 * v1 / e  # (4)
-    alpha2 = _law_of_cosines(l7, l10, s1) - (_law_of_cosines(l8, l1, l9) - _law_of_cosines(l10, l1, l11))
+    alpha2 = law_of_cosines(l7, l10, s1) - (law_of_cosines(l8, l1, l9) - law_of_cosines(l10, l1, l11))
     lce = math.sqrt(l2**2 + l8**2 - 2 * l2 * l8 * math.cos(alpha1 + alpha2))
-    a3, a4, a5 = _law_of_cosines(l2, lce, l8), _law_of_cosines(l5, lce, s2), _law_of_cosines(l5, s2, lce)
+    a3, a4, a5 = law_of_cosines(l2, lce, l8), law_of_cosines(l5, lce, s2), law_of_cosines(l5, s2, lce)
     a = a3 + a4
     theta2 = math.atan(v2 * math.sin(a5) / (v2 * math.cos(a5) + vc * math.sin(a)))  # (13)
     vd = v2 / math.sin(theta2)  # (14)

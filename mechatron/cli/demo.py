@@ -18,7 +18,7 @@ def run(robot: str = "puma560") -> None:
     print(f"mechatron tour: {mech.description}")
     print(f"  {mech.nq} joints, mobility W = {mech.mobility()}, total mass {mech.total_mass:.2f} kg\n")
     if mech.dh is not None:
-        print(f"DH table ({mech.dh.convention} convention, textbook eq. 4.40):")
+        print(f"DH table ({mech.dh.convention} convention, [Egorov, 4.40]):")
         print(mech.dh.to_frame().drop(columns=["limit_unit"]).to_string(), "\n")
 
     q = np.radians([0.0, 45.0, -180.0, 0.0, 45.0, 0.0])[: mech.nq]
@@ -29,17 +29,17 @@ def run(robot: str = "puma560") -> None:
     print(f"  tool position (m):           {_vec(positions[0])}")
     if mech.dh is not None:
         textbook = mech.dh.base @ mech.dh.B(mech.dh.n, q) @ mech.dh.tool
-        print(f"  textbook B_0,n product (4.45) differs from Pinocchio by "
+        print(f"  the B_0,n product [Egorov, 4.45] differs from Pinocchio by "
               f"{np.abs(textbook[:3, 3] - positions[0]).max():.1e} m")
     print("  tool rotation:\n" + "\n".join("    " + _vec(row) for row in rotations[0]))
     jac = jacobians[0]
     sigma = np.linalg.svd(jac, compute_uv=False)
     print(f"  Jacobian singular values:    {_vec(sigma)} (condition number {sigma[0] / sigma[-1]:.1f})")
     print(f"\nrates q' = {_vec(v, 2)} rad/s, q'' = {_vec(a, 2)} rad/s²")
-    print(f"  tool velocity (m/s, 4.47):   {_vec(point_velocity(mech, q, v))}")
-    print(f"  tool acceleration (m/s², 4.49): {_vec(point_acceleration(mech, q, v, a))}")
+    print(f"  tool velocity (m/s, [Egorov, 4.47]):      {_vec(point_velocity(mech, q, v))}")
+    print(f"  tool acceleration (m/s², [Egorov, 4.49]): {_vec(point_acceleration(mech, q, v, a))}")
     omega = link_angular_velocities(mech, q, v)
-    print("  link angular velocities (rad/s, 4.56):")
+    print("  link angular velocities (rad/s, [Egorov, 4.56]):")
     for name, w in zip(mech.link_names, omega):
         print(f"    {name:<8} {_vec(w)}")
     print("\nnext: mechatron list | mechatron show puma560 | mechatron fk puma560 --q 0,45,-180,0,45,0 --deg")

@@ -349,7 +349,8 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
     b.line("stick", "F", "E", "Q", "G", "F")
     b.line("bucket", "Q", "K", "V", "Q")
     b.line("turntable", "A", "C", kind="ground")
-    for name, cyl, pivot, lever_end in (("boom", "L1", "C", "B"), ("stick", "L2", "F", "E"), ("bucket", "L3", "Q", "K")):
+    for name, cyl, pivot, lever_end in (("boom", "L1", "C", "B"), ("stick", "L2", "F", "E"),
+                                        ("bucket", "L3", "Q", "K")):
         base, eye = b.cylinders[cyl].base, b.cylinders[cyl].eye
         b.transmission_angle(f"{name}_transmission_angle", base, eye, pivot, lever_end, minimum_deg=30.0)
         b.lever_arm(f"{name}_lever_arm", base, eye, pivot)
@@ -553,17 +554,17 @@ DEFAULT_CYLINDERS = {"L1": CylinderSpec(0.180, 0.125, 2), "L2": CylinderSpec(0.2
 #: Relief pressure of the working circuits (Pa).
 RELIEF_PRESSURE = 32e6
 
-#: Which cylinder turns the bucket lip about which pivot (ISO 6015: arm and bucket cylinder tool forces).
+#: Which cylinder turns the bucket lip about which pivot ([ISO 6015]: arm and bucket cylinder tool forces).
 TOOL_FORCES = {"arm": ("L2", "F"), "bucket": ("L3", "Q")}
 
 
 def tool_forces(mech: Mechanism, q: ArrayLike, cylinders: dict[str, CylinderSpec] | None = None,
                 pressure: float = RELIEF_PRESSURE) -> dict[str, dict[str, Any]]:
     """Calculated tool forces at the lip V (N) in the manner of [ISO 6015]: one cylinder at ``pressure`` (Pa) with the
-    others held at the configuration ``q``, the force tangential to the arc the lip describes about the arm pivot F (stick cylinder) or the bucket
-    pivot Q (bucket cylinder). By virtual power F_tool = F_cylinder · L̇ / |v_V| for the motion of that cylinder
-    alone; gravity and friction are not included (the standard's calculation method). For extending (piston side)
-    and retracting (rod side)."""
+    others held at the configuration ``q``, the force tangential to the arc the lip describes about the arm pivot F
+    (stick cylinder) or the bucket pivot Q (bucket cylinder). By virtual power F_tool = F_cylinder · L̇ / |v_V| for
+    the motion of that cylinder alone; gravity and friction are not included (the standard's calculation method).
+    For extending (piston side) and retracting (rod side)."""
     cylinders = cylinders or DEFAULT_CYLINDERS
     out = {}
     for name, (cylinder, pivot) in TOOL_FORCES.items():

@@ -24,9 +24,8 @@ multipliers, [Mikhailov, 8]) is in the test suite's ``validation/grab.py``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np

@@ -92,8 +92,8 @@ def sliding_pair(force: float, angle: float, f: float) -> SlidingPairState:
 @dataclass(frozen=True)
 class Incline:
     """A block of mass m (kg) on a plane inclined at θ (rad) with friction f: whether it slides down by itself
-    (tan θ > f: the weight's angle to the normal is θ, [Egorov, 7.10]), and the force along the plane (N) to push it up or
-    to let it down at constant speed, m g (sin θ ± f cos θ)."""
+    (tan θ > f: the weight's angle to the normal is θ, [Egorov, 7.10]), and the force along the plane (N) to push it
+    up or to let it down at constant speed, m g (sin θ ± f cos θ)."""
 
     mass: float
     angle: float
@@ -246,15 +246,14 @@ class FrictionLosses(Result):
 
 def friction_losses(mech: Mechanism, trajectory: Any, pairs: Mapping[str, PairFriction], loads: Loads = None
                     ) -> FrictionLosses:
-    """Friction power (W) of the given pairs along ``trajectory`` (a :class:`~mechatron.dynamics.trajectory.Trajectory`:
+    """Friction power (W) of the given pairs along ``trajectory`` (a :class:`~mechatron.dynamics.motion.Trajectory`:
     t in s, q, v, a of the joints or, for a closed loop, of the actuated coordinates) under the external ``loads``,
-    from the model's reactions computed without friction (a first-order estimate). ``pairs`` maps tree joints — and, for a closed loop, pin closures by name —
-    to their friction data. A revolute pair or pin is a journal loaded by the reaction across its axis (for a pin
-    of a planar loop: its in-plane force) turning at the relative angular speed of its two bodies; a prismatic
-    pair slides under the reaction across its axis. The driving work is the positive work of the actuators (the
-    joints of a serial arm, the actuated coordinates of a closed loop); the efficiency is
-    η = 1 − A_friction / A_driving [Egorov, 7.46]. Journal losses follow [Egorov, 7.11–7.14], sliding losses
-    [Egorov, 7.2]."""
+    from the model's reactions computed without friction (a first-order estimate). ``pairs`` maps tree joints — and,
+    for a closed loop, pin closures by name — to their friction data. A revolute pair or pin is a journal loaded by
+    the reaction across its axis (for a pin of a planar loop: its in-plane force) turning at the relative angular
+    speed of its two bodies [Egorov, 7.11–7.14]; a prismatic pair slides under the reaction across its axis
+    [Egorov, 7.2]. The driving work is the positive work of the actuators (the joints of a serial arm, the actuated
+    coordinates of a closed loop); the efficiency is η = 1 − A_friction / A_driving [Egorov, 7.46]."""
     import pinocchio as pin
 
     from ..dynamics.trajectory import closed_loop_states

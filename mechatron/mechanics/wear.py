@@ -6,8 +6,8 @@ every function here works in SI with the **dimensionless** linear wear intensity
 make sense so, although the text labels J_h µm/km). What the book prints, where it differs:
 
 - [Egorov, 7.29] L = [I] / ((J_h1 S₁ + J_h2 S₂) n) with n in rev/min gives minutes; here n is in rev/s and L in s;
-- [Egorov, 7.33] L = [I] 10⁻⁶ / (J_h v) and [Egorov, 7.34] L = (π/φ₀)·[I] 10⁻⁶ / (J_h v) are right for [I] in µm, v in m/s and L in
-  **seconds** (not hours);
+- [Egorov, 7.33] L = [I] 10⁻⁶ / (J_h v) and [Egorov, 7.34] L = (π/φ₀)·[I] 10⁻⁶ / (J_h v) are right for [I] in µm,
+  v in m/s and L in **seconds** (not hours);
 - [Egorov, 7.36] "L in hours" with ν in 1/s gives seconds;
 - [Egorov, 7.38] swaps R₁ and R₂ (index 1 is the bushing throughout);
 - [Egorov, 7.39–7.44] carry 10⁻³ where D₂ in metres needs 10⁻⁶, and [Egorov, 7.41–7.42] take β in degrees
