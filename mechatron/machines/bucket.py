@@ -26,7 +26,9 @@ suite's ``validation/bucket.py``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -110,7 +112,9 @@ def first_sizing(inputs: BucketInputs) -> dict[str, float]:
             "L1n": inputs.dead_length + h}  # [Bucket, 3]
 
 
-def loop_equations(L1, phi1, phi2, phi3, phi4, *, a, b, c, L2, L3, L4, L5, alpha, cos=math.cos, sin=math.sin):
+def loop_equations(L1: Any, phi1: Any, phi2: Any, phi3: Any, phi4: Any, *, a: Any, b: Any, c: Any, L2: Any, L3: Any,
+                   L4: Any, L5: Any, alpha: Any, cos: Callable[[Any], Any] = math.cos,
+                   sin: Callable[[Any], Any] = math.sin) -> list[Any]:
     """Φ1…Φ4 (m) of [Bucket, 8] for lengths in m and angles in rad (numbers or CasADi expressions)."""
     return [L1 * cos(phi1) + L2 * cos(phi2) - a,
             L2 * sin(phi2) - L1 * sin(phi1) - b,

@@ -213,6 +213,7 @@ class FrontShovel:
 
     @property
     def cylinders(self) -> tuple[CylinderDesign, CylinderDesign, CylinderDesign]:
+        """The boom, stick and bucket cylinders."""
         return self.boom_cylinder, self.stick_cylinder, self.bucket_cylinder
 
     def tip(self, theta1: float, theta2: float, theta3: float) -> NDArray[np.float64]:
@@ -400,6 +401,7 @@ class WorkingRange:
 
     @property
     def cloud(self) -> NDArray[np.float64]:
+        """All tip positions of the faces (m), one per row."""
         return np.vstack([f.reshape(-1, 2) for f in self.faces])
 
     def _lines(self) -> list[np.ndarray]:
@@ -411,6 +413,7 @@ class WorkingRange:
 
     @property
     def summary(self) -> dict[str, float]:
+        """The largest digging radius, height and depth and the reach at ground level (m) [Shovel, 2.1–2.4]."""
         points = np.vstack([self.cloud, *self.arcs])
         ground = []
         for line in self._lines():
@@ -531,10 +534,12 @@ class CylinderSpec:
 
     @property
     def piston_area(self) -> float:
+        """π D² / 4 (m²) of one cylinder."""
         return math.pi * self.bore**2 / 4
 
     @property
     def annulus_area(self) -> float:
+        """π (D² − d²) / 4 (m²) of one cylinder."""
         return math.pi * (self.bore**2 - self.rod**2) / 4
 
     def pressure(self, force: float) -> float:
@@ -642,6 +647,7 @@ class ExcavatorReport(Result):
         return pd.DataFrame(rows)
 
     def as_dict(self) -> dict:
+        """design, joint_ranges_deg, cylinders, special_positions, working_range (m) and loads (N, Pa)."""
         deg = 1 / DEG
         return {
             "design": dict(vars(self.design)),

@@ -101,10 +101,12 @@ class Incline:
 
     @property
     def slides_by_itself(self) -> bool:
+        """tan θ > f [Egorov, 7.10]."""
         return math.tan(self.angle) > self.f
 
     @property
     def push_up(self) -> float:
+        """m g (sin θ + f cos θ) (N)."""
         return self.mass * G * (math.sin(self.angle) + self.f * math.cos(self.angle))
 
     @property
@@ -218,6 +220,8 @@ class FrictionLosses(Result):
         return pd.DataFrame(columns)
 
     def as_dict(self) -> dict:
+        """duration (s), samples, pairs (per pair: kind, peak and mean power in W, work in J), driving_work,
+        friction_work (J) and efficiency."""
         return {"duration": float(self.t[-1] - self.t[0]) if len(self.t) else 0.0, "samples": len(self.t),
                 "pairs": self.summary, "driving_work": self.driving_work, "friction_work": self.friction_work,
                 "efficiency": json_ready(self.efficiency)}

@@ -82,6 +82,7 @@ class StructureReport(Result):
                                            "loops"])
 
     def as_dict(self) -> dict:
+        """The description, counts, every formula's mobility, the model's numbers, the groups and the notes."""
         d = self.description
         return {
             "mechanism": d.name, "planar": d.planar, "moving_links": d.n, "links": [d.frame, *d.links],

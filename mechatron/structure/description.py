@@ -48,6 +48,7 @@ class PairKind:
 
     @property
     def mobilities(self) -> int:
+        """f = 6 − i, the relative mobilities the pair leaves."""
         return 6 - self.cls
 
 
@@ -85,6 +86,7 @@ class Pair:
 
     @property
     def lower(self) -> bool:
+        """A lower pair (classes 5, 4, 3: surface contact)."""
         return self.cls >= 3
 
 
@@ -114,12 +116,15 @@ class StructuralDescription:
 
     @property
     def n(self) -> int:
+        """The number of moving links."""
         return len(self.links)
 
     def counts(self, pairs: list[Pair] | None = None) -> dict[int, int]:
+        """The number of pairs (of ``pairs``, default all) by class."""
         return dict(Counter(p.cls for p in (self.pairs if pairs is None else pairs)))
 
     def pair(self, name: str) -> Pair:
+        """The pair named ``name``."""
         return next(p for p in self.pairs if p.name == name)
 
     def validate(self) -> None:

@@ -49,6 +49,7 @@ class Decomposition:
 
     @property
     def complete(self) -> bool:
+        """Every moving link is a driving link or in a group."""
         return not self.unplaced
 
 
