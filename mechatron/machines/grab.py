@@ -45,7 +45,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 @dataclass(frozen=True)
 class GrabGeometry:
-    """Geometry and masses of the half grab (SI units)."""
+    """Geometry and masses of the half grab (m, kg, kg·m²). The paper gives no numbers: the defaults are a
+    reconstruction for a grab of about 1.4 m³."""
 
     opening: float = 2.80  # L, tip-to-tip span of the open grab
     penetration: float = 0.25  # b, tip depth at x = −L/2
@@ -87,7 +88,7 @@ class GrabGeometry:
 
     @property
     def open_angle(self) -> float:
-        """φ1 with the tip at x = −L/2."""
+        """φ1 (rad) with the tip at x = −L/2."""
         ratio = -self.opening / 2 / self.tip_length
         if not -1 <= ratio <= 1:
             raise InputError(f"grab: the jaw ({self.tip_length:g} m) cannot open to L = {self.opening:g} m")
