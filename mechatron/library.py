@@ -1,29 +1,22 @@
-"""Finding and loading mechanisms by name: robot files shipped in ``robots/``, files given by path, and the arms of
-the installed ``example-robot-data`` package (found on disk, never downloaded).
+"""Finding and loading mechanisms by name: robot files shipped in ``robots/``, the built-in mechanisms of
+:mod:`mechatron.machines`, files given by path, and the arms of the installed ``example-robot-data`` package (found
+on disk, never downloaded). :func:`load` and :func:`available_robots` are ``mechatron.load`` and
+``mechatron.available_robots``.
 """
 
 from __future__ import annotations
 
 import importlib.metadata
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
 from .errors import InputError
+from .io.data import data_dir
 from .model.mechanism import Mechanism, unknown_name_error
 from .model.robotfile import read_robot_file
 from .model.urdf import load_urdf
-
-_PACKAGE_DIR = Path(__file__).resolve().parent
-
-
-def data_dir(name: str) -> Path:
-    """A data folder shipped with mechatron (``robots`` or ``catalogs``): inside the installed package, or at the top
-    of the source tree for a development checkout."""
-    for candidate in (_PACKAGE_DIR / name, _PACKAGE_DIR.parent / name):
-        if candidate.is_dir():
-            return candidate
-    raise InputError(f"mechatron's {name}/ folder is missing from the installation ({_PACKAGE_DIR})")
 
 
 @dataclass(frozen=True)
@@ -93,7 +86,7 @@ def _load_path(path: Path) -> Mechanism:
     raise InputError("unknown kind of file: expected a robot file (.toml) or a URDF (.urdf)", file=path)
 
 
-def _build_machine(name: str, build, parameters: dict[str, float]) -> Mechanism:
+def _build_machine(build: Callable[..., Mechanism], parameters: dict[str, float]) -> Mechanism:
     """A built-in mechanism with its defaults, then rebuilt with the overrides (checked against its parameters)."""
     mechanism = build()
     return mechanism.with_parameters(parameters) if parameters else mechanism
@@ -103,8 +96,9 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
     """Load a mechanism by name or path, with some geometric parameters overridden.
 
     Args:
-        name_or_path: A name from :func:`available_robots` (a file of ``robots/`` or an example-robot-data arm such as
-            ``ur5`` or ``panda``), or the path of a robot file (``.toml``) or a URDF (``.urdf``).
+        name_or_path: A name from :func:`available_robots` (a file of ``robots/``, a built-in mechanism such as
+            ``front_shovel`` or ``seven_bar``, or an example-robot-data arm such as ``ur5`` or ``panda``), or the
+            path of a robot file (``.toml``) or a URDF (``.urdf``).
         **parameters: New values (SI: metres, radians) of named geometric parameters, e.g. ``a2=0.5``.
 
     Returns:
@@ -124,7 +118,7 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
         builtin = builtin_robot_files()
         examples = installed_example_robots()
         if text in BUILTINS:
-            return _build_machine(text, BUILTINS[text].build, parameters)
+            return _build_machine(BUILTINS[text].build, parameters)
         if text in builtin:
             mechanism = read_robot_file(builtin[text]).mechanism()
         elif text in examples:

@@ -1,11 +1,12 @@
-"""Six-link bucket mechanism (seed 000): first sizing, synthesis of c and L2, analysis over the stroke.
+"""Six-link bucket mechanism [Bucket]: first sizing, synthesis of c and L2, analysis over the stroke.
 
 The paper prints no worked example; the reference numbers below were computed independently (a separate
-reconstruction of the geometry from the loop equations (8), solved with CasADi, Ipopt and SciPy from its own
+reconstruction of the geometry from the loop equations [Bucket, 8], solved with CasADi, Ipopt and SciPy from its own
 sketch guess): for q = 0.5 m³, α = 12.5°, β = 30°, γ = 100°, H_T = b = 0.2 m, a = L1н + h/2 and Δφ4 = 160°,
-c = 0.410349095 m and L2 = 0.493108381 m. The paper's Φ_t (eq. 15) and Φ_tt (eq. 21) are printed with four rows and
-(21) with the label Φ_t; eq. (17) has "=" where a product belongs. The Jacobian (12) and its derivative (18) are
-correct as printed; the analytic reference of mechatron.machines.bucket.analytic_analysis uses them.
+c = 0.410349095 m and L2 = 0.493108381 m. The paper's Φ_t [Bucket, 15] and Φ_tt [Bucket, 21] are printed with four
+rows and (21) with the label Φ_t; its (17) has "=" where a product belongs. The Jacobian [Bucket, 12] and its
+derivative [Bucket, 18] are correct as printed; the analytic reference validation.bucket.analytic_analysis uses
+them.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble
 from mechatron.kinematics.sweep import sweep
 from mechatron.machines import bucket as bk
+from validation.bucket import analytic_analysis
 
 DEG = math.pi / 180
 
@@ -36,10 +38,10 @@ def mech(linkage):
 
 def test_first_sizing():
     size = bk.first_sizing(bk.BucketInputs(volume=0.5))
-    assert size["Lk"] == pytest.approx(1.25 * 0.5 ** (1 / 3) + 0.25)  # (1): 1.242126 m
+    assert size["Lk"] == pytest.approx(1.25 * 0.5 ** (1 / 3) + 0.25)  # [Bucket, 1]: 1.242126 m
     assert size["Lk"] == pytest.approx(1.242125657, abs=1e-9)
-    assert size["L5"] == size["L4"] == size["L3"] == pytest.approx(0.4 * size["Lk"])  # (2), (3)
-    assert size["stroke_raw"] == pytest.approx(1.83 * size["L5"])  # (4): 0.909 m
+    assert size["L5"] == size["L4"] == size["L3"] == pytest.approx(0.4 * size["Lk"])  # [Bucket, 2, 3]
+    assert size["stroke_raw"] == pytest.approx(1.83 * size["L5"])  # [Bucket, 4]: 0.909 m
     assert size["stroke"] == 0.9  # the nearest standard stroke
     assert size["L1n"] == pytest.approx(1.1)  # L1н = H_T + h
     assert bk.first_sizing(bk.BucketInputs(volume=1.0, standard_stroke=False))["stroke"] == pytest.approx(
@@ -72,11 +74,11 @@ def test_bucket_turns_by_the_required_angle(linkage, mech):
 
 
 def test_generic_analysis_equals_the_papers_equations(linkage, mech):
-    """Pinocchio tree + closures against eqs. (8), (12), (18) at a constant and an accelerating cylinder."""
+    """Pinocchio tree + closures against [Bucket, 8, 12, 18] at a constant and an accelerating cylinder."""
     strokes = np.linspace(linkage.L1n, linkage.L1n + linkage.stroke, 101)
     for rate, accel in ((0.1, 0.0), (0.25, 0.4)):
         result = sweep(mech, {"L1": strokes}, rates={"L1": rate}, accelerations={"L1": accel})
-        reference = bk.analytic_analysis(linkage, strokes, rate, accel)
+        reference = analytic_analysis(linkage, strokes, rate, accel)
         table = result.table
         np.testing.assert_allclose(table["q_phi2"], reference["q"][:, 2], atol=1e-9)
         np.testing.assert_allclose(table["q_phi4"], reference["q"][:, 4], atol=1e-9)

@@ -1,8 +1,8 @@
-"""Front-shovel excavator working device (seed 001) against the report's self-consistent numbers, recomputed by hand
-from its formulas (notes seed-excavator.md §2.3), and against the closed-loop model.
+"""Front-shovel excavator working device [Shovel] against the report's self-consistent numbers, recomputed by hand
+from its formulas [Shovel, 3.1–3.19], and against the closed-loop model; the excavator report and its command.
 
 The report's inconsistent numbers are not asserted as results; each one is asserted to differ from what its own
-formulas give, with the reason in mechatron.machines.excavator.report_comparison (and in the notes, §2.3 A-E).
+formulas give, with the reason in validation/excavator.py (report_comparison).
 """
 
 from __future__ import annotations
@@ -17,6 +17,8 @@ import mechatron
 from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble, loop_solver
 from mechatron.machines import excavator as ex
+from tests.protocol import check_result
+from validation.excavator import comparison_text, report_comparison
 
 DEG = math.pi / 180
 
@@ -44,14 +46,15 @@ def test_joint_ranges_by_hand(shovel):
     assert shovel.theta2 == pytest.approx((t2min, t2max), abs=1e-12)
     assert shovel.theta1 == pytest.approx((t1min, t1max), abs=1e-12)
     assert shovel.theta3 == pytest.approx((2 * math.pi - t1max - t2max - 40 * DEG, 2.5 * math.pi - t1max - t2max))
-    # the report's rounded values (lines 102-163)
+    # the report's rounded values [Shovel, 3.2–3.7]
     assert np.degrees(shovel.theta2) == pytest.approx((38.0, 118.8), abs=0.05)
     assert np.degrees(shovel.theta1) == pytest.approx((-8.0, 73.6), abs=0.05)
     assert np.degrees(shovel.theta3) == pytest.approx((127.7, 257.6), abs=0.1)
 
 
 def test_special_positions_closed_form_and_model(shovel, mech):
-    """Tips of §2.3 B: (9.060, 2.700), (4.939, 9.530), (4.758, −3.200) and the ground reach 8.605 (not 8.71)."""
+    """Tips of [Shovel, 2.1–2.4] recomputed: (9.060, 2.700), (4.939, 9.530), (4.758, −3.200) and the ground reach
+    8.605 (not the printed 8.71)."""
     expected = {"max_digging_radius": (9.06, 2.7), "max_digging_height": (4.939, 9.53),
                 "max_digging_depth": (4.758, -3.2), "max_ground_radius": (8.605, 0.0)}
     for name, angles in ex.special_positions(shovel).items():
@@ -64,7 +67,7 @@ def test_special_positions_closed_form_and_model(shovel, mech):
 
 
 def test_stick_cylinder_block_as_in_report():
-    """§2.3 C with the report's rounded θ2 = 37°…118.8°, λ = 1.7, k = 1, l9 = 1.0 m."""
+    """[Shovel, 3.14–3.16] with the report's rounded θ2 = 37°…118.8°, λ = 1.7, k = 1, l9 = 1.0 m."""
     c = ex.included_angle_offset(37 * DEG, 118.8 * DEG, 1.7)
     s, r = ex.lever_synthesis(118.8 * DEG + c, 37 * DEG + c, 1.7)
     assert -c / DEG == pytest.approx(4.56, abs=0.01)  # α34 = 4.5° printed
@@ -77,7 +80,8 @@ def test_stick_cylinder_block_as_in_report():
 
 
 def test_bucket_triangle_as_printed():
-    """§2.3 E: l11 = 0.7, λ = 1.7 and an included angle from 40.0° to 150.2° give l10 = 2.04, L3 = 1.57 / 2.67."""
+    """[Shovel, 3.17]: l11 = 0.7, λ = 1.7 and an included angle from 40.0° to 150.2° give l10 = 2.04,
+    L3 = 1.57 / 2.67."""
     s, r = ex.lever_synthesis(150.2 * DEG, 40.0 * DEG, 1.7)
     assert (0.7 * s, 0.7 * r, 0.7 * 1.7 * r) == pytest.approx((2.042, 1.572, 2.672), abs=1e-3)
 
@@ -116,16 +120,16 @@ def test_lever_arm_is_derivative_of_cylinder_length(shovel, mech):
 
 
 def test_report_comparison_flags_exactly_the_inconsistent_numbers(shovel):
-    rows = {r["quantity"]: r for r in ex.report_comparison(shovel)}
+    rows = {r["quantity"]: r for r in report_comparison(shovel)}
     not_reproduced = {q for q, r in rows.items() if not r["reproduced"]}
     assert not_reproduced == {
-        "stick l2 = 0.9·∛46 (3.1)", "L44max = |CQ| (line 128)", "θ1max (3.3b), line 133",
+        "stick l2 = 0.9·∛46 (3.1)", "L44max = |CQ| (3.3b)", "θ1max (3.3b)",
         "θ3max', radius condition (3.6)", "R2max, ground reach (2.4)", "boom α12 with λ = 1.7 (3.9)",
         "boom l7 = CB (3.12)", "boom L1min", "boom L1max", "boom minimum transmission angle",
         "bucket minimum transmission angle",
     }
     assert all(rows[q]["note"] for q in not_reproduced)
-    assert rows["L44max = |CQ| (line 128)"]["computed"] == pytest.approx(6.56, abs=1e-3)
+    assert rows["L44max = |CQ| (3.3b)"]["computed"] == pytest.approx(6.56, abs=1e-3)
     assert rows["θ3max', radius condition (3.6)"]["computed"] == pytest.approx(215.075, abs=1e-3)
 
 
@@ -172,16 +176,64 @@ def test_excavator_command(tmp_path, capsys):
 
     design = tmp_path / "design.toml"
     design.write_text("boom_ratio = 1.9\nmax_digging_height = 9.52\n")
-    assert main(["excavator", "--design", str(design), "--samples", "9", "--json",
+    assert main(["excavator", "--design", str(design), "--samples", "5", "--json",
                  "--plot", str(tmp_path / "range.png")]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["cylinders"]["L1"]["ratio"] == pytest.approx(1.9)
-    assert out["joint_ranges_deg"]["theta1"][1] == pytest.approx(73.455, abs=1e-3)  # with H2 = 9.52 (notes §2.3 A)
+    assert out["joint_ranges_deg"]["theta1"][1] == pytest.approx(73.455, abs=1e-3)  # with the text's H2 = 9.52
     assert (tmp_path / "range.png").stat().st_size > 30_000
+    # the command prints the result of excavator_report: --json is as_dict, the text is str, --csv is to_frame
+    report = ex.excavator_report(ex.read_design(design), 5)
+    assert out == json.loads(report.to_json())
+    assert "report_comparison" not in out  # validation material, not the command's
+    assert main(["excavator", "--design", str(design), "--samples", "5", "--csv", str(tmp_path / "e.csv")]) == 0
+    text = capsys.readouterr().out
+    assert text == f"{report}\nwrote {tmp_path / 'e.csv'}\n"
+    import pandas as pd
+
+    pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "e.csv"), report.to_frame(), check_exact=False, rtol=1e-9)
     bad = tmp_path / "bad.toml"
     bad.write_text("boom = -1.0\n")
     assert main(["excavator", "--design", str(bad)]) == 2
     assert "bad.toml" in capsys.readouterr().err
+    assert main(["excavator", "--tooth-force", "1,2,3"]) == 2
+    assert "two finite numbers" in capsys.readouterr().err
+
+
+def test_excavator_report(shovel):
+    """The report follows the protocol; its tables are the design's: the special positions (to_frame) in SI, the
+    cylinders with the 30° check [Shovel, 3.18–3.19], the tool forces of [ISO 6015] at each special position."""
+    report = ex.excavator_report(samples=5, tooth_force=(-40e3, 0.0))
+    data = check_result(report)
+    frame = report.to_frame().set_index("position")
+    for name, angles in ex.special_positions(shovel).items():
+        np.testing.assert_allclose(frame.loc[name, ["theta1_rad", "theta2_rad", "theta3_rad"]], angles, atol=1e-12)
+        np.testing.assert_allclose(frame.loc[name, ["tip_x_m", "tip_y_m"]], shovel.tip(*angles), atol=1e-9)
+        lengths = shovel.cylinder_lengths(*angles)
+        np.testing.assert_allclose(frame.loc[name, ["L1_m", "L2_m", "L3_m"]], [lengths[c] for c in ("L1", "L2", "L3")])
+        q = assemble(report.mechanism, lengths)
+        forces = ex.tool_forces(report.mechanism, q)
+        assert frame.loc[name, "bucket_tool_force_extending_N"] == pytest.approx(forces["bucket"]["extending"])
+    for c in shovel.cylinders:
+        row = data["cylinders"][c.name]
+        assert (row["L_min"], row["L_max"]) == pytest.approx(c.stroke)
+        assert row["transmission_check"] == ("PASS" if c.min_transmission_angle() >= 30 * DEG else "FAIL")
+    assert data["cylinders"]["L2"]["k"] == pytest.approx(1.0)  # equal lever arms at both ends (k = 1)
+    assert data["loads"]["tooth_force"] == [-40e3, 0.0]
+    text = str(report)
+    assert "[ISO 6015]" in text and "[Shovel]" in text and "report's numbers" not in text
+    with pytest.raises(mechatron.InputError, match="two finite numbers"):
+        ex.excavator_report(samples=5, tooth_force=(1.0,))
+
+
+def test_report_comparison_text():
+    """One line per printed number, ✓ or ✗ as reproduced, with the reason on every ✗."""
+    rows = report_comparison()
+    lines = comparison_text(rows).splitlines()[1:]
+    assert len(lines) == len(rows)
+    for row, line in zip(rows, lines):
+        assert line.strip().startswith("✓" if row["reproduced"] else "✗") and row["quantity"] in line
+        assert (bool(row["note"]) and row["note"] in line) == (not row["reproduced"] and bool(row["note"]))
 
 
 def test_iso6015_tool_forces_by_lever_arms(shovel, mech):

@@ -1,6 +1,6 @@
-"""Friction, wear, life and efficiency (textbook chapter 7). The chapter has no worked numbers: the oracles are
-derived from its formulas (notes seed-textbook-ch7.md §3.3, recomputed here by hand) and checked against the model's
-own reactions where a model applies."""
+"""Friction, wear, life and efficiency [Egorov, chapter 7]. The chapter has no worked numbers: the oracles are
+derived from its formulas (recomputed here by hand) and checked against the model's own reactions where a model
+applies."""
 
 from __future__ import annotations
 
@@ -10,13 +10,14 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron.mechanics import efficiency as E
-from mechatron.mechanics import friction as Fr
 from mechatron.dynamics.motion import Trajectory
 from mechatron.dynamics.tree import joint_wrenches
 from mechatron.errors import InputError
+from mechatron.mechanics import efficiency as E
+from mechatron.mechanics import friction as Fr
 from mechatron.mechanics.wear import Bearing, linear_wear_intensity, single_element_life, wear_depth, wear_rate
 from mechatron.model.dh import DHLink, DHTable, Inertial, dh_mechanism
+from tests.protocol import check_result
 
 
 # ------------------------------------------------------------------------------------------------ friction
@@ -84,9 +85,14 @@ def test_friction_losses_of_a_turning_link():
     traj = Trajectory(t, (omega * t)[:, None], np.full((11, 1), omega), np.zeros((11, 1)), ["q1"])
     losses = Fr.friction_losses(mech, traj, {"q1": Fr.PairFriction(f, r)})
     rho = r * math.sin(math.atan(f))
-    assert np.allclose(losses.table["load_q1"], mass * omega**2 * a, rtol=1e-9)
-    assert np.allclose(losses.table["power_q1"], rho * mass * omega**2 * a * omega, rtol=1e-9)
+    table = losses.to_frame()
+    assert np.allclose(table["load_q1"], mass * omega**2 * a, rtol=1e-9)
+    assert np.allclose(table["power_q1"], rho * mass * omega**2 * a * omega, rtol=1e-9)
+    assert np.allclose(table["friction_torque_q1"], rho * mass * omega**2 * a, rtol=1e-9)  # M_T = F ρ (7.14)
     assert losses.friction_work == pytest.approx(rho * mass * omega**3 * a, rel=1e-9)
+    (pair,) = losses.as_dict()["pairs"]
+    assert pair["work"] == pytest.approx(losses.friction_work, rel=1e-12)
+    assert pair["peak_power"] == pytest.approx(rho * mass * omega**3 * a, rel=1e-9) == pair["mean_power"]
 
 
 def test_pin_friction_of_the_crank_slider():
@@ -100,8 +106,18 @@ def test_pin_friction_of_the_crank_slider():
     pin_name = mech.closures[0].name
     losses = Fr.friction_losses(mech, traj, {pin_name: Fr.PairFriction(0.1, 0.01), "q1": Fr.PairFriction(0.1, 0.02)})
     omega2 = -l1 * np.cos(q1) * w / np.sqrt(l2**2 - l1**2 * np.sin(q1) ** 2)
-    assert np.allclose(losses.table[f"speed_{pin_name}"], omega2, atol=1e-9)
+    table = losses.to_frame()
+    assert np.allclose(table[f"speed_{pin_name}"], omega2, atol=1e-9)
     assert losses.driving_work > 0 and losses.friction_work > 0 and 0 < losses.efficiency < 1
+    # the losses are the sum over the pairs; η = 1 − A_friction / A_driving (7.46)
+    powers = table[[f"power_{pin_name}", "power_q1"]].to_numpy().sum(axis=1)
+    assert losses.friction_work == pytest.approx(np.trapezoid(powers, t), rel=1e-12)
+    data = check_result(losses)
+    assert data["efficiency"] == pytest.approx(1 - losses.friction_work / losses.driving_work, rel=1e-12)
+    assert f"η = 1 − A_friction/A_driving = {losses.efficiency:.6g}" in str(losses)
+    lines = losses.plot().axes[0].get_lines()
+    assert [line.get_label() for line in lines] == [f"{pin_name} (revolute)", "q1 (revolute)"]
+    np.testing.assert_allclose(lines[1].get_ydata(), table["power_q1"])
 
 
 # ------------------------------------------------------------------------------------------------ wear

@@ -1,9 +1,10 @@
-"""Scooping with the grab (seed 003): the paper's own 13-unknown formulation (7 absolute coordinates and 6
-multipliers, eq. 8) against the Pinocchio tree with closures, energy balance and constraint drift.
+"""Scooping with the grab [Mikhailov]: the paper's own 13-unknown formulation (7 absolute coordinates and 6
+multipliers, [Mikhailov, 8], in validation/grab.py) against the Pinocchio tree with closures, energy balance and
+constraint drift, and the pin forces against the paper's multipliers.
 
-The paper's eq. (18) prints ∂Φ6/∂φ10 = r24 cos(φ20 + φ24); Φ6 does not depend on φ10 and the entry belongs to φ20
-(the model derives T from Φ). Its loads are symbols only; the closing rope, the cutting resistance and gravity are
-set out in mechatron.machines.grab.ScoopingLoads.
+The paper's [Mikhailov, 18] prints ∂Φ6/∂φ10 = r24 cos(φ20 + φ24); Φ6 does not depend on φ10 and the entry belongs to
+φ20 (the model derives T from Φ). Its loads are symbols only [Mikhailov, 12]; the closing rope, the cutting
+resistance and gravity are set out in mechatron.machines.grab.ScoopingLoads.
 """
 
 from __future__ import annotations
@@ -15,15 +16,16 @@ import mechatron
 from mechatron.dynamics import constrained as cd
 from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble
-from mechatron.machines.grab import GrabGeometry, PaperModel, ScoopingLoads, mechanism_loads
+from mechatron.machines.grab import GrabGeometry, ScoopingLoads, mechanism_loads, plot_scooping, scooping_forces
+from validation.grab import PaperModel
 
 
 @pytest.fixture(scope="module")
 def runs():
     g, loads = GrabGeometry(), ScoopingLoads()
-    paper = PaperModel(g, loads).simulate(g.open_angle, 0.0, 1.0, 1e-3)
+    paper = PaperModel(g, loads).simulate(g.open_angle, 0.0, 1.0, 2e-3)
     mech = mechatron.load("grab")
-    sim = cd.simulate(mech, assemble(mech, {"phi1": g.open_angle}), np.zeros(mech.nv), paper["t"][-1], 1e-3,
+    sim = cd.simulate(mech, assemble(mech, {"phi1": g.open_angle}), np.zeros(mech.nv), paper["t"][-1], 2e-3,
                       loads_at=mechanism_loads(mech, loads), stop=lambda t, q, v: q[1] >= 0.0)
     return g, paper, mech, sim
 
@@ -56,7 +58,7 @@ def test_energy_balance_and_drift(runs):
 
 
 def test_printed_jacobian_misprint():
-    """Φ6 = y20 + r24 sin(φ20 + φ24) − y30 − r34 sin φ34 depends on φ20, not on φ10 (eq. 18)."""
+    """Φ6 = y20 + r24 sin(φ20 + φ24) − y30 − r34 sin φ34 depends on φ20, not on φ10 [Mikhailov, 18]."""
     pm = PaperModel(GrabGeometry(), ScoopingLoads())
     X, _ = pm.initial_state(-0.5)
     _, J = pm.constraints(X)
@@ -76,3 +78,28 @@ def test_pin_forces_from_the_multipliers(runs):
     assert lam.shape[1] == 6 and np.all(np.isfinite(lam))
     jaw_rod = np.hypot(lam[:, 2], lam[:, 3])
     assert jaw_rod.max() > ScoopingLoads().rope_tension  # of the order of the tackle force
+
+
+def test_pin_forces_of_the_model_equal_the_papers_multipliers(runs):
+    """The model's pin forces (its closure multipliers and Newton's law for the jaw and the rods) are the paper's
+    λ1…λ6: the hinge's horizontal force |λ1|, the cutting edge's normal force |λ2| √(1 + η′²) (the paper's Φ2 is
+    y − η(x) too), the jaw–rods pin |(λ3, λ4)| and the rods–crosshead pin |(λ5, λ6)|."""
+    _, paper, mech, sim = runs
+    n = min(len(paper["t"]), len(sim.t))
+    forces = scooping_forces(mech, sim, ScoopingLoads())
+    lam = paper["multipliers"][:n]
+    g = GrabGeometry()
+    tips = np.array([PaperModel(g, ScoopingLoads()).tip(X, Xd)[0] for X, Xd in zip(paper["X"][:n], paper["Xd"][:n])])
+    slope = 2 * g.curvature * (tips[:, 0] + g.deepest_x)
+    expected = {"hinge_horizontal": np.abs(lam[:, 0]), "cutting_edge_normal": np.abs(lam[:, 1]) * np.hypot(1, slope),
+                "jaw_rods_pin": np.hypot(lam[:, 2], lam[:, 3]), "rods_crosshead_pin": np.hypot(lam[:, 4], lam[:, 5])}
+    for name, values in expected.items():
+        np.testing.assert_allclose(forces[name][:n], values, rtol=1e-4, atol=1.0, err_msg=name)
+
+
+def test_scooping_plot(runs):
+    _, _, mech, sim = runs
+    figure = plot_scooping(mech, sim)
+    axes = [ax for ax in figure.axes if ax.has_data()]
+    assert len(axes) == 3 and all("(" in ax.get_xlabel() and "(" in ax.get_ylabel() for ax in axes)
+    assert all(ax.get_legend() is not None for ax in axes)

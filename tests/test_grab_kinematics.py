@@ -1,4 +1,4 @@
-"""The half grab of seed 003: constraints of eq. (6) and the closed-form positions for any jaw angle.
+"""The half grab [Mikhailov]: the constraints of [Mikhailov, 6] and the closed-form positions for any jaw angle.
 
 The paper gives no numbers; the geometry is the reconstruction documented in mechatron.machines.grab. The closed
 form used as the reference here: with the tip r straight below the hinge when closed, x_tip = r sin φ,
@@ -66,8 +66,9 @@ def test_velocity_and_acceleration_equal_finite_differences(mech):
         v = joint_velocity(mech, q, {"phi1": 1.0})
         np.testing.assert_allclose(v, (plus - minus) / (2 * h), atol=1e-7)
         a = joint_acceleration(mech, q, v)
-        np.testing.assert_allclose(a, (joint_velocity(mech, plus, {"phi1": 1.0}) - joint_velocity(mech, minus, {"phi1": 1.0}))
-                                   / (2 * h), atol=1e-5)
+        rate = {"phi1": 1.0}
+        np.testing.assert_allclose(a, (joint_velocity(mech, plus, rate) - joint_velocity(mech, minus, rate)) / (2 * h),
+                                   atol=1e-5)
 
 
 def test_bad_geometry():

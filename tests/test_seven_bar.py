@@ -1,10 +1,10 @@
-"""Two-cylinder seven-link mechanism (seed 004) against Table 2 and the paper's own closed forms.
+"""Two-cylinder seven-link mechanism [ShiLiang] against [ShiLiang, table 2] and the paper's own closed forms
+[ShiLiang, 3–20] (both in validation/seven_bar.py).
 
-Only V_C of Table 2 is reproducible. The paper's closed forms (eq. 3-20, read through the text extraction's digit
-swaps 1↔7, 6↔9, 3↔8: ∠ABF with l10, CE with l2 and l8, eq. 13 with V_C, eq. 17 with l5 = CD, eq. 19 with the sign of
-its cosine term for H beyond D) agree with the generic model, and both disagree with the printed V_D, β1, ω_CD, V_H
-and β2. Those three of them that are speeds correspond to the same mechanism with the cylinder DE at rest; β1 and
-β2 contradict the paper's own equations (mechatron.machines.seven_bar.table2_comparison gives the reasons).
+Only V_C of table 2 is reproducible. The paper's closed forms, read through the text extraction's digit swaps,
+agree with the generic model, and both disagree with the printed V_D, β1, ω_CD, V_H and β2. The three of them that
+are speeds correspond to the same mechanism with the cylinder DE at rest; β1 and β2 contradict the paper's own
+equations (validation.seven_bar.table2_comparison gives the reasons).
 """
 
 from __future__ import annotations
@@ -17,7 +17,8 @@ import pytest
 import mechatron
 from mechatron.kinematics.frames import angular_velocity, frame_placement, point_velocity
 from mechatron.kinematics.loops import assemble, joint_velocity
-from mechatron.machines.seven_bar import SevenBarData, table2_comparison, table2_quantities
+from mechatron.machines.seven_bar import SevenBarData
+from validation.seven_bar import law_of_cosines, paper_closed_forms, table2_comparison, table2_quantities
 
 MM = 1e-3
 
@@ -25,32 +26,6 @@ MM = 1e-3
 @pytest.fixture(scope="module")
 def mech():
     return mechatron.load("seven_bar")
-
-
-def law_of_cosines(a, b, opposite):
-    return math.acos((a * a + b * b - opposite * opposite) / (2 * a * b))
-
-
-def paper_closed_forms(v1=5.0, v2=6.0):
-    """Eq. (3)-(20) in mm and mm/s, as read (see the module docstring)."""
-    l1, l2, l3, l5, l7, l8, l9, l10, l11, s1, s2 = 800, 585, 375, 200, 160, 165, 675, 565, 250, 520, 565
-    alpha1 = law_of_cosines(l7, l2, 460)  # ∠BAC from the triangle ABC
-    abf = law_of_cosines(l7, s1, l10)  # (3)
-    e = l7 * math.sin(abf)
-    vc = l2 * v1 / e  # (4)
-    alpha2 = law_of_cosines(l7, l10, s1) - (law_of_cosines(l8, l1, l9) - law_of_cosines(l10, l1, l11))
-    lce = math.sqrt(l2**2 + l8**2 - 2 * l2 * l8 * math.cos(alpha1 + alpha2))
-    a3, a4, a5 = law_of_cosines(l2, lce, l8), law_of_cosines(l5, lce, s2), law_of_cosines(l5, s2, lce)
-    a = a3 + a4
-    theta2 = math.atan(v2 * math.sin(a5) / (v2 * math.cos(a5) + vc * math.sin(a)))  # (13)
-    vd = v2 / math.sin(theta2)  # (14)
-    vdc = vd * math.sin(a + a5 - theta2) / math.sin(a)  # (16)
-    w = vdc / l5  # (17)
-    vhc = w * l3
-    vh = math.sqrt(vc**2 + vhc**2 - 2 * vc * vhc * math.cos(a + math.radians(98.5)))  # (19), sign corrected
-    beta2 = math.degrees(math.acos((vh**2 + vc**2 - vhc**2) / (2 * vh * vc)))  # (20)
-    return {"V_C": vc, "V_D": vd, "beta1_deg": 90 - math.degrees(theta2), "omega_CD": w, "V_H": vh,
-            "beta2_deg": beta2}
 
 
 def test_structure_and_pins(mech):
@@ -74,7 +49,7 @@ def test_structure_and_pins(mech):
 def test_table2_velocity_of_C(mech):
     q = mech.reference_q
     v = joint_velocity(mech, q, {"s1": 0.005, "s2": 0.006})
-    # V_C = V1 l2 / (l7 sin ∠ABF), eq. (3)-(4): 18.462 mm/s as printed
+    # V_C = V1 l2 / (l7 sin ∠ABF) [ShiLiang, 3–4]: 18.462 mm/s as printed
     assert np.linalg.norm(point_velocity(mech, q, v, "C")) / MM == pytest.approx(18.461960, abs=1e-6)
     assert round(np.linalg.norm(point_velocity(mech, q, v, "C")) / MM, 3) == 18.462
     # ω of the boom does not depend on the second cylinder
@@ -96,7 +71,7 @@ def test_table2_comparison(mech):
     # the printed V_D, ω_CD, V_H are the mechanism with the cylinder DE at rest, to within 0.4 %
     for key in ("V_D", "omega_CD", "V_H"):
         assert rows[key]["model_v2_zero"] == pytest.approx(rows[key]["printed"], rel=4e-3)
-    # β1: eq. (14)-(15) give cos β1 = V2 / V_D, so even the printed V_D implies 71.36°, not 13.48°
+    # β1: [ShiLiang, 14–15] give cos β1 = V2 / V_D, so even the printed V_D implies 71.36°, not 13.48°
     assert math.degrees(math.acos(6 / rows["V_D"]["printed"])) == pytest.approx(71.362, abs=1e-3)
     # β2: |v_H − v_C| = ω_CD·CH bounds the angle between v_H and v_C
     bound = math.degrees(math.asin(rows["omega_CD"]["printed"] * 375 / rows["V_C"]["printed"]))

@@ -1,5 +1,6 @@
-"""Structural analysis (textbook chapter 3): the book's worked cases with their printed results, synthesis,
-agreement of the formulas with the model's numeric mobility for every built-in mechanism, groups, bad input."""
+"""Structural analysis [Egorov, chapter 3]: the book's worked cases with their printed results, synthesis,
+agreement of the formulas with the model's numeric mobility for every built-in mechanism, groups, bad input, the
+result protocol and the command's outputs."""
 
 from __future__ import annotations
 
@@ -15,10 +16,18 @@ from mechatron.errors import InputError
 from mechatron.library import available_robots
 from mechatron.model.planar import GROUND, PlanarBuilder
 from mechatron.structure import formulas as F
-from mechatron.structure.analysis import analyse
-from mechatron.structure.description import pair_kind, read_structure, shipped_structures, structure_file
+from mechatron.structure.analysis import analyse, analyse_structure
+from mechatron.structure.description import (
+    Pair,
+    StructuralDescription,
+    pair_kind,
+    read_structure,
+    shipped_structures,
+    structure_file,
+)
+from tests.protocol import check_result
 
-# case: (K, S_j, H, W by 3.16, planar W by 3.3 / 3.17 or None), as printed (notes seed-textbook-ch2-3.md §3)
+# case: (K, S_j, H, W by 3.16, planar W by 3.3 / 3.17 or None, W by 3.2), as printed [Egorov, figs. 3.10–3.20]
 BOOK = {
     "ice_3_10a": (1, [3], 1, 1, (1, 1), -2),
     "ice_3_10b": (1, [0], 1, 1, None, 1),
@@ -74,7 +83,8 @@ def test_book_formulas_by_hand():
 
 
 def test_structural_groups_and_synthesis():
-    # planar groups of lower pairs (3.9): (n, p5) = (2, 3), (4, 6), (6, 9); spatial class-5 groups (3.6): 5 links, 6 pairs
+    # planar groups of lower pairs (3.9): (n, p5) = (2, 3), (4, 6), (6, 9);
+    # spatial class-5 groups (3.6): 5 links, 6 pairs
     for n, p in ((2, 3), (4, 6), (6, 9)):
         assert F.group_links({5: p}, planar=True) == n and F.group_mobility(n, {5: p}, planar=True) == 0
     assert F.group_links({5: 6}) == 5 and F.group_links({5: 5}) == Fraction(25, 6)
@@ -186,7 +196,7 @@ def test_structure_command(capsys, tmp_path):
     assert result["groups"][0]["dyad"] == "RRP"
     assert main(["structure", "gripper_3_12a"]) == 0
     out = capsys.readouterr().out
-    assert "S_3 = 3 (3.14)" in out and "H (3.18) = 1" in out
+    assert "S_3 = 3 [Egorov, 3.14]" in out and "H [Egorov, 3.18] = 1" in out
     assert main(["structure", "puma560", "--json"]) == 0
     puma = json.loads(capsys.readouterr().out)
     assert puma["mobility"] == 6 and puma["formulas"]["malyshev_3_2"] == 6
@@ -195,3 +205,60 @@ def test_structure_command(capsys, tmp_path):
     assert main(["structure", str(bad)]) == 2
     assert "bad.toml" in capsys.readouterr().err
     assert np.isfinite(1.0)
+
+
+def test_structure_report_protocol():
+    """to_frame is the pairs table, as_dict the JSON, plot the mobility by formula; for a model and a description."""
+    for report in (analyse(mechatron.load("six_bar_bucket")), analyse_structure("gripper_3_12a")):
+        data = check_result(report)
+        frame = report.to_frame()
+        assert list(frame["pair"]) == [p.name for p in report.description.pairs]
+        assert (frame["class"] + frame["mobilities"] == 6).all()
+        assert frame["actuated"].sum() == sum(p.actuated for p in report.description.pairs)
+        for j, loop in enumerate(report.description.loops, start=1):  # each loop's pairs carry its number
+            assert set(frame.loc[frame["loops"].str.split().apply(lambda x: str(j) in x), "pair"]) == set(loop.pairs)
+        assert data["formulas"] == report.formulas and data["mobility"] == report.true_mobility
+        ax = report.plot().axes[0]
+        bars = {patch.get_y() + patch.get_height() / 2: patch.get_width() for patch in ax.patches}
+        assert [bars[k] for k in sorted(bars)] == list(report.formulas.values())  # a bar per formula, in order
+
+
+def test_structure_command_outputs_are_the_result(capsys, tmp_path):
+    report = analyse(mechatron.load("crank_slider"))
+    assert main(["structure", "crank_slider", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == json.loads(report.to_json())
+    csv, png = tmp_path / "pairs.csv", tmp_path / "mobility.png"
+    assert main(["structure", "crank_slider", "--csv", str(csv), "--plot", str(png)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(str(report)) and f"wrote {csv}" in out and png.stat().st_size > 0
+    import pandas as pd
+
+    pd.testing.assert_frame_equal(pd.read_csv(csv, dtype=str, keep_default_na=False), report.to_frame().astype(str))
+
+
+def test_open_chain_of_many_pairs_is_fast():
+    """The group search tries only connected sets grown from the placed links: an open chain of 400 passive pairs
+    (no group exists: each link adds 3 − 2 = 1 mobility) is analysed at once, H = n (3.18 with K = 0)."""
+    import time
+
+    n = 400
+    links = [f"l{i}" for i in range(1, n + 1)]
+    pairs = [Pair(f"p{i}", 5, "R", ("0" if i == 1 else f"l{i - 1}", f"l{i}")) for i in range(1, n + 1)]
+    start = time.perf_counter()
+    report = analyse(StructuralDescription("chain", links, pairs, planar=True))
+    assert time.perf_counter() - start < 2.0
+    assert report.decomposition.groups == () and len(report.decomposition.unplaced) == n
+    assert report.degrees_of_mobility == n and report.formulas["chebyshev_3_3"] == n  # 3n − 2n
+    # a chain of dyads, each hung between the last one and the frame: every dyad found, in order
+    links, pairs = [], []
+    previous = "0"
+    for k in range(60):
+        a, b = f"a{k}", f"b{k}"
+        links += [a, b]
+        pairs += [Pair(f"A{k}", 5, "R", (previous, a)), Pair(f"B{k}", 5, "R", (a, b)), Pair(f"C{k}", 5, "R", (b, "0"))]
+        previous = b
+    start = time.perf_counter()
+    chain = analyse(StructuralDescription("dyads", links, pairs, planar=True)).decomposition
+    assert time.perf_counter() - start < 2.0
+    assert chain.complete and [g.dyad for g in chain.groups] == ["RRR"] * 60
+    assert [g.links for g in chain.groups] == [(f"a{k}", f"b{k}") for k in range(60)]

@@ -1,9 +1,9 @@
-r"""Six-link bucket mechanism of construction and road machines (seed 000, notes seed-linkages.md).
+r"""Six-link bucket mechanism of construction and road machines [Bucket].
 
 A planar 1-DOF linkage on the stick (the frame): a hydraulic cylinder A–B (barrel eye A on the stick, rod eye B on
 the rocker) turns the rocker D-B-C about D (a bent lever: arms DB = L2 and DC = L3 at the angle α), and the
 connecting link C–E (L4) turns the bucket about F (hinge spacing FE = L5, tooth tip K at L_k from F, ∠EFK = γ).
-In the frame of the paper's loop equations (8) the origin is the rocker pivot D, x runs along the stick line DF
+In the frame of the paper's loop equations [Bucket, 8] the origin is the rocker pivot D, x runs along the stick line DF
 from the bucket pivot F = (−c, 0) towards the cylinder eye A = (a, b):
 
     Φ1 = L1 cos φ1 + L2 cos φ2 − a            Φ3 = c − L5 cos φ4 − L4 cos φ3 + L3 cos(φ2 + α)
@@ -13,20 +13,25 @@ with B = L2∠φ2 = A + L1(−cos φ1, sin φ1), C = L3∠(φ2 + α), E = F + L5
 angle. (The paper's figures are missing; this reading is the only one in which the rocker is rigid and c > 0 — the
 backhoe layout.)
 
-- :func:`first_sizing`: empirical first sizing from the bucket volume q (eq. 1–4): L_k = 1.25 ∛q + 0.25,
+- :func:`first_sizing`: empirical first sizing from the bucket volume q [Bucket, 1–4]: L_k = 1.25 ∛q + 0.25,
   L5 = 0.4 L_k = L4 = L3, stroke h ≈ 1.83 L5 (taken from a standard series), L1н = H_T + h;
 - :func:`synthesize`: c and L2 from L1н, φ4н, h and Δφ4 by solving the eight loop equations at the initial and
   final positions for (φ1н, φ2н, φ3н, φ1к, φ2к, φ3к, c, L2) with CasADi's Newton rootfinder;
 - :func:`build`: the closed-loop :class:`~mechatron.model.Mechanism`, actuated by the cylinder length ``L1``.
+
+The paper's own closed-form analysis [Bucket, 12–22], the reference this model is checked against, is in the test
+suite's ``validation/bucket.py``.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Any
 
-import casadi as ca
 import numpy as np
+from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..kinematics.loops import assemble, loop_solver
@@ -35,7 +40,7 @@ from ..model.planar import GROUND, PlanarBuilder
 
 DEG = math.pi / 180
 #: Standard cylinder strokes (mm), an R20-type series (GOST 6540 style), for "a standard stroke from a maker's
-#: range" after eq. (4).
+#: range" after [Bucket, 4].
 STROKE_SERIES_MM = (100, 110, 125, 140, 160, 180, 200, 220, 250, 280, 320, 360, 400, 450, 500, 560, 630, 710, 800,
                     900, 1000, 1120, 1250, 1400, 1600, 1800, 2000, 2240, 2500, 2800, 3200)
 
@@ -84,8 +89,8 @@ class BucketLinkage:
     initial: tuple[float, float, float]  # φ1н, φ2н, φ3н
     final: tuple[float, float, float]  # φ1к, φ2к, φ3к
 
-    def pins(self, L1: float, phi: tuple[float, float, float], phi4: float) -> dict[str, np.ndarray]:
-        """Pin positions in the stick frame for the paper's coordinates (L1, φ1, φ2, φ3, φ4)."""
+    def pins(self, L1: float, phi: tuple[float, float, float], phi4: float) -> dict[str, NDArray[np.float64]]:
+        """Pin positions (m) in the stick frame for the paper's coordinates (L1 in m; φ1, φ2, φ3, φ4 in rad)."""
         p1, p2, _ = phi
         A = np.array([self.a, self.b])
         F = np.array([-self.c, 0.0])
@@ -96,19 +101,21 @@ class BucketLinkage:
 
 
 def first_sizing(inputs: BucketInputs) -> dict[str, float]:
-    """Empirical first sizing (eq. 1–4): L_k, L5 = L4 = L3, the stroke h and the retracted length L1н (m)."""
+    """Empirical first sizing [Bucket, 1–4]: L_k, L5 = L4 = L3, the stroke h and the retracted length L1н (m)."""
     if not inputs.volume > 0:
         raise InputError(f"bucket volume q must be > 0 m³, got {inputs.volume:g}")
-    Lk = 1.25 * inputs.volume ** (1 / 3) + 0.25  # (1)
-    L5 = 0.4 * Lk  # (2)
-    raw = 1.83 * L5  # (4)
+    Lk = 1.25 * inputs.volume ** (1 / 3) + 0.25  # [Bucket, 1]
+    L5 = 0.4 * Lk  # [Bucket, 2]
+    raw = 1.83 * L5  # [Bucket, 4]
     h = min(STROKE_SERIES_MM, key=lambda s: abs(s / 1000 - raw)) / 1000 if inputs.standard_stroke else raw
     return {"Lk": Lk, "L5": L5, "L4": L5, "L3": L5, "stroke_raw": raw, "stroke": h,
-            "L1n": inputs.dead_length + h}  # (3)
+            "L1n": inputs.dead_length + h}  # [Bucket, 3]
 
 
-def loop_equations(L1, phi1, phi2, phi3, phi4, *, a, b, c, L2, L3, L4, L5, alpha, cos=math.cos, sin=math.sin):
-    """Φ1…Φ4 of eq. (8) (numbers or CasADi expressions)."""
+def loop_equations(L1: Any, phi1: Any, phi2: Any, phi3: Any, phi4: Any, *, a: Any, b: Any, c: Any, L2: Any, L3: Any,
+                   L4: Any, L5: Any, alpha: Any, cos: Callable[[Any], Any] = math.cos,
+                   sin: Callable[[Any], Any] = math.sin) -> list[Any]:
+    """Φ1…Φ4 (m) of [Bucket, 8] for lengths in m and angles in rad (numbers or CasADi expressions)."""
     return [L1 * cos(phi1) + L2 * cos(phi2) - a,
             L2 * sin(phi2) - L1 * sin(phi1) - b,
             c - L5 * cos(phi4) - L4 * cos(phi3) + L3 * cos(phi2 + alpha),
@@ -119,7 +126,9 @@ def synthesize(inputs: BucketInputs | None = None) -> BucketLinkage:
     """c and L2 from L1н, φ4н, h and Δφ4: the eight loop equations at the initial and final positions solved for
     (φ1н, φ2н, φ3н, φ1к, φ2к, φ3к, c, L2) by CasADi's Newton rootfinder from a sketch (rocker swinging 35°→145°,
     L2 = L3, c = 0.8 L5). The root must have c > 0 and L2 > 0; :func:`build` then checks by continuation that the
-    mechanism reaches the final position on one assembly branch."""
+    mechanism reaches the final position on one assembly branch. Lengths in m, angles in rad."""
+    import casadi as ca
+
     inputs = inputs or BucketInputs()
     size = first_sizing(inputs)
     h, L1n, L3, L4, L5 = size["stroke"], size["L1n"], size["L3"], size["L4"], size["L5"]
@@ -148,67 +157,6 @@ def synthesize(inputs: BucketInputs | None = None) -> BucketLinkage:
     wrap = [math.remainder(v, 2 * math.pi) for v in solution[:6]]
     return BucketLinkage(inputs, size["Lk"], L3, L4, L5, h, L1n, a, b, alpha, gamma, phi4n, turn,
                          float(solution[6]), float(solution[7]), tuple(wrap[:3]), tuple(wrap[3:]))
-
-
-def analytic_analysis(lk: BucketLinkage, L1: np.ndarray, rate: np.ndarray | float = 0.1,
-                      acceleration: np.ndarray | float = 0.0) -> dict[str, np.ndarray]:
-    """The paper's own analysis, vectorized over samples: positions from the two loops in closed form (circle
-    intersections on the synthesized branch), velocities from Φ_q q̇ = −Φ_t (eq. 12, 15–16) and accelerations from
-    Φ_q q̈ = −Φ̇_q q̇ − Φ_tt (eq. 17–22), with q = (L1, φ1, φ2, φ3, φ4) and Φ_t = (0, 0, 0, 0, −V)ᵀ,
-    Φ_tt = (0, 0, 0, 0, −dV/dt)ᵀ (the printed Φ_t and Φ_tt have four rows; the fifth is the driving constraint).
-
-    Returns arrays of q, q̇ and q̈ (N × 5) and the tooth tip K with its velocity and acceleration (N × 2).
-    """
-    L1 = np.asarray(L1, dtype=float)
-    n = L1.size
-    rate = np.broadcast_to(np.asarray(rate, dtype=float), (n,))
-    acceleration = np.broadcast_to(np.asarray(acceleration, dtype=float), (n,))
-    A = np.array([lk.a, lk.b])
-    F = np.array([-lk.c, 0.0])
-    # loop I: |B − D| = L2, |B − A| = L1 → φ2 on the side of the synthesized start
-    d, theta_A = np.hypot(*A), math.atan2(A[1], A[0])
-    branch = np.sign(math.remainder(lk.initial[1] - theta_A, 2 * math.pi))
-    phi2 = theta_A + branch * np.arccos((lk.L2**2 + d**2 - L1**2) / (2 * lk.L2 * d))
-    B = lk.L2 * np.stack([np.cos(phi2), np.sin(phi2)], axis=1)
-    phi1 = np.arctan2((B - A)[:, 1], -(B - A)[:, 0])
-    # loop II: |E − F| = L5, |E − C| = L4 → φ4 on the side of the synthesized start
-    C = lk.L3 * np.stack([np.cos(phi2 + lk.alpha), np.sin(phi2 + lk.alpha)], axis=1)
-    FC = C - F
-    e, theta_C = np.hypot(FC[:, 0], FC[:, 1]), np.arctan2(FC[:, 1], FC[:, 0])
-    start_FC = lk.pins(lk.L1n, lk.initial, lk.phi4n)["C"] - F
-    branch = np.sign(math.remainder(lk.phi4n - math.atan2(start_FC[1], start_FC[0]), 2 * math.pi))
-    phi4 = theta_C + branch * np.arccos((lk.L5**2 + e**2 - lk.L4**2) / (2 * lk.L5 * e))
-    E = F + lk.L5 * np.stack([np.cos(phi4), np.sin(phi4)], axis=1)
-    phi3 = np.arctan2((C - E)[:, 1], (C - E)[:, 0])
-    q = np.stack([L1, phi1, phi2, phi3, phi4], axis=1)
-
-    s1, c1, s2, c2 = np.sin(phi1), np.cos(phi1), np.sin(phi2), np.cos(phi2)
-    s2a, c2a, s3, c3, s4, c4 = (np.sin(phi2 + lk.alpha), np.cos(phi2 + lk.alpha), np.sin(phi3), np.cos(phi3),
-                                np.sin(phi4), np.cos(phi4))
-    zero, one = np.zeros(n), np.ones(n)
-    Phi_q = np.stack([  # eq. (12)
-        np.stack([c1, -L1 * s1, -lk.L2 * s2, zero, zero], axis=1),
-        np.stack([-s1, -L1 * c1, lk.L2 * c2, zero, zero], axis=1),
-        np.stack([zero, zero, -lk.L3 * s2a, lk.L4 * s3, lk.L5 * s4], axis=1),
-        np.stack([zero, zero, -lk.L3 * c2a, lk.L4 * c3, lk.L5 * c4], axis=1),
-        np.stack([one, zero, zero, zero, zero], axis=1)], axis=1)
-    rhs = np.zeros((n, 5))
-    rhs[:, 4] = rate  # −Φ_t
-    qd = np.linalg.solve(Phi_q, rhs[..., None])[..., 0]
-    L1d, w1, w2, w3, w4 = qd.T
-    gamma = np.stack([  # −Φ̇_q q̇ − Φ_tt (eq. 18 multiplied out)
-        2 * L1d * w1 * s1 + L1 * c1 * w1**2 + lk.L2 * c2 * w2**2,
-        2 * L1d * w1 * c1 - L1 * s1 * w1**2 + lk.L2 * s2 * w2**2,
-        lk.L3 * c2a * w2**2 - lk.L4 * c3 * w3**2 - lk.L5 * c4 * w4**2,
-        -lk.L3 * s2a * w2**2 + lk.L4 * s3 * w3**2 + lk.L5 * s4 * w4**2,
-        acceleration], axis=1)
-    qdd = np.linalg.solve(Phi_q, gamma[..., None])[..., 0]
-    angle = phi4 + lk.gamma
-    K = F + lk.Lk * np.stack([np.cos(angle), np.sin(angle)], axis=1)
-    K_velocity = lk.Lk * w4[:, None] * np.stack([-np.sin(angle), np.cos(angle)], axis=1)
-    K_acceleration = (lk.Lk * qdd[:, 4, None] * np.stack([-np.sin(angle), np.cos(angle)], axis=1)
-                      - lk.Lk * (w4**2)[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1))
-    return {"q": q, "qd": qd, "qdd": qdd, "K": K, "K_velocity": K_velocity, "K_acceleration": K_acceleration}
 
 
 def build(linkage: BucketLinkage | None = None) -> Mechanism:
@@ -260,7 +208,7 @@ def build(linkage: BucketLinkage | None = None) -> Mechanism:
                    description=f"six-link bucket mechanism (q = {lk.inputs.volume:g} m³, turn "
                                f"{lk.turn / DEG:.4g}°, c = {lk.c:.4f} m, L2 = {lk.L2:.4f} m)",
                    input_rates={"L1": 0.1},
-                   notes=["seed 000; geometry reconstructed from the loop equations (8); masses illustrative"])
+                   notes=["geometry reconstructed from the loop equations [Bucket, 8]; masses illustrative"])
     final = assemble(mech, {"L1": lk.L1n + lk.stroke})
     reached = final[loop_solver(mech).index["phi4"]] - mech.reference_q[loop_solver(mech).index["phi4"]]
     if abs(reached - lk.turn) > 1e-8:
@@ -270,5 +218,7 @@ def build(linkage: BucketLinkage | None = None) -> Mechanism:
 
 
 def six_bar_bucket(**overrides: float) -> Mechanism:
-    """Six-link bucket mechanism of seed 000 (cylinder + rocker + link + bucket), synthesized for Δφ4."""
+    """Six-link bucket mechanism [Bucket] (cylinder + rocker + link + bucket), synthesized for Δφ4.
+
+    ``overrides`` are fields of :class:`BucketInputs` (m³, m, degrees as named)."""
     return build(synthesize(replace(BucketInputs(), **overrides)) if overrides else None)

@@ -1,4 +1,4 @@
-r"""Front-shovel hydraulic excavator working device (seed 001, notes seed-excavator.md).
+r"""Front-shovel hydraulic excavator working device, designed as in the course-design report [Shovel].
 
 Boom (link CF = l1), stick (FQ = l2) and bucket (QV = l3, V the tooth tip), driven by three hydraulic cylinders:
 the twin boom cylinder A–B (A on the turntable, B on the boom), the stick cylinder D–E (D on the boom, E on the stick)
@@ -8,42 +8,50 @@ angles are θ1, θ1 + θ2 − π (stick) and θ1 + θ2 + θ3 (bucket).
 
 The design follows the report step by step:
 
-1. empirical first sizing L = K ∛m (3.1);
-2. joint ranges from the working dimensions (3.2–3.7): R1max, H1max, H2max, R0min, the bucket-to-ground angle ζ and
-   the dump angle δ;
+1. empirical first sizing L = K ∛m [Shovel, 3.1];
+2. joint ranges from the working dimensions [Shovel, 3.2–3.7]: R1max, H1max, H2max, R0min, the bucket-to-ground
+   angle ζ and the dump angle δ;
 3. each cylinder across its joint is a triangle with levers a, s·a; the included angle ψ = θ + c grows with the joint
-   angle. The offset c that makes the moment arms at both ends equal in the ratio k = e_start/e_end (3.8–3.9, 3.14):
-   tan c = (k sin θ_end − λ sin θ_start)/(λ cos θ_start − k cos θ_end); the lever ratio s and the shortest length
-   r·a for a stroke ratio λ = L_max/L_min (3.10–3.13, 3.15–3.17): (λ² − 1)s² − (2λ² cos ψ_start − 2 cos ψ_end)s
-   + (λ² − 1) = 0, r² = s² + 1 − 2 s cos ψ_start;
+   angle. The offset c that makes the moment arms at both ends equal in the ratio k = e_start/e_end
+   [Shovel, 3.8–3.9, 3.14]: tan c = (k sin θ_end − λ sin θ_start)/(λ cos θ_start − k cos θ_end); the lever ratio s
+   and the shortest length r·a for a stroke ratio λ = L_max/L_min [Shovel, 3.10–3.13, 3.15–3.17]:
+   (λ² − 1)s² − (2λ² cos ψ_start − 2 cos ψ_end)s + (λ² − 1) = 0, r² = s² + 1 − 2 s cos ψ_start;
 4. lever arms e = a·s·a sin ψ / L and transmission angles (the angle at the driven lever's pin between the cylinder
-   and the lever, folded to [0°, 90°]) checked against 30° (3.18–3.19);
-5. special tooth-tip positions and the working range from sweeping all strokes.
+   and the lever, folded to [0°, 90°]) checked against 30° [Shovel, 3.18–3.19];
+5. special tooth-tip positions [Shovel, 2.1–2.4] and the working range from sweeping all strokes.
 
-Reproduced and inconsistent numbers of the report are listed by :func:`report_comparison`.
+:func:`excavator_report` gathers all of it, with the tool forces of [ISO 6015] and the holding loads, into an
+:class:`ExcavatorReport` (what ``mechatron excavator`` prints). The report's printed numbers are compared with these
+in the test suite's ``validation/excavator.py``.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
-from typing import TYPE_CHECKING
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..kinematics.frames import frame_placement, point_velocity
 from ..kinematics.loops import assemble, joint_velocity
 from ..model.mechanism import Mechanism, Parameter
 from ..model.planar import GROUND, PlanarBuilder
+from ..report.result import Result
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 DEG = math.pi / 180
 
 
-def _e(angle: float) -> np.ndarray:
+def _e(angle: float) -> NDArray[np.float64]:
     return np.array([math.cos(angle), math.sin(angle)])
 
 
@@ -64,7 +72,7 @@ SIZING_COEFFICIENTS = {
 
 
 def first_sizing(mass_t: float, coefficients: dict[str, float] | None = None) -> dict[str, float]:
-    """Dimensions L = K ∛m (m) of a machine of ``mass_t`` tonnes (eq. 3.1)."""
+    """Dimensions L = K ∛m (m) of a machine of ``mass_t`` tonnes [Shovel, 3.1]."""
     if not mass_t > 0:
         raise InputError(f"machine mass must be > 0 t, got {mass_t:g}")
     k = coefficients or SIZING_COEFFICIENTS
@@ -82,14 +90,14 @@ def mass_from_requirements(requirements: dict[str, float], coefficients: dict[st
 # -------------------------------------------------------------------------------------------- cylinder synthesis
 def included_angle_offset(theta_start: float, theta_end: float, ratio: float, k: float = 1.0) -> float:
     """Offset c (rad) of the included angle ψ = θ + c that gives moment arms e_start/e_end = k with
-    L_end/L_start = ``ratio`` (eq. 3.8–3.9, 3.14; c = α12 for the boom, c = −α34 for the stick)."""
+    L_end/L_start = ``ratio`` [Shovel, 3.8–3.9, 3.14] (c = α12 for the boom, c = −α34 for the stick). Angles in rad."""
     return math.atan((k * math.sin(theta_end) - ratio * math.sin(theta_start))
                      / (ratio * math.cos(theta_start) - k * math.cos(theta_end)))
 
 
 def lever_synthesis(psi_end: float, psi_start: float, ratio: float) -> tuple[float, float]:
     """(s, r) of a cylinder triangle: second lever = s·a, shortest length L_min = r·a, for an included angle going
-    from ``psi_start`` to ``psi_end`` (rad) with L_max/L_min = ``ratio`` (eq. 3.12–3.13, 3.15–3.17)."""
+    from ``psi_start`` to ``psi_end`` (rad) with L_max/L_min = ``ratio`` [Shovel, 3.12–3.13, 3.15–3.17]."""
     if not ratio > 1:
         raise InputError(f"the stroke ratio λ = L_max/L_min must be > 1, got {ratio:g}")
     b = 2 * ratio**2 * math.cos(psi_start) - 2 * math.cos(psi_end)
@@ -172,9 +180,11 @@ class CylinderDesign:
 
     @property
     def ratio(self) -> float:
+        """λ = L_max / L_min."""
         return self.stroke[1] / self.stroke[0]
 
     def length(self, theta: float) -> float:
+        """Cylinder length (m) at the joint angle θ (rad): the triangle's third side."""
         return triangle_side(self.lever_fixed, self.lever_driven, theta + self.offset)
 
     def lever_arm(self, theta: float) -> float:
@@ -183,6 +193,7 @@ class CylinderDesign:
         return self.lever_fixed * self.lever_driven * math.sin(psi) / self.length(theta)
 
     def min_transmission_angle(self, samples: int = 2001) -> float:
+        """The smallest transmission angle (rad) over the joint range, on ``samples`` angles [Shovel, 3.18]."""
         thetas = np.linspace(*self.theta_range, samples)
         return min(transmission_angle(self.lever_driven, self.lever_fixed, t + self.offset) for t in thetas)
 
@@ -202,21 +213,24 @@ class FrontShovel:
 
     @property
     def cylinders(self) -> tuple[CylinderDesign, CylinderDesign, CylinderDesign]:
+        """The boom, stick and bucket cylinders."""
         return self.boom_cylinder, self.stick_cylinder, self.bucket_cylinder
 
-    def tip(self, theta1: float, theta2: float, theta3: float) -> np.ndarray:
+    def tip(self, theta1: float, theta2: float, theta3: float) -> NDArray[np.float64]:
         """Tooth tip V (m) for the report's joint angles (rad)."""
         d = self.design
         return (np.asarray(d.boom_foot) + d.boom * _e(theta1) + d.stick * _e(theta1 + theta2 - math.pi)
                 + d.bucket * _e(theta1 + theta2 + theta3))
 
     def cylinder_lengths(self, theta1: float, theta2: float, theta3: float) -> dict[str, float]:
+        """Lengths (m) of the cylinders L1, L2, L3 at the report's joint angles (rad)."""
         return {c.name: c.length(t) for c, t in zip(self.cylinders, (theta1, theta2, theta3))}
 
 
 def joint_ranges(d: FrontShovelDesign) -> tuple[tuple[float, float], tuple[float, float], tuple[float, float],
                                                    tuple[float, float]]:
-    """θ1, θ2, θ3 ranges (rad) from the working dimensions (eq. 3.2–3.7) and the two θ3max candidates."""
+    """θ1, θ2, θ3 ranges (rad) from the working dimensions [Shovel, 3.2–3.7] and the two θ3max candidates (rad):
+    the height condition [Shovel, 3.5] and the radius condition [Shovel, 3.6]."""
     l1, l2, l3 = d.boom, d.stick, d.bucket
     xc, yc = d.boom_foot
     zeta = d.ground_angle_deg * DEG
@@ -267,7 +281,7 @@ def synthesize(d: FrontShovelDesign | None = None) -> FrontShovel:
 
 # ------------------------------------------------------------------------------------------ special positions
 def special_positions(shovel: FrontShovel) -> dict[str, tuple[float, float, float]]:
-    """The report's special tooth-tip positions (2.1–2.4) as joint angles (θ1, θ2, θ3) in rad:
+    """The report's special tooth-tip positions [Shovel, 2.1–2.4] as joint angles (θ1, θ2, θ3) in rad:
     maximum digging radius, maximum digging height, maximum digging depth and maximum radius at ground level."""
     d = shovel.design
     l1, l2, l3 = d.boom, d.stick, d.bucket
@@ -336,7 +350,8 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
     b.line("stick", "F", "E", "Q", "G", "F")
     b.line("bucket", "Q", "K", "V", "Q")
     b.line("turntable", "A", "C", kind="ground")
-    for name, cyl, pivot, lever_end in (("boom", "L1", "C", "B"), ("stick", "L2", "F", "E"), ("bucket", "L3", "Q", "K")):
+    for name, cyl, pivot, lever_end in (("boom", "L1", "C", "B"), ("stick", "L2", "F", "E"),
+                                        ("bucket", "L3", "Q", "K")):
         base, eye = b.cylinders[cyl].base, b.cylinders[cyl].eye
         b.transmission_angle(f"{name}_transmission_angle", base, eye, pivot, lever_end, minimum_deg=30.0)
         b.lever_arm(f"{name}_lever_arm", base, eye, pivot)
@@ -350,11 +365,10 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
     return b.build(actuated=["L1", "L2", "L3"], parameters=params, rebuild=rebuild, tool="V",
                    description="front-shovel excavator working device (boom, stick, bucket, 3 cylinders)",
                    input_rates={"L1": 0.1, "L2": 0.1, "L3": 0.1},
-                   notes=["seed 001 course-design report; 'mechatron excavator' compares its numbers with the "
-                          "report's (mechatron.machines.excavator.report_comparison)"])
+                   notes=["designed as in the front-shovel course-design report [Shovel]; masses illustrative"])
 
 
-def joint_angles(mech: Mechanism, q: np.ndarray) -> tuple[float, float, float]:
+def joint_angles(mech: Mechanism, q: ArrayLike) -> tuple[float, float, float]:
     """The report's (θ1, θ2, θ3) of an assembled configuration (rad)."""
     from ..kinematics.geometry import point_positions
 
@@ -366,7 +380,7 @@ def joint_angles(mech: Mechanism, q: np.ndarray) -> tuple[float, float, float]:
 
 
 def front_shovel(**overrides: float) -> Mechanism:
-    """Front-shovel excavator working device of seed 001 (boom, stick, bucket; cylinders L1 (twin), L2, L3)."""
+    """Front-shovel excavator working device [Shovel] (boom, stick, bucket; cylinders L1 (twin), L2, L3)."""
     return build(synthesize(replace(FrontShovelDesign(), **overrides)) if overrides else None)
 
 
@@ -381,12 +395,13 @@ class WorkingRange:
     Their error is of the order of the squared grid step.
     """
 
-    faces: list[np.ndarray]
-    arcs: list[np.ndarray]
+    faces: list[NDArray[np.float64]]
+    arcs: list[NDArray[np.float64]]
     failures: int
 
     @property
-    def cloud(self) -> np.ndarray:
+    def cloud(self) -> NDArray[np.float64]:
+        """All tip positions of the faces (m), one per row."""
         return np.vstack([f.reshape(-1, 2) for f in self.faces])
 
     def _lines(self) -> list[np.ndarray]:
@@ -398,6 +413,7 @@ class WorkingRange:
 
     @property
     def summary(self) -> dict[str, float]:
+        """The largest digging radius, height and depth and the reach at ground level (m) [Shovel, 2.1–2.4]."""
         points = np.vstack([self.cloud, *self.arcs])
         ground = []
         for line in self._lines():
@@ -410,9 +426,11 @@ class WorkingRange:
                 "max_ground_radius": float(max(ground)) if ground else math.nan}
 
 
-def working_range(mech: Mechanism, samples: int = 41, progress=None) -> WorkingRange:
+def working_range(mech: Mechanism, samples: int = 41, progress: Callable[[int, int], None] | None = None
+                  ) -> WorkingRange:
     """Sweep all three cylinder strokes: each face of the stroke box on a ``samples`` × ``samples`` grid (a
-    serpentine path, so that every sample continues from its neighbour) and every edge as an arc."""
+    serpentine path, so that every sample continues from its neighbour) and every edge as an arc. Tip positions in
+    m; ``progress(done, total)`` is called after each of the runs."""
     from ..kinematics.sweep import sweep
 
     names = list(mech.cylinders)
@@ -450,104 +468,55 @@ def working_range(mech: Mechanism, samples: int = 41, progress=None) -> WorkingR
     return WorkingRange(faces, arcs, failures)
 
 
-def plot_working_range(mech: Mechanism, working: WorkingRange, shovel: FrontShovel, path) -> object:
-    """PNG of the working range: reachable tip positions, boundary arcs, the special positions and the machine."""
-    from pathlib import Path
-
-    from matplotlib.figure import Figure
-
-    from ..io.output import save_figure as _save
+def plot_working_range(mech: Mechanism, working: WorkingRange, shovel: FrontShovel, ax: Axes | None = None
+                       ) -> Figure:
+    """The working range (m): the tooth tip over all strokes, the boundary arcs (two cylinders at a limit), the
+    special positions [Shovel, 2.1–2.4] and the machine at its reference configuration. Drawn into ``ax`` if given;
+    returns the figure."""
     from ..kinematics.drawing import draw_mechanism
+    from ..report.figures import figure_axes, style_axes
 
-    fig = Figure(figsize=(8, 7), layout="constrained")
-    ax = fig.subplots()
+    fig, ax = figure_axes(ax, 8.0, 7.0)
     ax.scatter(working.cloud[:, 0], working.cloud[:, 1], s=1, color="tab:blue", alpha=0.15,
                label="tooth tip, all strokes")
     for i, arc in enumerate(working.arcs):
         ax.plot(arc[:, 0], arc[:, 1], color="tab:blue", lw=1, label="two cylinders at a limit" if i == 0 else None)
-    for name, angles in special_positions(shovel).items():
-        q = assemble(mech, shovel.cylinder_lengths(*angles))
-        tip = frame_placement(mech, q, "V").translation
-        ax.plot(tip[0], tip[1], "o", color="tab:red")
+    for i, (name, angles) in enumerate(special_positions(shovel).items()):
+        tip = frame_placement(mech, assemble(mech, shovel.cylinder_lengths(*angles)), "V").translation
+        ax.plot(tip[0], tip[1], "o", color="tab:red", label="special positions" if i == 0 else None)
         ax.annotate(name.replace("_", " "), tip[:2], textcoords="offset points", xytext=(5, 5), fontsize=8)
     draw_mechanism(mech, mech.reference_q, ax, labels=True)
     ax.axhline(0.0, color="saddlebrown", lw=1.5, label="ground")
-    ax.set(aspect="equal", xlabel="x (m)", ylabel="y (m)", title="front shovel: working range")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="lower left")
-    path = Path(path)
-    _save(fig, path)
-    return path
+    ax.set_aspect("equal")
+    style_axes(ax, "x (m)", "y (m)", "front shovel: working range", legend=True, loc="lower left")
+    return fig
 
 
-# ------------------------------------------------------------------------------------------- report checks
-def report_comparison(shovel: FrontShovel | None = None) -> list[dict]:
-    """The report's printed numbers against this implementation, with a reason for every one that differs.
+# ------------------------------------------------------------------------------------------------ design file
+def read_design(path: str | Path) -> FrontShovelDesign:
+    """A front-shovel design from a TOML file with any fields of :class:`FrontShovelDesign` (lengths m, angles in
+    degrees as named, masses kg); the fields not given keep the report's values."""
+    from dataclasses import fields
 
-    Values in the report's units (m, degrees). ``reproduced`` is true when the printed value is the computed one
-    rounded as printed.
-    """
-    shovel = shovel or synthesize()
-    d = shovel.design
-    deg = 1 / DEG
-    rows: list[dict] = []
+    from ..io.schema import FieldReader
+    from ..io.toml import read_toml
 
-    def add(quantity, printed, computed, tolerance, note="", unit="deg"):
-        rows.append({"quantity": quantity, "report": printed, "computed": round(float(computed), 4), "unit": unit,
-                     "reproduced": bool(abs(printed - computed) <= tolerance), "note": note})
-
-    add("boom l1 = 1.2·∛46 (3.1)", 4.3, first_sizing(46)["boom"], 0.005, unit="m")
-    add("stick l2 = 0.9·∛46 (3.1)", 3.3, first_sizing(46)["stick"], 0.05,
-        "0.9·∛46 = 3.22 m; the report designs with 3.3 m (as does its MATLAB code), and so does mechatron", "m")
-    add("θ2max (3.2)", 118.8, shovel.theta2[1] * deg, 0.05)
-    add("θ2min (3.3)", 38.0, shovel.theta2[0] * deg, 0.05,
-        "the substitution printed on line 116 (1.7 and 3.6 in place of l3 = 2.0 and R0min = 4.2) would give 33°")
-    l44 = triangle_side(d.boom, d.stick, shovel.theta2[1])
-    add("L44max = |CQ| (line 128)", 6.84, l44, 0.005,
-        "|CQ| = R1max − l3 − xc = 6.56 m by construction of θ2max; 6.84 m would need l3 = 1.72 m", "m")
-    add("θ1max (3.3b), line 133", 72.0, shovel.theta1[1] * deg, 0.05,
-        "lines 150 and 205 use 73.6°, the value of the formula; 72° comes from the odd substitution on line 131")
-    add("θ1max, lines 150 and 205", 73.6, shovel.theta1[1] * deg, 0.05)
-    add("θ1min (3.4)", -8.0, shovel.theta1[0] * deg, 0.05)
-    add("θ3max, height condition (3.5)", 257.6, shovel.theta3_max_candidates[0] * deg, 0.1)
-    add("θ3max', radius condition (3.6)", 207.0, shovel.theta3_max_candidates[1] * deg, 0.5,
-        "180° + arcsin(l1 sin θ2max / L44max) = 215.1° (213.4° with the report's 6.84 m); 207° is not reproducible")
-    add("θ3min with δ = 40° (3.7)", 127.7, shovel.theta3[0] * deg, 0.05)
-    tips = {k: shovel.tip(*v) for k, v in special_positions(shovel).items()}
-    add("R2max, ground reach (2.4)", 8.71, tips["max_ground_radius"][0], 0.005,
-        "8.71 m is 2.45·∛46 from the empirical table; the geometry gives the tip on the ground at 8.605 m", "m")
-    # the stick block exactly as the report computed it, with its rounded range θ2 = 37°…118.8°
-    t_lo, t_hi = 37 * DEG, 118.8 * DEG
-    c = included_angle_offset(t_lo, t_hi, 1.7)
-    s, r = lever_synthesis(t_hi + c, t_lo + c, 1.7)
-    add("stick α34 (3.14), θ2 = 37°…118.8°", 4.5, -c * deg, 0.1)
-    add("stick s = l8/l9 (3.15)", 2.6, s, 0.05, unit="-")
-    add("stick r = L2min/l9 (3.16)", 1.87, r, 0.005, unit="-")
-    add("stick L2max", 3.18, 1.7 * r, 0.005, unit="m")
-    stick = CylinderDesign("L2", 2.6, 1.0, c, (r, 1.7 * r), (t_lo, t_hi))
-    add("stick minimum transmission angle (3.4)", 49.0, stick.min_transmission_angle() * deg, 0.5)
-    # the boom block
-    t1_lo, t1_hi = shovel.theta1
-    add("boom α12 with λ = 1.7 (3.9)", 37.3, included_angle_offset(t1_lo, t1_hi, 1.7) * deg, 0.05,
-        "the report states λ = 1.7 but 37.3° needs λ ≈ 1.9, the value hard-coded in its MATLAB code (37.44°)")
-    add("boom l7 = CB (3.12)", 2.74, shovel.boom_cylinder.lever_driven, 0.005,
-        "l7 = 2.74, L1min = 1.94, L1max = 3.50 m fit together as a triangle but imply λ = 1.80 and k = 1.28, "
-        "not the stated λ = 1.7, k = 1; with them the transmission angle at B can never exceed arcsin(l5/l7) = 26°",
-        "m")
-    add("boom L1min", 1.94, shovel.boom_cylinder.stroke[0], 0.005, "see l7", "m")
-    add("boom L1max", 3.50, shovel.boom_cylinder.stroke[1], 0.005, "see l7", "m")
-    add("boom minimum transmission angle", 32.0, shovel.boom_cylinder.min_transmission_angle() * deg, 0.5,
-        "impossible with the report's own l5 = 1.2, l7 = 2.74 m (at most 26°); the design fails the 30° check")
-    # the bucket triangle as printed: l11 = 0.7, λ = 1.7, ∠GQK from 40.0° to 150.2° (the printed lengths fit it)
-    s3, r3 = lever_synthesis(150.2 * DEG, 40.0 * DEG, 1.7)
-    add("bucket l10 = QG (3.17)", 2.04, s3 * 0.7, 0.005, unit="m")
-    add("bucket L3min", 1.57, r3 * 0.7, 0.005, unit="m")
-    add("bucket L3max", 2.67, 1.7 * r3 * 0.7, 0.005, unit="m")
-    bucket = CylinderDesign("L3", s3 * 0.7, 0.7, 0.0, (r3 * 0.7, 1.7 * r3 * 0.7), (40.0 * DEG, 150.2 * DEG))
-    add("bucket minimum transmission angle", 34.0, bucket.min_transmission_angle() * deg, 0.5,
-        "over the printed triangle's 110° sweep the angle at K falls to 22.3°; the report itself concludes (line "
-        "374) that the four-bar bucket linkage cannot turn the bucket the required 130° with γ >= 30°")
-    return rows
+    reader = FieldReader(read_toml(path), file=path)
+    values: dict[str, Any] = {}
+    for f in fields(FrontShovelDesign):
+        if not reader.has(f.name):
+            continue
+        if f.name == "boom_foot":
+            values[f.name] = tuple(float(x) for x in reader.vector(f.name, 2))
+        elif f.name == "boom_cylinders":
+            values[f.name] = int(reader.number(f.name, minimum=1))
+        else:
+            values[f.name] = reader.number(f.name)
+    reader.finish()
+    try:
+        return replace(FrontShovelDesign(), **values)
+    except InputError as exc:
+        raise InputError(exc.message, file=path) from None
 
 
 # ------------------------------------------------------------------------------------------------ loads
@@ -565,10 +534,12 @@ class CylinderSpec:
 
     @property
     def piston_area(self) -> float:
+        """π D² / 4 (m²) of one cylinder."""
         return math.pi * self.bore**2 / 4
 
     @property
     def annulus_area(self) -> float:
+        """π (D² − d²) / 4 (m²) of one cylinder."""
         return math.pi * (self.bore**2 - self.rod**2) / 4
 
     def pressure(self, force: float) -> float:
@@ -588,17 +559,17 @@ DEFAULT_CYLINDERS = {"L1": CylinderSpec(0.180, 0.125, 2), "L2": CylinderSpec(0.2
 #: Relief pressure of the working circuits (Pa).
 RELIEF_PRESSURE = 32e6
 
-#: Which cylinder turns the bucket lip about which pivot (ISO 6015: arm and bucket cylinder tool forces).
+#: Which cylinder turns the bucket lip about which pivot ([ISO 6015]: arm and bucket cylinder tool forces).
 TOOL_FORCES = {"arm": ("L2", "F"), "bucket": ("L3", "Q")}
 
 
-def tool_forces(mech: Mechanism, q: np.ndarray, cylinders: dict[str, CylinderSpec] | None = None,
-                pressure: float = RELIEF_PRESSURE) -> dict[str, dict[str, float]]:
-    """Calculated tool forces at the lip V (N) in the manner of ISO 6015: one cylinder at ``pressure`` with the others
-    held, the force tangential to the arc the lip describes about the arm pivot F (stick cylinder) or the bucket
-    pivot Q (bucket cylinder). By virtual power F_tool = F_cylinder · L̇ / |v_V| for the motion of that cylinder
-    alone; gravity and friction are not included (the standard's calculation method). For extending (piston side)
-    and retracting (rod side)."""
+def tool_forces(mech: Mechanism, q: ArrayLike, cylinders: dict[str, CylinderSpec] | None = None,
+                pressure: float = RELIEF_PRESSURE) -> dict[str, dict[str, Any]]:
+    """Calculated tool forces at the lip V (N) in the manner of [ISO 6015]: one cylinder at ``pressure`` (Pa) with the
+    others held at the configuration ``q``, the force tangential to the arc the lip describes about the arm pivot F
+    (stick cylinder) or the bucket pivot Q (bucket cylinder). By virtual power F_tool = F_cylinder · L̇ / |v_V| for
+    the motion of that cylinder alone; gravity and friction are not included (the standard's calculation method).
+    For extending (piston side) and retracting (rod side)."""
     cylinders = cylinders or DEFAULT_CYLINDERS
     out = {}
     for name, (cylinder, pivot) in TOOL_FORCES.items():
@@ -611,19 +582,21 @@ def tool_forces(mech: Mechanism, q: np.ndarray, cylinders: dict[str, CylinderSpe
     return out
 
 
-def cylinder_loads(mech: Mechanism, configurations: np.ndarray, tooth_force: tuple[float, float] = (0.0, 0.0),
+def cylinder_loads(mech: Mechanism, configurations: ArrayLike, tooth_force: ArrayLike = (0.0, 0.0),
                    cylinders: dict[str, CylinderSpec] | None = None) -> pd.DataFrame:
     """Static cylinder forces (N, > 0 pushing) and pressures (Pa) holding the front shovel at each configuration
-    against gravity and a force on the tooth tip V (world N): from the closed-loop inverse dynamics at rest."""
+    (rows of ``configurations``) against gravity and a force (Fx, Fy) on the tooth tip V (N, world axes): the
+    closed-loop inverse dynamics at rest. Columns V_x, V_y (m), ``NAME_force`` (N) and ``NAME_pressure`` (Pa)."""
     import pandas as pd
 
     from ..dynamics.constrained import inverse
+    from ..model.loads import Load
 
     cylinders = cylinders or DEFAULT_CYLINDERS
     rows = []
     zero = np.zeros(mech.nv)
     for q in configurations:
-        forces, _ = inverse(mech, q, zero, zero, loads=[("V", [tooth_force[0], tooth_force[1], 0.0])])
+        forces, _ = inverse(mech, q, zero, zero, loads=[Load("V", [tooth_force[0], tooth_force[1], 0.0])])
         tip = frame_placement(mech, q, "V").translation
         row = {"V_x": tip[0], "V_y": tip[1]}
         for name, force in forces.items():
@@ -631,3 +604,154 @@ def cylinder_loads(mech: Mechanism, configurations: np.ndarray, tooth_force: tup
             row[f"{name}_pressure"] = cylinders[name].pressure(force)
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+# ------------------------------------------------------------------------------------------------ the report
+@dataclass
+class ExcavatorReport(Result):
+    """The front-shovel design of :func:`excavator_report` (what ``mechatron excavator`` prints).
+
+    ``cylinders``: per cylinder its levers (m), included-angle offset, strokes (m), λ, lever arms at both ends (m),
+    k, smallest transmission angle and the 30° check [Shovel, 3.18–3.19]; ``special``: per special position
+    [Shovel, 2.1–2.4] the joint angles, cylinder lengths (m), the tip from the closed-loop model and in closed form
+    (m) and the [ISO 6015] tool forces (N); ``holding``: per cylinder the largest pressure (Pa), push and pull (N)
+    holding the device along its strokes against gravity and ``tooth_force``; ``working``: the working range.
+    """
+
+    design: FrontShovelDesign
+    shovel: FrontShovel
+    mechanism: Mechanism
+    cylinders: dict[str, dict[str, Any]]
+    special: dict[str, dict[str, Any]]
+    working: WorkingRange
+    holding: dict[str, dict[str, float]]
+    tooth_force: tuple[float, float]
+    relief_pressure: float
+    samples: int
+
+    def to_frame(self) -> pd.DataFrame:
+        """The special positions: the joint angles θ1…θ3 (rad), cylinder lengths (m), the tooth tip (m) and the
+        [ISO 6015] tool forces of the arm (stick) and bucket cylinders, extending and retracting (N)."""
+        import pandas as pd
+
+        rows = []
+        for name, p in self.special.items():
+            row: dict[str, Any] = {"position": name}
+            row.update({f"theta{i + 1}_rad": math.radians(a) for i, a in enumerate(p["theta_deg"])})
+            row.update({f"{c}_m": length for c, length in p["cylinder_lengths"].items()})
+            row.update({"tip_x_m": p["tip"][0], "tip_y_m": p["tip"][1]})
+            for tool, forces in p["tool_forces"].items():
+                row[f"{tool}_tool_force_extending_N"] = forces["extending"]
+                row[f"{tool}_tool_force_retracting_N"] = forces["retracting"]
+            rows.append(row)
+        return pd.DataFrame(rows)
+
+    def as_dict(self) -> dict:
+        """design, joint_ranges_deg, cylinders, special_positions, working_range (m) and loads (N, Pa)."""
+        deg = 1 / DEG
+        return {
+            "design": dict(vars(self.design)),
+            "joint_ranges_deg": {"theta1": [x * deg for x in self.shovel.theta1],
+                                 "theta2": [x * deg for x in self.shovel.theta2],
+                                 "theta3": [x * deg for x in self.shovel.theta3]},
+            "cylinders": self.cylinders, "special_positions": self.special, "working_range": self.working.summary,
+            "loads": {"tooth_force": list(self.tooth_force), "relief_pressure": self.relief_pressure,
+                      "cylinders": self.holding},
+        }
+
+    def plot(self, ax: Axes | None = None) -> Figure:
+        """The working range and the machine (:func:`plot_working_range`)."""
+        return plot_working_range(self.mechanism, self.working, self.shovel, ax)
+
+    def __str__(self) -> str:
+        d, deg = self.design, 1 / DEG
+        lines = ["front-shovel working device [Shovel], lengths in m, angles in degrees",
+                 f"links: boom CF = {d.boom:g}, stick FQ = {d.stick:g}, bucket QV = {d.bucket:g}; "
+                 f"boom foot C = {d.boom_foot}"]
+        for name, (lo, hi) in zip(("theta1", "theta2", "theta3"), (self.shovel.theta1, self.shovel.theta2,
+                                                                     self.shovel.theta3)):
+            lines.append(f"  {name}: {lo * deg:8.3f} … {hi * deg:8.3f}")
+        lines.append(f"\n{'cylinder':<9}{'levers':>16}{'L_min':>8}{'L_max':>8}{'stroke':>8}{'λ':>7}{'e start':>9}"
+                     f"{'e end':>8}{'γ min':>8}  ≥30°")
+        for name, c in self.cylinders.items():
+            twin = f" (x{c['count']})" if c["count"] > 1 else ""
+            lines.append(f"{name + twin:<9}{c['levers'][0]:8.3f}{c['levers'][1]:8.3f}{c['L_min']:8.3f}"
+                         f"{c['L_max']:8.3f}{c['stroke']:8.3f}{c['ratio']:7.3f}{c['lever_arm_start']:9.3f}"
+                         f"{c['lever_arm_end']:8.3f}{c['min_transmission_angle_deg']:8.2f}  "
+                         f"{c['transmission_check']}")
+        lines.append("\nspecial tooth-tip positions (θ1, θ2, θ3 → tip from the closed-loop model):")
+        for name, p in self.special.items():
+            lines.append(f"  {name:<20} ({', '.join(f'{a:.3f}' for a in p['theta_deg'])}) → "
+                         f"({p['tip'][0]:.4f}, {p['tip'][1]:.4f})")
+        lines.append(f"\n[ISO 6015] tool forces at relief pressure {self.relief_pressure / 1e6:g} MPa "
+                     "(kN, extending/retracting):")
+        for name, p in self.special.items():
+            arm, bucket = p["tool_forces"]["arm"], p["tool_forces"]["bucket"]
+            lines.append(f"  {name:<20} arm {arm['extending'] / 1e3:7.1f} / {arm['retracting'] / 1e3:6.1f}"
+                         f"   bucket {bucket['extending'] / 1e3:7.1f} / {bucket['retracting'] / 1e3:6.1f}")
+        lines.append(f"holding loads along the strokes (gravity, tooth force {self.tooth_force} N): largest "
+                     "pressure per cylinder")
+        for name, p in self.holding.items():
+            over = "  EXCEEDS the relief pressure" if p["max_pressure"] > self.relief_pressure else ""
+            lines.append(f"  {name}: {p['max_pressure'] / 1e6:7.2f} MPa (push up to {p['max_push'] / 1e3:.1f} kN, "
+                         f"pull up to {p['max_pull'] / 1e3:.1f} kN){over}")
+        w = self.working.summary
+        lines.append(f"\nworking range over all strokes ({self.samples} per stroke): reach "
+                     f"{w['max_digging_radius']:.3f}, height {w['max_digging_height']:.3f}, depth "
+                     f"{w['max_digging_depth']:.3f}, reach at ground {w['max_ground_radius']:.3f}")
+        return "\n".join(lines)
+
+
+def excavator_report(design: FrontShovelDesign | None = None, samples: int = 31,
+                     tooth_force: ArrayLike = (0.0, 0.0), cylinders: dict[str, CylinderSpec] | None = None,
+                     pressure: float = RELIEF_PRESSURE, progress: Callable[[int, int], None] | None = None
+                     ) -> ExcavatorReport:
+    """Design a front shovel as the report does [Shovel, section 3] and check it: the cylinders with their levers,
+    strokes, λ, lever arms and transmission angles [Shovel, 3.8–3.19], the special positions [Shovel, 2.1–2.4]
+    with their [ISO 6015] tool forces, the holding loads along the strokes and the working range.
+
+    Args:
+        design: the design inputs (default: the report's).
+        samples: grid points per cylinder stroke for the working range and the holding loads.
+        tooth_force: (Fx, Fy) on the tooth tip V for the holding loads (N, world axes).
+        cylinders: bore and rod of each cylinder (default :data:`DEFAULT_CYLINDERS`).
+        pressure: relief pressure of the working circuits (Pa) for the tool forces.
+        progress: called with (done, total) while the working range is swept.
+    """
+    from ..kinematics.sweep import sweep
+
+    tooth = np.asarray(tooth_force, dtype=float).reshape(-1)
+    if tooth.shape != (2,) or not np.all(np.isfinite(tooth)):
+        raise InputError(f"the tooth force needs two finite numbers Fx, Fy (N), got {tooth_force!r}")
+    if not (isinstance(samples, (int, np.integer)) and samples >= 2):
+        raise InputError(f"the working range needs at least 2 samples per stroke, got {samples!r}")
+    design = design or FrontShovelDesign()
+    specs = cylinders or DEFAULT_CYLINDERS
+    shovel = synthesize(design)
+    mech = build(shovel)
+    deg = 1 / DEG
+    special = {}
+    for name, angles in special_positions(shovel).items():
+        lengths = shovel.cylinder_lengths(*angles)
+        q = assemble(mech, lengths)
+        special[name] = {"theta_deg": [a * deg for a in angles], "cylinder_lengths": lengths,
+                         "tip": frame_placement(mech, q, "V").translation[:2].tolist(),
+                         "tip_closed_form": shovel.tip(*angles).tolist(),
+                         "tool_forces": tool_forces(mech, q, specs, pressure)}
+    table = {}
+    for c in shovel.cylinders:
+        e_start, e_end = c.lever_arm(c.theta_range[0]), c.lever_arm(c.theta_range[1])
+        gamma = c.min_transmission_angle() * deg
+        table[c.name] = {"levers": [c.lever_fixed, c.lever_driven], "offset_deg": c.offset * deg,
+                         "L_min": c.stroke[0], "L_max": c.stroke[1], "stroke": c.stroke[1] - c.stroke[0],
+                         "ratio": c.ratio, "lever_arm_start": e_start, "lever_arm_end": e_end,
+                         "k": e_start / e_end, "min_transmission_angle_deg": gamma,
+                         "transmission_check": "PASS" if gamma >= 30 else "FAIL",
+                         "count": mech.cylinders[c.name].count}
+    working = working_range(mech, samples, progress=progress)
+    loads = cylinder_loads(mech, sweep(mech, samples=samples).q, tooth_force=(tooth[0], tooth[1]), cylinders=specs)
+    holding = {name: {"max_pressure": float(loads[f"{name}_pressure"].max()),
+                      "max_push": float(loads[f"{name}_force"].max()),
+                      "max_pull": float(-loads[f"{name}_force"].min())} for name in mech.actuated}
+    return ExcavatorReport(design, shovel, mech, table, special, working, holding, (float(tooth[0]), float(tooth[1])),
+                           float(pressure), int(samples))

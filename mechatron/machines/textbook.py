@@ -1,8 +1,8 @@
-"""The textbook's single-loop mechanisms (sections 4.1-4.3, figs. 4.2, 4.4-4.6, 4.10, 4.18, 5.7, 8.3).
+"""The textbook's single-loop mechanisms [Egorov, sections 4.1–4.3; figs. 4.2, 4.4–4.6, 4.10, 4.18, 5.7, 8.3].
 
-All are drawn in the xy plane with the crank pivot A at the origin and the crank angle q1 measured counter-clockwise
-from the x axis. Masses follow the notes' kinetostatic example E7 (rod 2 kg as a uniform bar, slider 1 kg, crank
-balanced with its centre at A); they are illustrative, the book gives none.
+All are drawn in the xy plane with the crank pivot A at the origin and the crank angle q1 (rad) measured
+counter-clockwise from the x axis; lengths in m. The masses are illustrative (rod 2 kg as a uniform bar, slider
+1 kg, crank balanced with its centre at A): the book gives none.
 """
 
 from __future__ import annotations
@@ -23,9 +23,11 @@ def _check_positive(name: str, **values: float) -> None:
 
 
 def crank_slider(l1: float = 0.1, l2: float = 0.4, q1: float = math.pi / 3) -> Mechanism:
-    """Central crank-slider: crank AB = l1 about A, rod BC = l2, slider C on the x axis through A (fig. 4.2, 4.18).
+    """Central crank-slider: crank AB = l1 about A, rod BC = l2, slider C on the x axis through A
+    [Egorov, figs. 4.2, 4.18].
 
-    Position (4.18 example): x_C = l1 cos q1 + sqrt(l2² − l1² sin² q1). Actuated coordinate ``q1`` (crank angle);
+    Position (the example of [Egorov, fig. 4.18]): x_C = l1 cos q1 + sqrt(l2² − l1² sin² q1). Actuated coordinate
+    ``q1`` (crank angle);
     ``xC`` is the slider coordinate. Points A, B, C (slider pin), S2 (middle of the rod); links ``crank``, ``rod``,
     ``slider``. Drawn with the slider on the +x side of A at crank angle ``q1`` (branch ``right``, the reference);
     branch ``left`` has the slider on the other side.
@@ -61,7 +63,8 @@ def crank_slider(l1: float = 0.1, l2: float = 0.4, q1: float = math.pi / 3) -> M
 
 def scotch_yoke(l1: float = 0.1, q1: float = math.pi / 3) -> Mechanism:
     """Sine (scotch-yoke) mechanism: crank AB = l1 about A, a block on the crank pin B slides in the vertical slot
-    of the yoke, which slides along the x axis (fig. 4.4): x_C = l1 cos q1 (4.1 example).
+    of the yoke, which slides along the x axis [Egorov, fig. 4.4]: x_C = l1 cos q1 (the example of
+    [Egorov, section 4.1]).
 
     Actuated ``q1``; the yoke coordinate ``xC`` is the position of its slot line. Points A, B, C (yoke reference on
     the x axis); links ``crank``, ``block``, ``yoke``.
@@ -87,7 +90,7 @@ def scotch_yoke(l1: float = 0.1, q1: float = math.pi / 3) -> Mechanism:
 
 def slotted_link(l1: float = 0.1, d: float = 0.3, q1: float = math.pi / 3) -> Mechanism:
     """Slotted-link (coulisse) mechanism: crank AB = l1 about A, a block on the crank pin B slides along the slotted
-    link, which turns about C = (d, 0) (figs. 4.5, 4.6); d > l1 gives an oscillating, d < l1 a rotating link.
+    link, which turns about C = (d, 0) [Egorov, figs. 4.5, 4.6]; d > l1 gives an oscillating, d < l1 a rotating link.
 
     The book's angle β at C between CA and CB obeys tan β = l1 sin q1 / (d − l1 cos q1); the link's
     counter-clockwise angle is ``phi3`` = π − β. Actuated ``q1``. Points A, B, C; links ``crank``, ``block``,

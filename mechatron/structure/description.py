@@ -1,5 +1,5 @@
-"""Structural descriptions: links, kinematic pairs with their classes (table 3.1), loops — from a plain data file
-or from a :class:`~mechatron.model.Mechanism`'s model.
+"""Structural descriptions: links, kinematic pairs with their classes [Egorov, table 3.1], loops — from a plain data
+file or from a :class:`~mechatron.model.Mechanism`'s model.
 
 A description file (TOML)::
 
@@ -11,15 +11,15 @@ A description file (TOML)::
     [[pairs]]
     name = "A"
     class = 5                      # 1…5: the number of constraints; or give only the kind
-    kind = "R"                     # R В, P П, H Ви, HB Вш, C Ц, SP Сп, S С, L Л, T Т (table 3.1)
+    kind = "R"                     # R В, P П, H Ви, HB Вш, C Ц, SP Сп, S С, L Л, T Т ([Egorov, table 3.1])
     links = ["0", "1"]             # optional when the figure is lost
     actuated = true                # a "degree of mobility" (a driven pair)
 
     [[loops]]
     pairs = ["A", "B", "C", "C'"]
-    closed_by = "group"            # or "link" (A_j = 2 or 1 in 3.18)
+    closed_by = "group"            # or "link" (A_j = 2 or 1 in [Egorov, 3.18])
     redundant_links = 0            # Z_j: links of the loop that do not affect the output (a cam roller)
-    repeated = false               # a loop of repeated links, left out of H (the planetary train, line 2049)
+    repeated = false               # a loop of repeated links, left out of H (the planetary train, [Egorov, fig. 3.17])
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ from ..model.mechanism import Mechanism
 
 @dataclass(frozen=True)
 class PairKind:
-    """A kind of kinematic pair of table 3.1: class (constraints), mobilities, names and the Pinocchio joints that
-    model it."""
+    """A kind of kinematic pair of [Egorov, table 3.1]: class (constraints), mobilities, names and the Pinocchio
+    joints that model it."""
 
     code: str
     russian: str
@@ -48,6 +48,7 @@ class PairKind:
 
     @property
     def mobilities(self) -> int:
+        """f = 6 − i, the relative mobilities the pair leaves."""
         return 6 - self.cls
 
 
@@ -66,7 +67,7 @@ _BY_RUSSIAN = {k.russian: k for k in PAIR_KINDS.values()}
 
 
 def pair_kind(text: str) -> PairKind:
-    """A pair kind by its Latin or Russian code (table 3.1)."""
+    """A pair kind by its Latin or Russian code [Egorov, table 3.1]."""
     key = text.strip()
     kind = PAIR_KINDS.get(key.upper()) or _BY_RUSSIAN.get(key)
     if kind is None:
@@ -85,6 +86,7 @@ class Pair:
 
     @property
     def lower(self) -> bool:
+        """A lower pair (classes 5, 4, 3: surface contact)."""
         return self.cls >= 3
 
 
@@ -114,17 +116,20 @@ class StructuralDescription:
 
     @property
     def n(self) -> int:
+        """The number of moving links."""
         return len(self.links)
 
     def counts(self, pairs: list[Pair] | None = None) -> dict[int, int]:
+        """The number of pairs (of ``pairs``, default all) by class."""
         return dict(Counter(p.cls for p in (self.pairs if pairs is None else pairs)))
 
     def pair(self, name: str) -> Pair:
+        """The pair named ``name``."""
         return next(p for p in self.pairs if p.name == name)
 
     def validate(self) -> None:
         """Names unique and known, classes 1…5, no pair joining a link to itself, every loop closed, and as many
-        loops as (3.10) gives."""
+        loops as [Egorov, 3.10] gives."""
         where = f"structure {self.name}"
         known = [self.frame, *self.links]
         for dup in [k for k, c in Counter(known).items() if c > 1]:
@@ -160,7 +165,7 @@ class StructuralDescription:
         loops = len(self.pairs) - self.n
         if self.loops and len(self.loops) != loops:
             raise InputError(f"{where}: inconsistent counts: {len(self.pairs)} pairs and {self.n} moving links make "
-                             f"K = {loops} independent loops (3.10), but {len(self.loops)} loops are listed")
+                             f"K = {loops} independent loops [Egorov, 3.10], but {len(self.loops)} loops are listed")
         if loops < 0:
             raise InputError(f"{where}: inconsistent counts: {len(self.pairs)} pairs cannot join {self.n} moving links "
                              "to the frame (K = Σp − n < 0)")
@@ -280,7 +285,8 @@ def from_mechanism(mech: Mechanism) -> StructuralDescription:
     pairs = []
     for j in range(1, model.njoints):
         cls, kind = _joint_pair(mech, j)
-        pairs.append(Pair(model.names[j], cls, kind, (link_of[model.parents[j]], link_of[j]), model.names[j] in actuated))
+        pairs.append(Pair(model.names[j], cls, kind, (link_of[model.parents[j]], link_of[j]),
+                          model.names[j] in actuated))
     loops = []
     planar = bool(mech.closures) and all(getattr(c, "planar", True) for c in mech.closures)
     for k, closure in enumerate(mech.closures):
@@ -327,8 +333,8 @@ def _planar_chain(mech: Mechanism) -> bool:
 
 
 def structure_file(name: str) -> Path | None:
-    """A structural description file: ``name`` itself if it is a TOML file with [[pairs]], or one of the textbook's
-    cases shipped in ``robots/structures/`` by its stem (``ice_3_10a``)."""
+    """A structural description file: ``name`` itself if it is a TOML file with [[pairs]], or one of the cases of
+    [Egorov, chapter 3] shipped in ``robots/structures/`` by its stem (``ice_3_10a``)."""
     from ..io.data import data_dir
     from ..io.toml import read_toml
 
@@ -340,7 +346,7 @@ def structure_file(name: str) -> Path | None:
 
 
 def shipped_structures() -> list[str]:
-    """The textbook's structural cases shipped in ``robots/structures/``."""
+    """The structural cases of [Egorov, chapter 3] shipped in ``robots/structures/``."""
     from ..io.data import data_dir
 
     return sorted(p.stem for p in (data_dir("robots") / "structures").glob("*.toml"))

@@ -1,18 +1,21 @@
-"""Decomposition of a planar mechanism into its driving links and structural (Assur) groups (textbook 3.3,
-tables 3.2 and 3.3).
+"""Decomposition of a planar mechanism into its driving links and structural (Assur) groups [Egorov, section 3.3,
+tables 3.2 and 3.3].
 
 The driven pairs are frozen first: links joined by an actuated pair move as one (a crank driven from the frame
 joins the frame; a cylinder's barrel and rod become one link of given length). Starting from the frame, the
-smallest set of not-yet-placed links whose pairs to the placed ones and among themselves give zero planar
-mobility, 3n_Г − 2p_lower − p_higher = 0 (3.7), is a structural group; it is placed and the search goes on.
+smallest connected set of not-yet-placed links, attached to the placed ones, whose pairs to the placed ones and among
+themselves give zero planar mobility, 3n_Г − 2p_lower − p_higher = 0 [Egorov, 3.7], is a structural group; it is
+placed and the search goes on. Only connected sets of at most :data:`MAX_GROUP` links grown from the placed ones are
+tried, so the search grows with the number of links times the (bounded) number of such sets around each, not with
+the number of all subsets: an open chain of hundreds of pairs is analysed at once.
 Groups of two links and three lower pairs are dyads, named by their pairs outer–inner–outer (table 3.2: RRR, RRP,
-RPR, PRP, RPP); a group of one link closes its loop by a single link (A_j = 1 in 3.18), any larger group by a
-structural group (A_j = 2).
+RPR, PRP, RPP); a group of one link closes its loop by a single link (A_j = 1 in [Egorov, 3.18]), any larger group
+by a structural group (A_j = 2).
 """
 
 from __future__ import annotations
 
-import itertools
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from .description import Pair, StructuralDescription
@@ -34,7 +37,7 @@ class Group:
 
     @property
     def closing_value(self) -> int:
-        """A_j of (3.18) for each loop this group closes: 1 for a single link, 2 for a group."""
+        """A_j of [Egorov, 3.18] for each loop this group closes: 1 for a single link, 2 for a group."""
         return 1 if len(self.links) == 1 else 2
 
 
@@ -46,6 +49,7 @@ class Decomposition:
 
     @property
     def complete(self) -> bool:
+        """Every moving link is a driving link or in a group."""
         return not self.unplaced
 
 
@@ -80,14 +84,24 @@ def decompose(desc: StructuralDescription) -> Decomposition | None:
     placed = {frame}
     free = [p for p in desc.pairs if find(p.links[0]) != find(p.links[1])]
     unknown = list(members)
+    ends = [(find(p.links[0]), find(p.links[1])) for p in free]
+    neighbours: dict[str, set[str]] = {root: set() for root in [frame, *members]}
+    incident: dict[str, list[int]] = {root: [] for root in [frame, *members]}
+    for k, (a, b) in enumerate(ends):
+        neighbours[a].add(b)
+        neighbours[b].add(a)
+        incident[a].append(k)
+        incident[b].append(k)
+    order = {root: k for k, root in enumerate(members)}
     groups = []
     while unknown:
         found = None
-        for size in range(1, min(MAX_GROUP, len(unknown)) + 1):
-            for candidate in itertools.combinations(unknown, size):
+        for size, candidates in zip(range(1, min(MAX_GROUP, len(unknown)) + 1),
+                                    _connected_sets(unknown, placed, neighbours, order)):
+            for candidate in candidates:
                 inside = set(candidate)
-                pairs = [p for p in free if {find(x) for x in p.links} <= placed | inside
-                         and {find(x) for x in p.links} & inside]
+                touching = sorted({k for c in candidate for k in incident[c]})
+                pairs = [free[k] for k in touching if ends[k][0] in inside | placed and ends[k][1] in inside | placed]
                 if pairs and 3 * size - sum(_weight(p) for p in pairs) == 0 and _attached(pairs, placed, find):
                     found = (candidate, pairs)
                     break
@@ -103,6 +117,18 @@ def decompose(desc: StructuralDescription) -> Decomposition | None:
         placed |= set(candidate)
         unknown = [u for u in unknown if u not in candidate]
     return Decomposition(driving, tuple(groups), tuple(x for u in unknown for x in members[u]))
+
+
+def _connected_sets(unknown: list[str], placed: set[str], neighbours: dict[str, set[str]], order: dict[str, int]
+                    ) -> Iterator[list[tuple[str, ...]]]:
+    """The connected sets of unplaced links that touch a placed one, by size (1, 2, …): each size as a list of
+    tuples in the links' order, sorted as ``itertools.combinations`` would give them."""
+    pool = set(unknown)
+    level = {frozenset([u]) for u in unknown if neighbours[u] & placed}
+    while level:
+        yield sorted((tuple(sorted(s, key=order.__getitem__)) for s in level),
+                     key=lambda c: [order[x] for x in c])
+        level = {s | {n} for s in level for x in s for n in neighbours[x] & pool if n not in s}
 
 
 def _attached(pairs: list[Pair], placed: set[str], find) -> bool:
