@@ -114,7 +114,7 @@ def _structure(path: Path):
 
 
 def _design(path: Path):
-    from mechatron.cli.excavator import read_design
+    from mechatron.machines.excavator import read_design
 
     return read_design(str(path))
 
