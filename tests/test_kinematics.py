@@ -1,4 +1,5 @@
-"""Kinematics against finite differences and the textbook's angular-velocity sums, on DH and URDF robots."""
+"""Kinematics against finite differences and the angular-velocity sums of [Egorov, 4.56–4.57], on DH and URDF
+robots."""
 
 from __future__ import annotations
 

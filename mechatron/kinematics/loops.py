@@ -1,7 +1,6 @@
-r"""Closed-loop mechanisms: position analysis (assembly), velocity and acceleration analysis, transfer functions,
-transmission angles and cylinder lever arms.
+r"""Closed-loop mechanisms: position analysis (assembly), velocity and acceleration analysis.
 
-With the closure equations Φ(q) = 0 of a mechanism (see :mod:`mechatron.closures`) and its coordinates split into
+With the closure equations Φ(q) = 0 of a mechanism (see :mod:`mechatron.model.closures`) and its coordinates split into
 actuated q_a (the inputs: crank angles, cylinder lengths) and dependent q_d:
 
 - position analysis solves Φ(q_a, q_d) = 0 for q_d by Newton's method, starting from a named assembly branch or a
@@ -9,8 +8,9 @@ actuated q_a (the inputs: crank angles, cylinder lengths) and dependent q_d:
 - velocity analysis: J_d q̇_d = −J_a q̇_a, i.e. q̇ = S q̇_a with S = [I; −J_d⁻¹ J_a];
 - acceleration analysis: J_d q̈_d = −J_a q̈_a − J̇ q̇.
 
-For a 1-DOF mechanism the columns of S are the first transfer functions (textbook eq. 4.2, 4.10) of all coordinates
-with respect to the input, and the accelerations at q̇_a = 1, q̈_a = 0 are the second transfer functions (4.7, 4.15).
+For a 1-DOF mechanism the columns of S are the first transfer functions ([Egorov, 4.2, 4.10]) of all coordinates
+with respect to the input, and the accelerations at q̇_a = 1, q̈_a = 0 are the second transfer functions
+([Egorov, 4.7, 4.15]).
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ import math
 from collections.abc import Mapping
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, SingularityError, UnreachableError
 from ..model.closures import ClosureSystem
@@ -250,13 +251,15 @@ class LoopSolver:
 
 # ------------------------------------------------------------------------------------------ the public calls
 def loop_solver(mech: Mechanism) -> LoopSolver:
-    """The :class:`LoopSolver` of ``mech``, built once and kept in its cache."""
+    """The :class:`LoopSolver` of ``mech`` (assembly, velocity and acceleration analysis of its closed loops), built
+    once and kept in its cache."""
     return mech.cached("loop_solver", lambda: LoopSolver(mech))
 
 
-def assemble(mech: Mechanism, inputs: Mapping[str, float] | None = None, guess: np.ndarray | None = None,
-             branch: str | None = None) -> np.ndarray:
-    """Configuration q (length nq) with the actuated coordinates at ``inputs`` (m, rad) and all closures satisfied.
+def assemble(mech: Mechanism, inputs: Mapping[str, float] | None = None, guess: ArrayLike | None = None,
+             branch: str | None = None) -> NDArray[np.float64]:
+    """Configuration q (length nq) with the actuated coordinates at ``inputs`` (m, rad) and all closures Φ(q) = 0
+    satisfied (position analysis, Newton's method on the dependent coordinates, to 1e-10 m or rad).
 
     The solution continues from ``guess`` (a previous solution) or from the named assembly ``branch`` (one of
     ``mech.branches``; default the reference configuration) and stays on its branch.
@@ -273,14 +276,21 @@ def assemble(mech: Mechanism, inputs: Mapping[str, float] | None = None, guess: 
     return loop_solver(mech).assemble(inputs or {}, guess)
 
 
-def joint_velocity(mech: Mechanism, q: np.ndarray, rates: Mapping[str, float]) -> np.ndarray:
-    """Joint velocity q̇ = S·q̇_a (length nv) for the actuated rates (m/s or rad/s; missing ones 0) at an assembled
-    q: S = [I; −J_d⁻¹ J_a] from the closure Jacobian (velocity analysis, [Egorov, 4.2])."""
+def joint_velocity(mech: Mechanism, q: ArrayLike, rates: Mapping[str, float]) -> NDArray[np.float64]:
+    """Joint velocity q̇ = S·q̇_a (length nv; rad/s, m/s) for the actuated rates (m/s or rad/s; missing ones 0) at an
+    assembled q: S = [I; −J_d⁻¹ J_a] from the closure Jacobian, its columns the first transfer functions
+    ([Egorov, 4.2–4.3, 4.10–4.11]).
+
+    Raises:
+        SingularityError: at a singular position (the actuated coordinates do not determine the motion).
+    """
     return loop_solver(mech).velocity(q, rates)
 
 
-def joint_acceleration(mech: Mechanism, q: np.ndarray, v: np.ndarray,
-                       accelerations: Mapping[str, float] | None = None) -> np.ndarray:
-    """Joint acceleration q̈ (length nv) from J q̈ = −J̇ q̇ with the actuated accelerations (m/s², rad/s²) given
-    (default 0) at an assembled q moving with q̇ = ``v``."""
+def joint_acceleration(mech: Mechanism, q: ArrayLike, v: ArrayLike,
+                       accelerations: Mapping[str, float] | None = None) -> NDArray[np.float64]:
+    """Joint acceleration q̈ (length nv; rad/s², m/s²) from J_d q̈_d = −J_a q̈_a − J̇ q̇ with the actuated
+    accelerations q̈_a (m/s², rad/s²; default 0) at an assembled q moving with q̇ = ``v`` (rad/s, m/s): the
+    acceleration analysis whose result at q̇_a = 1, q̈_a = 0 is the second transfer functions, a = a_q q̇² + v_q q̈
+    ([Egorov, 4.7–4.8, 4.15–4.16])."""
     return loop_solver(mech).acceleration(q, v, accelerations or {})
