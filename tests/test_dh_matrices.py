@@ -139,8 +139,8 @@ def test_parameter_override_changes_geometry():
     # the original is untouched and with_parameters gives the same as load(..., **overrides)
     original = mechatron.load("planar_2r")
     assert original.parameters["a2"].value == 0.4
-    np.testing.assert_allclose(mechatron.kinematics.frame_position(original.with_parameters(a2=0.55), [q1, q2]), expected,
-                               atol=1e-14)
+    longer = original.with_parameters(a2=0.55)
+    np.testing.assert_allclose(mechatron.kinematics.frame_position(longer, [q1, q2]), expected, atol=1e-14)
 
 
 def test_unknown_parameter_is_an_error():

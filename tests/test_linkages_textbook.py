@@ -50,7 +50,7 @@ def slotted_link_closed_form(l1, d, q):
     denominator = l1**2 + d**2 - 2 * d * l1 * math.cos(q)
     beta = math.atan2(l1 * math.sin(q), d - l1 * math.cos(q))
     omega_q = l1 * (d * math.cos(q) - l1) / denominator  # [Egorov, 4.10] for the slotted link, β clockwise
-    epsilon_q = d * l1 * (l1**2 - d**2) * math.sin(q) / denominator**2  # [Egorov, 4.15] for the slotted link (the book's denominator squared)
+    epsilon_q = d * l1 * (l1**2 - d**2) * math.sin(q) / denominator**2  # [Egorov, 4.15], denominator squared
     return beta, omega_q, epsilon_q, math.sqrt(denominator)
 
 

@@ -83,7 +83,7 @@ def test_planar_2r_worked_values():
     np.testing.assert_allclose(acc, [-1.296576, -3.562590, 0.0], atol=1e-6)
     assert np.linalg.norm(vel) == pytest.approx(1.593276, abs=1e-6)
     assert np.linalg.norm(acc) == pytest.approx(3.791195, abs=1e-6)
-    # the printed ÿ_C with l2 in place of l1 (fig. 4.7) would give -3.605892: the tool is right, the book's misprint is not
+    # the printed ÿ_C with l2 in place of l1 (fig. 4.7) would give -3.605892: the book's misprint, not the tool's
     assert acc[1] != pytest.approx(-3.605892, abs=1e-3)
 
 
@@ -142,7 +142,8 @@ def test_articulated_closed_form(q, qd, qdd):
 
 
 def test_planar_3r_closed_form_and_jacobian_of_fig_8_4(rng):
-    # x = Σ l_k cos(q1+…+q_k), y = Σ l_k sin(q1+…+q_k) and the partial derivatives written out in [Egorov, section 8, fig. 8.4]
+    # x = Σ l_k cos(q1+…+q_k), y = Σ l_k sin(q1+…+q_k) and the partial derivatives written out in
+    # [Egorov, section 8, fig. 8.4]
     mech = mechatron.load("planar_3r")
     lengths = [0.4, 0.3, 0.2]
     for _ in range(20):

@@ -27,3 +27,9 @@ _EXPORTS = {
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)
 __all__ = sorted(_EXPORTS)
+
+# ``sweep`` and ``plans`` are both a module and the function it defines: imported here, so that
+# ``mechatron.kinematics.sweep`` is always the function (importing the module would otherwise bind its name in this
+# package to the module). Both are light: no pandas or matplotlib until a result is tabulated or drawn.
+from .plans import plans  # noqa: E402, F401
+from .sweep import sweep  # noqa: E402, F401

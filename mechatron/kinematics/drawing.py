@@ -149,7 +149,7 @@ def draw_plan(ax: Axes, vectors: Mapping[str, ArrayLike], groups: Sequence[Seque
     ax.set_ylim(every[:, 1].min() - 0.1 * span, every[:, 1].max() + 0.1 * span)
     ax.set(aspect="equal", xlabel=f"{quantity}_x ({unit})", ylabel=f"{quantity}_y ({unit})")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    ax.legend(fontsize=8, loc="upper right")
     return ax
 
 
@@ -171,7 +171,7 @@ def configuration_figure(mech: Mechanism, q: ArrayLike, *, frame: str | None = N
         ax.set(aspect="equal", xlabel="x (m)", ylabel="y (m)")
         ax.set_title(title, fontsize=10)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8, loc="best")
+        ax.legend(fontsize=8, loc="upper right")
         return figure
     if ax is not None:
         axes = [ax]
@@ -181,5 +181,5 @@ def configuration_figure(mech: Mechanism, q: ArrayLike, *, frame: str | None = N
     for view, axis in zip(("xz", "xy"), axes):
         draw_stick_figure(mech, q, axis, view=view, frame=frame)
         axis.set_title(f"{title}: {'side' if view == 'xz' else 'top'} view", fontsize=10)
-        axis.legend(fontsize=8, loc="best")
+        axis.legend(fontsize=8, loc="upper right")
     return axes[0].get_figure()

@@ -115,7 +115,7 @@ class Plans(Result):
         ax_mech.set(aspect="equal", xlabel="x (m)", ylabel="y (m)")
         ax_mech.set_title(f"{mech.name}: mechanism", fontsize=10)
         ax_mech.grid(True, alpha=0.3)
-        ax_mech.legend(fontsize=8, loc="best")
+        ax_mech.legend(fontsize=8, loc="upper right")
         draw_plan(ax_v, velocity, groups, pole="p", unit="m/s", quantity="v")
         ax_v.set_title("velocity plan", fontsize=10)
         draw_plan(ax_a, dict(zip(self.frames, self.accelerations)), groups, pole="π", unit="m/s²", quantity="a")

@@ -67,12 +67,13 @@ class MechanismSummary(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per joint: ``name, kind`` (revolute, prismatic, …), ``unit`` (of its coordinate: rad or m),
-        ``lower, upper`` (its limits, rad or m; empty if unbounded), ``max_velocity`` (rad/s or m/s),
+        ``lower, upper`` (its limits, rad or m; NaN if unbounded), ``max_velocity`` (rad/s or m/s),
         ``max_effort`` (N·m or N), ``armature`` (kg·m² or kg)."""
         import pandas as pd
 
-        return pd.DataFrame(self.info["joints"], columns=["name", "kind", "unit", "lower", "upper", "max_velocity",
-                                                          "max_effort", "armature"])
+        numbers = ["lower", "upper", "max_velocity", "max_effort", "armature"]
+        table = pd.DataFrame(self.info["joints"], columns=["name", "kind", "unit", *numbers])
+        return table.astype(dict.fromkeys(numbers, float))
 
     def as_dict(self) -> dict[str, Any]:
         """``name, description, source, convention`` (of the DH table), ``nq, nv, mobility, total_mass`` (kg),
@@ -130,10 +131,9 @@ class MechanismSummary(Result):
 
         mech = self.mechanism
         tool = mech.tool_frame if mech.tool_frame in mech.frame_names else None
-        q = _reference_configuration(mech)
-        return configuration_figure(mech, q, frame=None if mech.sketch else tool, ax=ax,
-                                    title=f"{mech.name} at its {'reference' if mech.reference_q is not None else 'neutral'}"
-                                          " configuration")
+        which = "reference" if mech.reference_q is not None else "neutral"
+        return configuration_figure(mech, _reference_configuration(mech), frame=None if mech.sketch else tool, ax=ax,
+                                    title=f"{mech.name} at its {which} configuration")
 
 
 def mechanism_summary(mech: Mechanism) -> MechanismSummary:
@@ -176,9 +176,29 @@ def mechanism_summary(mech: Mechanism) -> MechanismSummary:
     return MechanismSummary(mech, info)
 
 
-# -------------------------------------------------------------------------------------------------- mechatron fk
+# ---------------------------------------------------------------------------------------- mechatron fk, jacobian
 @dataclass
-class FramePose(Result):
+class _FrameResult(Result):
+    """A result about one frame at one configuration: ``mechanism``, ``frame`` (its name), ``q`` (nq,) and its
+    joint ``coordinates`` (nv,; rad or m)."""
+
+    mechanism: Mechanism
+    frame: str
+    q: NDArray[np.float64]
+    coordinates: NDArray[np.float64]
+
+
+def _one_configuration(mech: Mechanism, q: ArrayLike, frame: str | None, what: str
+                       ) -> tuple[NDArray[np.float64], str]:
+    """(q as one configuration (nq,), the frame's name, default the tool frame)."""
+    q = mech.check_configuration(q)
+    if q.ndim != 1:
+        raise InputError(f"{what} takes one configuration; use fk_and_jacobian for a batch")
+    return q.copy(), frame or mech.tool_frame
+
+
+@dataclass
+class FramePose(_FrameResult):
     """The pose of a frame at one configuration (``mechatron fk``).
 
     Attributes:
@@ -195,10 +215,6 @@ class FramePose(Result):
     text report.
     """
 
-    mechanism: Mechanism
-    frame: str
-    q: NDArray[np.float64]
-    coordinates: NDArray[np.float64]
     position: NDArray[np.float64]
     rotation: NDArray[np.float64]
     rpy: NDArray[np.float64]
@@ -244,18 +260,14 @@ def frame_pose(mech: Mechanism, q: ArrayLike, frame: str | None = None) -> Frame
     """The pose of ``frame`` (default the tool frame) at the configuration ``q`` (nq,): its placement B_{0,i}
     ([Egorov, 4.44–4.45]; position in m, rotation matrix) and its roll-pitch-yaw angles (rad), as a
     :class:`FramePose`."""
-    q = mech.check_configuration(q)
-    if q.ndim != 1:
-        raise InputError("frame_pose takes one configuration; use frame_position/frame_rotation for a batch")
-    frame = frame or mech.tool_frame
+    q, frame = _one_configuration(mech, q, frame, "frame_pose")
     placement = frame_placement(mech, q, frame)
-    return FramePose(mech, frame, q.copy(), mech.coordinates(q), placement.translation.copy(),
+    return FramePose(mech, frame, q, mech.coordinates(q), placement.translation.copy(),
                      placement.rotation.copy(), np.asarray(pin.rpy.matrixToRpy(placement.rotation), dtype=float))
 
 
-# -------------------------------------------------------------------------------------------- mechatron jacobian
 @dataclass
-class JacobianSummary(Result):
+class JacobianSummary(_FrameResult):
     """The Jacobian of a frame at one configuration (``mechatron jacobian``).
 
     Attributes:
@@ -272,11 +284,7 @@ class JacobianSummary(Result):
     singular values; :meth:`plot` its columns as bars; ``str`` the text report.
     """
 
-    mechanism: Mechanism
-    frame: str
     reference: str
-    q: NDArray[np.float64]
-    coordinates: NDArray[np.float64]
     jacobian: NDArray[np.float64]
     singular_values: NDArray[np.float64]
 
@@ -331,7 +339,7 @@ class JacobianSummary(Result):
                 axis.bar(x + (k - 1) * width, column, width, label=label)
             axis.axhline(0.0, color="black", lw=0.6)
             axis.set_xticks(x, names)
-            style_axes(axis, "joint (name)", quantity, legend=True)
+            style_axes(axis, "joint (name)", quantity, legend=True, loc="upper right")
         axes[0].set_title(f"{self.mechanism.name}: Jacobian of frame {self.frame} ({self.reference})", fontsize=10)
         return figure
 
@@ -341,10 +349,7 @@ def jacobian_summary(mech: Mechanism, q: ArrayLike, frame: str | None = None,
     """The 6×nv Jacobian of ``frame`` (default the tool frame) at the configuration ``q`` (nq,), mapping q̇ (rad/s,
     m/s) to the frame's twist [v (m/s); ω (rad/s)] in ``reference`` ([Egorov, 4.47]: its linear rows in
     "world_aligned" are ∂r/∂q), with its singular values, as a :class:`JacobianSummary`."""
-    q = mech.check_configuration(q)
-    if q.ndim != 1:
-        raise InputError("jacobian_summary takes one configuration; use fk_and_jacobian for a batch")
-    frame = frame or mech.tool_frame
+    q, frame = _one_configuration(mech, q, frame, "jacobian_summary")
     jacobian = fk_and_jacobian(mech, q[None, :], frame, reference)[2][0]
-    return JacobianSummary(mech, frame, reference, q.copy(), mech.coordinates(q), jacobian,
+    return JacobianSummary(mech, frame, q, mech.coordinates(q), reference, jacobian,
                            np.linalg.svd(jacobian, compute_uv=False))

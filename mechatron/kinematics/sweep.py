@@ -218,7 +218,7 @@ class SweepResult(Result):
         if trace and f"{trace}_x" in table:
             ax_mech.plot(table[f"{trace}_x"], table[f"{trace}_y"], color="tab:red", lw=1, label=f"path of {trace}")
         ax_mech.set_title(title or mech.description or mech.name, fontsize=10)
-        ax_mech.legend(loc="best", fontsize=8)
+        ax_mech.legend(loc="upper right", fontsize=8)
         if ax is not None:
             return figure
         groups: dict[str, list[str]] = {}
@@ -240,7 +240,7 @@ class SweepResult(Result):
             measured = {kinds.get(c) for c in columns}
             quantity = _MEASURE_QUANTITY.get(measured.pop(), _QUANTITY.get(unit, "value")) if len(measured) == 1 \
                 else _QUANTITY.get(unit, "value")
-            style_axes(axis, f"{x} ({x_unit})", f"{quantity} ({unit})", legend=True)
+            style_axes(axis, f"{x} ({x_unit})", f"{quantity} ({unit})", legend=True, loc="upper right")
         return figure
 
 
