@@ -101,7 +101,7 @@ def test_sweep_plot_draws_the_positions_and_the_curves_in_their_units():
                                -np.degrees(np.arcsin(0.25 * np.sin(np.linspace(0.0, math.pi, 19)))), atol=1e-9)
     path = [line for line in linkage.get_lines() if line.get_label() == "path of C"][0]
     np.testing.assert_allclose(path.get_ydata(), 0.0, atol=1e-12)
-    assert linkage.get_legend() is not None
+    assert "path of C" in [text.get_text() for text in figure.legends[0].get_texts()]
 
 
 # ------------------------------------------------------------------------------------------------------ plans

@@ -22,7 +22,8 @@ _EXPORTS = {
     **dict.fromkeys(["Plans", "plans"], ".plans"),
     **dict.fromkeys(["MechanismSummary", "mechanism_summary", "FramePose", "frame_pose", "JacobianSummary",
                      "jacobian_summary"], ".summary"),
-    **dict.fromkeys(["draw_mechanism", "draw_positions", "draw_stick_figure", "draw_plan", "configuration_figure"],
+    **dict.fromkeys(["draw_mechanism", "draw_positions", "draw_stick_figure", "draw_plan", "configuration_figure",
+                     "key_below"],
                     ".drawing"),
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)

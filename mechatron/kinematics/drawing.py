@@ -8,13 +8,14 @@ a new :class:`~matplotlib.figure.Figure` (``mechatron.io.output.save_figure`` wr
 - :func:`draw_positions` — a linkage at several configurations of a motion, fading from light to dark;
 - :func:`draw_stick_figure` — the joint origins of a kinematic tree joined parent to child, in one projection;
 - :func:`draw_plan` — a velocity or acceleration plan ([Egorov, fig. 4.10]): vectors from a pole;
-- :func:`configuration_figure` — a mechanism at one configuration: a linkage's drawing or an arm's two projections.
+- :func:`configuration_figure` — a mechanism at one configuration: a linkage's drawing or an arm's two projections;
+- :func:`key_below` — one legend under a figure's axes for the labelled artists of several axes.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -124,11 +125,12 @@ def draw_stick_figure(mech: Mechanism, q: ArrayLike, ax: Axes, *, view: str = "x
 
 
 def draw_plan(ax: Axes, vectors: Mapping[str, ArrayLike], groups: Sequence[Sequence[str]], *, pole: str,
-              unit: str, quantity: str) -> Axes:
+              unit: str, quantity: str, legend: bool = True) -> Axes:
     """A velocity or acceleration plan ([Egorov, 4.2, fig. 4.10]) on ``ax``: each point's vector (its first two
     components, in ``unit``) drawn from the pole, its tip named by the point's name in lower case; the tips of the
     points of one body (``groups``) are joined, each joining segment being the relative velocity (acceleration) of
-    two points of that body, e.g. v_CB = v_C − v_B. ``quantity`` names the axes ("v" or "a"). Returns ``ax``."""
+    two points of that body, e.g. v_CB = v_C − v_B. ``quantity`` names the axes ("v" or "a"); ``legend`` adds the
+    axes' legend (else the caller keys the pole and the joined tips). Returns ``ax``."""
     tips = {name: np.asarray(vec, dtype=float)[:2] for name, vec in vectors.items()}
     for name, tip in tips.items():
         ax.annotate("", xy=tip, xytext=(0, 0), arrowprops=dict(arrowstyle="->", color="tab:blue"))
@@ -149,19 +151,33 @@ def draw_plan(ax: Axes, vectors: Mapping[str, ArrayLike], groups: Sequence[Seque
     ax.set_ylim(every[:, 1].min() - 0.1 * span, every[:, 1].max() + 0.1 * span)
     ax.set(aspect="equal", xlabel=f"{quantity}_x ({unit})", ylabel=f"{quantity}_y ({unit})")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
+    if legend:
+        ax.legend(fontsize=8, loc="upper right")
     return ax
+
+
+def key_below(figure: Figure, axes: Sequence[Axes]) -> None:
+    """One legend under the axes of ``figure`` (a constrained layout makes room for it) with every labelled artist
+    of ``axes``, each label once."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    if handles:
+        figure.legend(list(handles.values()), list(handles), loc="outside lower center", ncol=min(len(handles), 6),
+                      fontsize=8, frameon=False)
 
 
 def configuration_figure(mech: Mechanism, q: ArrayLike, *, frame: str | None = None, ax: Axes | None = None,
                          title: str | None = None) -> Figure:
     """``mech`` at configuration q (m): a linkage with a sketch as its drawing (:func:`draw_mechanism`), any other
     tree as a stick figure (:func:`draw_stick_figure`) in a side (x–z) and a top (x–y) view, the origin of ``frame``
-    marked. Drawn into ``ax`` if given (a linkage's drawing or the side view), else into a new figure; returns the
-    figure."""
+    marked and everything keyed. Drawn into ``ax`` if given (a linkage's drawing or the side view), else into a new
+    figure; returns the figure."""
     from ..report.figures import figure_axes, new_figure
 
     title = title or f"{mech.name} at q = {np.round(mech.coordinates(q), 4).tolist()}"
+    given = ax is not None
     if mech.sketch:
         figure, ax = figure_axes(ax, 7.0, 5.5)
         draw_mechanism(mech, q, ax, key=True)
@@ -171,15 +187,19 @@ def configuration_figure(mech: Mechanism, q: ArrayLike, *, frame: str | None = N
         ax.set(aspect="equal", xlabel="x (m)", ylabel="y (m)")
         ax.set_title(title, fontsize=10)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8, loc="upper right")
-        return figure
-    if ax is not None:
         axes = [ax]
     else:
-        figure = new_figure(11.0, 5.0)
-        axes = list(figure.subplots(1, 2))
-    for view, axis in zip(("xz", "xy"), axes):
-        draw_stick_figure(mech, q, axis, view=view, frame=frame)
-        axis.set_title(f"{title}: {'side' if view == 'xz' else 'top'} view", fontsize=10)
-        axis.legend(fontsize=8, loc="upper right")
-    return axes[0].get_figure()
+        if given:
+            axes = [ax]
+        else:
+            figure = new_figure(11.0, 5.0)
+            axes = list(figure.subplots(1, 2))
+        for view, axis in zip(("xz", "xy"), axes):
+            draw_stick_figure(mech, q, axis, view=view, frame=frame)
+            axis.set_title(f"{title}: {'side' if view == 'xz' else 'top'} view", fontsize=10)
+        figure = axes[0].get_figure()
+    if given:
+        axes[0].legend(fontsize=8, loc="best")
+    else:
+        key_below(figure, axes)
+    return figure

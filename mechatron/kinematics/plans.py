@@ -95,7 +95,7 @@ class Plans(Result):
         """The mechanism (m) beside its velocity plan (m/s, pole p) and acceleration plan (m/s², pole π), the tips
         of the points of one body joined ([Egorov, fig. 4.10]). Given ``ax``, draws the velocity plan into it."""
         from ..report.figures import new_figure
-        from .drawing import draw_mechanism, draw_plan
+        from .drawing import draw_mechanism, draw_plan, key_below
 
         mech = self.mechanism
         groups = [line.points for line in mech.sketch]
@@ -115,11 +115,12 @@ class Plans(Result):
         ax_mech.set(aspect="equal", xlabel="x (m)", ylabel="y (m)")
         ax_mech.set_title(f"{mech.name}: mechanism", fontsize=10)
         ax_mech.grid(True, alpha=0.3)
-        ax_mech.legend(fontsize=8, loc="upper right")
-        draw_plan(ax_v, velocity, groups, pole="p", unit="m/s", quantity="v")
+        draw_plan(ax_v, velocity, groups, pole="p", unit="m/s", quantity="v", legend=False)
         ax_v.set_title("velocity plan", fontsize=10)
-        draw_plan(ax_a, dict(zip(self.frames, self.accelerations)), groups, pole="π", unit="m/s²", quantity="a")
+        draw_plan(ax_a, dict(zip(self.frames, self.accelerations)), groups, pole="π", unit="m/s²", quantity="a",
+                  legend=False)
         ax_a.set_title("acceleration plan", fontsize=10)
+        key_below(figure, [ax_mech, ax_v, ax_a])
         return figure
 
 

@@ -197,7 +197,7 @@ class SweepResult(Result):
             InputError: if no sample was assembled.
         """
         from ..report.figures import figure_axes, new_figure, style_axes
-        from .drawing import draw_positions
+        from .drawing import draw_positions, key_below
 
         mech, table = self.mechanism, self.table
         if table.empty:
@@ -218,9 +218,10 @@ class SweepResult(Result):
         if trace and f"{trace}_x" in table:
             ax_mech.plot(table[f"{trace}_x"], table[f"{trace}_y"], color="tab:red", lw=1, label=f"path of {trace}")
         ax_mech.set_title(title or mech.description or mech.name, fontsize=10)
-        ax_mech.legend(loc="upper right", fontsize=8)
         if ax is not None:
+            ax_mech.legend(loc="upper right", fontsize=8)
             return figure
+        key_below(figure, [ax_mech])
         groups: dict[str, list[str]] = {}
         for column in curves:
             groups.setdefault(self.column_unit(column), []).append(column)
