@@ -2,7 +2,7 @@
 
 mechatron's generic closed-loop analysis (a Pinocchio tree with closures: Newton assembly by continuation, velocity
 and acceleration analysis, every point and transmission angle) against the paper's own closed-form vector-loop
-analysis (eqs. 8, 12, 18) vectorized with NumPy over all samples, which knows this one mechanism only. Goal: the
+analysis ([Bucket, 8, 12, 18]) vectorized with NumPy over all samples, which knows this one mechanism only. Goal: the
 mechatron sweep under 1 s.
 
     python benchmarks/linkages.py [--samples N] [--repeats R]

@@ -1,9 +1,9 @@
-"""Design a backhoe bucket linkage (seed 000) for a given bucket volume and required bucket turn, then analyse it
+"""Design a backhoe bucket linkage ([Bucket]) for a given bucket volume and required bucket turn, then analyse it
 over the whole cylinder stroke.
 
     python examples/bucket_linkage.py [--volume 0.8] [--turn 160] [--csv FILE] [--plot FILE]
 
-Prints the first sizing (eq. 1-4), the synthesized c and L2 (eight loop equations solved with CasADi), the worst
+Prints the first sizing ([Bucket, 1–4]), the synthesized c and L2 (eight loop equations solved with CasADi), the worst
 transmission angles, and the tooth-tip speed at a constant cylinder speed.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from mechatron.kinematics.drawing import plot_sweep
+from mechatron.io.output import save_figure
 from mechatron.kinematics.sweep import sweep
 from mechatron.machines import bucket
 
@@ -41,8 +41,8 @@ def main() -> None:
     for m in result.check_measures():
         if m["kind"] == "transmission_angle":
             print(f"  worst transmission angle {m['name']}: {math.degrees(m['min']):.1f}°")
-    result.to_csv(args.csv)
-    plot_sweep(result, args.plot, curves=["mu_B", "mu_C", "mu_E"], trace="K")
+    result.write_csv(args.csv)
+    save_figure(result.plot(curves=["mu_B", "mu_C", "mu_E"], trace="K"), args.plot)
     print(f"wrote {args.csv} and {args.plot}")
 
 

@@ -6,6 +6,7 @@ import json
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,7 +25,8 @@ def test_list_json(capsys):
     code, out, _ = run(capsys, "list", "--json")
     names = json.loads(out)
     assert code == 0 and isinstance(names, list)
-    assert {"puma560", "planar_2r", "cylindrical_rpp", "articulated_rrr", "planar_3r", "scara", "ur5", "panda"} <= set(names)
+    assert {"puma560", "planar_2r", "cylindrical_rpp", "articulated_rrr", "planar_3r", "scara", "ur5",
+            "panda"} <= set(names)
 
 
 def test_list_text(capsys):
@@ -36,8 +38,9 @@ def test_fk_json_matches_closed_form(capsys):
     # planar 2R, q = (30°, 45°): C = (l1 cos 30° + l2 cos 75°, l1 sin 30° + l2 sin 75°)
     code, out, _ = run(capsys, "fk", "planar_2r", "--q", "30,45", "--deg", "--json")
     result = json.loads(out)
-    assert code == 0 and set(result) == {"frame", "position", "rotation"}
-    assert result["frame"] == "tool"
+    assert code == 0 and set(result) == {"mechanism", "frame", "joints", "coordinates", "position", "rotation", "rpy"}
+    assert result["frame"] == "tool" and result["coordinates"] == pytest.approx([math.radians(30), math.radians(45)])
+    assert result["rpy"] == pytest.approx([0.0, 0.0, math.radians(75)], abs=1e-12)
     x = 0.5 * math.cos(math.radians(30)) + 0.4 * math.cos(math.radians(75))
     y = 0.5 * math.sin(math.radians(30)) + 0.4 * math.sin(math.radians(75))
     np.testing.assert_allclose(result["position"], [x, y, 0.0], atol=1e-12)
@@ -123,3 +126,107 @@ def test_help_for_every_command():
     for command in ["list", "show", "fk", "jacobian", "export-urdf", "demo"]:
         proc = subprocess.run([sys.executable, "-m", "mechatron", command, "--help"], capture_output=True, text=True)
         assert proc.returncode == 0 and "usage: mechatron" in proc.stdout
+
+
+# ------------------------------------------------------------------- --json, --csv and --plot are the result's
+def fingerprint(figure):
+    """What a figure shows, axes by axes: labels, title, every line's data, every text and where it is, every bar,
+    and the legends' entries."""
+    out = []
+    for ax in figure.axes:
+        out.append((ax.get_xlabel(), ax.get_ylabel(), ax.get_title(),
+                    [(line.get_label(), np.asarray(line.get_xydata()).round(12).tolist()) for line in ax.get_lines()],
+                    [(text.get_text(), np.round(text.xy, 12).tolist()) for text in ax.texts],
+                    [round(patch.get_height(), 12) for patch in ax.patches],
+                    [text.get_text() for text in ax.get_legend().get_texts()] if ax.get_legend() else None))
+    out.append([[text.get_text() for text in legend.get_texts()] for legend in figure.legends])
+    return out
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures the command line saves (kept, not rendered: what they show is compared, not their pixels)."""
+    figures = {}
+
+    def save_figure(figure, path, dpi=110):
+        figures[Path(path).name] = figure
+        return Path(path)
+
+    monkeypatch.setattr("mechatron.io.output.save_figure", save_figure)
+    return figures
+
+
+def same_outputs(capsys, tmp_path, drawn, argv, result):
+    """``mechatron ARGV --json --csv --plot`` prints ``result.as_dict()``, writes ``result.to_frame()`` and draws
+    ``result.plot()``; without them it prints ``str(result)``."""
+    import pandas as pd
+
+    csv, png = tmp_path / "out.csv", tmp_path / "out.png"
+    code, out, err = run(capsys, *argv, "--json", "--csv", str(csv), "--plot", str(png))
+    assert code == 0, err
+    assert json.loads(out) == json.loads(json.dumps(result.as_dict(), allow_nan=False))
+    assert f"wrote {csv}" in err and f"wrote {png}" in err
+    written, frame = pd.read_csv(csv), result.to_frame()
+    assert list(written.columns) == list(frame.columns) and len(written) == len(frame)
+    for column in frame.columns:
+        if pd.api.types.is_numeric_dtype(frame[column]):
+            np.testing.assert_allclose(written[column], frame[column], rtol=1e-9, atol=1e-12)
+        else:
+            assert written[column].tolist() == frame[column].tolist()
+    assert fingerprint(drawn["out.png"]) == fingerprint(result.plot())
+    code, text, _ = run(capsys, *argv)
+    assert code == 0 and text.strip() == str(result).strip()
+
+
+def test_show_outputs_are_the_result(capsys, tmp_path, drawn):
+    from mechatron.kinematics.summary import mechanism_summary
+
+    same_outputs(capsys, tmp_path, drawn, ["show", "scara"], mechanism_summary(mechatron.load("scara")))
+    same_outputs(capsys, tmp_path, drawn, ["show", "crank_slider"], mechanism_summary(mechatron.load("crank_slider")))
+
+
+def test_fk_outputs_are_the_result(capsys, tmp_path, drawn):
+    from mechatron.kinematics.summary import frame_pose
+
+    mech = mechatron.load("puma560")
+    q = [0.1, 0.7, -2.0, 0.3, 0.4, 0.5]
+    same_outputs(capsys, tmp_path, drawn, ["fk", "puma560", "--q", ",".join(map(str, q)), "--frame", "link4"],
+                 frame_pose(mech, np.array(q), "link4"))
+
+
+def test_fk_of_a_continuous_joint_prints_its_angle(capsys):
+    urdf = str(Path(__file__).parent / "data" / "continuous_prismatic_arm.urdf")
+    code, out, _ = run(capsys, "fk", urdf, "--q", "170,30,0.2", "--deg", "--frame", "tool0", "--json")
+    result = json.loads(out)
+    assert code == 0 and result["coordinates"] == pytest.approx([math.radians(170), math.radians(30), 0.2])
+    L, phi, theta = 0.8, math.radians(30), math.radians(170)
+    assert result["position"] == pytest.approx([L * math.cos(phi) * math.cos(theta),
+                                                L * math.cos(phi) * math.sin(theta), 0.5 - L * math.sin(phi)])
+    code, out, _ = run(capsys, "fk", urdf, "--q", "170,30,0.2", "--deg", "--frame", "tool0")
+    assert f"spin = {math.radians(170):.6g} rad" in out
+
+
+def test_jacobian_outputs_are_the_result(capsys, tmp_path, drawn):
+    from mechatron.kinematics.summary import jacobian_summary
+
+    mech = mechatron.load("ur5")
+    q = [0.0, -1.57, 1.57, 0.0, 0.3, 0.0]
+    same_outputs(capsys, tmp_path, drawn, ["jacobian", "ur5", "--q", ",".join(map(str, q)), "--reference", "local"],
+                 jacobian_summary(mech, np.array(q), None, "local"))
+
+
+def test_linkage_outputs_are_the_result(capsys, tmp_path, drawn):
+    from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity
+    from mechatron.kinematics.plans import plans
+    from mechatron.kinematics.sweep import sweep
+
+    mech = mechatron.load("six_bar_bucket")
+    same_outputs(capsys, tmp_path, drawn, ["linkage", "six_bar_bucket", "--samples", "40"],
+                 sweep(mech, samples=40, links=mech.link_names))
+    # --plans draws the plans result at the position --at, the inputs moving at their nominal rates
+    code, out, err = run(capsys, "linkage", "six_bar_bucket", "--samples", "10", "--plans", str(tmp_path / "p.png"),
+                         "--at", "L1=1.5")
+    assert code == 0 and f"wrote {tmp_path / 'p.png'}" in out, err
+    q = assemble(mech, {"L1": 1.5})
+    v = joint_velocity(mech, q, {"L1": mech.input_rates.get("L1", 1.0)})
+    assert fingerprint(drawn["p.png"]) == fingerprint(plans(mech, q, v, joint_acceleration(mech, q, v)).plot())

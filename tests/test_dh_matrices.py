@@ -1,4 +1,4 @@
-"""The textbook's DH matrices (section 4.3) and the Pinocchio model built from a DH table.
+"""The DH matrices of [Egorov, section 4.3] (eq. 4.40–4.45) and the Pinocchio model built from a DH table.
 
 The reference is an independent NumPy implementation written from the printed element-by-element matrix (4.40), not
 from mechatron's code. The book prints the translation column of (4.40) as (a·cos α, a·sin α, S); multiplying out its
@@ -139,8 +139,8 @@ def test_parameter_override_changes_geometry():
     # the original is untouched and with_parameters gives the same as load(..., **overrides)
     original = mechatron.load("planar_2r")
     assert original.parameters["a2"].value == 0.4
-    np.testing.assert_allclose(mechatron.kinematics.frame_position(original.with_parameters(a2=0.55), [q1, q2]), expected,
-                               atol=1e-14)
+    longer = original.with_parameters(a2=0.55)
+    np.testing.assert_allclose(mechatron.kinematics.frame_position(longer, [q1, q2]), expected, atol=1e-14)
 
 
 def test_unknown_parameter_is_an_error():
@@ -149,7 +149,7 @@ def test_unknown_parameter_is_an_error():
 
 
 def test_prismatic_offset_adds_to_coordinate():
-    # S = q + d for a prismatic pair, θ constant (section 4.3.2)
+    # S = q + d for a prismatic pair, θ constant ([Egorov, section 4.3.2])
     table = DHTable((DHLink("prismatic", d=0.2, theta=0.3, lower=0, upper=1),))
     np.testing.assert_allclose(table.A(1, 0.5)[:3, 3], [0.0, 0.0, 0.7], atol=1e-15)
     np.testing.assert_allclose(table.A(1, 0.5)[:3, :3], textbook_A(0.3, 0.7, 0, 0)[:3, :3], atol=1e-15)

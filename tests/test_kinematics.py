@@ -1,4 +1,5 @@
-"""Kinematics against finite differences and the textbook's angular-velocity sums, on DH and URDF robots."""
+"""Kinematics against finite differences and the angular-velocity sums of [Egorov, 4.56–4.57], on DH and URDF
+robots."""
 
 from __future__ import annotations
 
@@ -60,8 +61,8 @@ def test_link_angular_acceleration_is_derivative_of_angular_velocity(rng, name):
     def omega(t):
         return mechatron.kinematics.link_angular_velocities(mech, q0 + v0 * t + 0.5 * a0 * t**2, v0 + a0 * t)
 
-    np.testing.assert_allclose(mechatron.kinematics.link_angular_accelerations(mech, q0, v0, a0), time_derivative(omega),
-                               atol=1e-7)
+    np.testing.assert_allclose(mechatron.kinematics.link_angular_accelerations(mech, q0, v0, a0),
+                               time_derivative(omega), atol=1e-7)
     # per-link functions agree with the all-links form
     for k, link in enumerate(mech.link_names):
         np.testing.assert_allclose(mechatron.kinematics.angular_velocity(mech, q0, v0, link), omega(0.0)[k], atol=1e-13)
@@ -98,8 +99,10 @@ def test_batch_forms_equal_single_calls(rng):
         np.testing.assert_allclose(rotations[i], placement.rotation, atol=1e-15)
         np.testing.assert_allclose(jacobians[i], mechatron.frame_jacobian(mech, Q[i]), atol=1e-15)
         np.testing.assert_allclose(velocities[i], mechatron.kinematics.point_velocity(mech, Q[i], V[i]), atol=1e-15)
-        np.testing.assert_allclose(accelerations[i], mechatron.kinematics.point_acceleration(mech, Q[i], V[i], A[i]), atol=1e-15)
-        np.testing.assert_allclose(omegas[i], mechatron.kinematics.link_angular_velocities(mech, Q[i], V[i]), atol=1e-15)
+        np.testing.assert_allclose(accelerations[i], mechatron.kinematics.point_acceleration(mech, Q[i], V[i], A[i]),
+                                   atol=1e-15)
+        np.testing.assert_allclose(omegas[i], mechatron.kinematics.link_angular_velocities(mech, Q[i], V[i]),
+                                   atol=1e-15)
         np.testing.assert_allclose(jacobians[i][:3] @ V[i], velocities[i], atol=1e-12)
 
 
@@ -130,3 +133,20 @@ def test_shape_errors_are_clear():
         mechatron.frame_jacobian(mech, np.zeros(6), reference="global")
     with pytest.raises(mechatron.InputError, match="finite"):
         mechatron.kinematics.frame_position(mech, [np.nan] * 6)
+
+
+def test_every_kinematics_name_resolves_with_units_in_its_docstring():
+    import importlib
+    import inspect
+
+    kinematics = importlib.import_module("mechatron.kinematics")
+    importlib.import_module("mechatron.kinematics.sweep")  # the module of the same name does not hide the function
+    assert inspect.isfunction(kinematics.sweep) and inspect.isfunction(kinematics.plans)
+    for name in kinematics.__all__:
+        value = getattr(kinematics, name)
+        assert callable(value) and not inspect.ismodule(value), name
+        doc = inspect.getdoc(value) or ""
+        assert doc.strip(), f"{name} has no docstring"
+        numeric = name not in ("loop_solver", "reference_frame", "key_below") and not name.startswith("draw_")
+        if inspect.isfunction(value) and numeric:
+            assert any(unit in doc for unit in ("(m", "m/s", "rad", " m)", "metres", "(nq,)")), f"{name}: no units"

@@ -1,10 +1,12 @@
-"""Closed loops: the textbook's crank-slider, scotch-yoke and slotted-link mechanisms against their closed forms
-(notes seed-textbook-ch4a-ch5.md §2.2-2.4 and checks E1-E4), finite differences, assembly failures and branches.
+"""Closed loops: the crank-slider (fig. 4.2), scotch-yoke (fig. 4.4) and slotted-link (figs. 4.5–4.6) mechanisms of
+[Egorov, section 4.1] against their closed forms, finite differences, assembly failures and branches.
 
 Sign conventions: mechatron measures every angle counter-clockwise. The book's rod angle β of the crank-slider and
-its slotted-link angle β are clockwise, so θ2 = −β and θ3 = π − β here. The book prints ω_q2 = dβ/dq1 with a minus
-sign (L2348) that belongs to the counter-clockwise angle, while its ε_q2 (L2354) is the derivative of +dβ/dq1; with
-θ2 = −β both come out consistent: ω_q2 = −l1 cos q1/√(l2² − l1² sin² q1) and ε_q2 = −d²β/dq1².
+its slotted-link angle β are clockwise, so θ2 = −β and θ3 = π − β here. The book prints the crank-slider's
+ω_q2 = dβ/dq1 with a minus sign that belongs to the counter-clockwise angle, while its ε_q2 is the derivative of
++dβ/dq1; with θ2 = −β both come out consistent: ω_q2 = −l1 cos q1/√(l2² − l1² sin² q1) and ε_q2 = −d²β/dq1².
+The worked values (the book prints none) were computed from the closed forms and checked by central finite
+differences of the position functions.
 """
 
 from __future__ import annotations
@@ -47,8 +49,8 @@ def crank_slider_closed_form(l1, l2, q):
 def slotted_link_closed_form(l1, d, q):
     denominator = l1**2 + d**2 - 2 * d * l1 * math.cos(q)
     beta = math.atan2(l1 * math.sin(q), d - l1 * math.cos(q))
-    omega_q = l1 * (d * math.cos(q) - l1) / denominator  # (4.1, L2414), β clockwise
-    epsilon_q = d * l1 * (l1**2 - d**2) * math.sin(q) / denominator**2  # (L2426)
+    omega_q = l1 * (d * math.cos(q) - l1) / denominator  # [Egorov, 4.10] for the slotted link, β clockwise
+    epsilon_q = d * l1 * (l1**2 - d**2) * math.sin(q) / denominator**2  # [Egorov, 4.15], denominator squared
     return beta, omega_q, epsilon_q, math.sqrt(denominator)
 
 
@@ -67,8 +69,8 @@ def test_crank_slider_transfer_functions(q):
     assert rod.second == pytest.approx(-beta_qq, abs=1e-10)
 
 
-def test_E1_crank_slider_point_on_rod():
-    """E1: l1 = 0.1, L2 = 0.4, B at mid-rod (the book's fig. 4.2 naming; here point S2), q1 = 30°, q̇1 = 10 rad/s."""
+def test_crank_slider_point_on_rod():
+    """l1 = 0.1, L2 = 0.4, B at mid-rod (the book's fig. 4.2 naming; here point S2), q1 = 30°, q̇1 = 10 rad/s."""
     mech = mechatron.load("crank_slider")
     q = assemble(mech, {"q1": math.radians(30)})
     v = joint_velocity(mech, q, {"q1": 10.0})
@@ -84,7 +86,7 @@ def test_E1_crank_slider_point_on_rod():
     assert angular_acceleration(mech, q, v, a, "rod")[2] == pytest.approx(11.998872, abs=1e-6)
 
 
-def test_E2_crank_slider_hand_checks():
+def test_crank_slider_hand_checks():
     mech = mechatron.load("crank_slider")
     q0 = assemble(mech, {"q1": 0.0})
     assert frame_placement(mech, q0, "C").translation[0] == pytest.approx(0.5)
@@ -107,8 +109,8 @@ def test_scotch_yoke(q):
     assert tf.second[0] == pytest.approx(-0.1 * math.cos(q), abs=1e-10)
 
 
-def test_E3_scotch_yoke_worked_values():
-    # the book's "a_C = −l1 cos q1 q̇1" (L2393) lacks the square: it would give −0.866
+def test_scotch_yoke_worked_values():
+    # the book's "a_C = −l1 cos q1 q̇1" (fig. 4.4, at q̇1 constant) lacks the square: it would give −0.866
     mech = mechatron.load("scotch_yoke")
     q = assemble(mech, {"q1": math.radians(30)})
     v = joint_velocity(mech, q, {"q1": 10.0})
@@ -132,7 +134,7 @@ def test_slotted_link(q):
     assert mechatron.kinematics.distance(mech, qq, "B", "C") == pytest.approx(l3, abs=1e-12)
 
 
-def test_E4_slotted_link_worked_values():
+def test_slotted_link_worked_values():
     mech = mechatron.load("slotted_link")
     q = assemble(mech, {"q1": math.radians(30)})
     v = joint_velocity(mech, q, {"q1": 10.0})
@@ -217,8 +219,17 @@ def test_sweep_marks_unreachable_samples_instead_of_nan_rows(tmp_path):
     assert not result.table.isna().any().any()
     assert set(result.failures.columns) == {"sample", "s", "reason"}
     assert (result.failures["s"] > 0.7).all() and "do not close" in result.failures["reason"].iloc[0]
-    files = result.to_csv(tmp_path / "rocker.csv")
-    assert [f.name for f in files] == ["rocker.csv", "rocker.failures.csv"]
+    # every failure, with its input and reason, in the plain data and the text report; the CSV is the table alone
+    data = result.as_dict()
+    assert [f["sample"] for f in data["failures"]] == result.failures["sample"].tolist()
+    assert data["samples"] == 61 and data["assembled"] == len(result.table)
+    assert all(f["s"] > 0.7 and "do not close" in f["reason"] for f in data["failures"])
+    assert f"{len(result.failures)} positions not analysed" in str(result)
+    import pandas as pd
+
+    written = pd.read_csv(result.write_csv(tmp_path / "rocker.csv"))
+    assert list(written.columns) == list(result.table.columns) and len(written) == len(result.table)
+    assert not (tmp_path / "rocker.failures.csv").exists()
 
 
 def test_singular_position_is_reported():
@@ -268,15 +279,21 @@ def test_sweep_velocity_and_acceleration_columns_agree_with_single_calls():
 
 
 def test_plans_and_sweep_plots(tmp_path):
-    from mechatron.kinematics.drawing import plot_plans, plot_sweep
+    from mechatron.kinematics.plans import plans
 
     mech = mechatron.load("crank_slider")
     q = assemble(mech, {"q1": 0.5})
     v = joint_velocity(mech, q, {"q1": 10.0})
     a = joint_acceleration(mech, q, v)
-    assert plot_plans(mech, q, v, a, tmp_path / "plans.png").stat().st_size > 20_000
+    assert plans(mech, q, v, a).save_plot(tmp_path / "plans.png").stat().st_size > 20_000
     result = sweep(rocker(), samples=30)
-    assert plot_sweep(result, tmp_path / "rocker.png", curves=["mu"], trace="R").stat().st_size > 20_000
+    figure = result.plot(curves=["mu"], trace="R")
+    curves = figure.axes[1]
+    assert curves.get_ylabel() == "transmission angle (deg)" and curves.get_xlabel() == "s (m)"
+    # the curve is the table's angle in degrees, and the required minimum of 30° is drawn
+    mu, minimum = curves.get_lines()
+    np.testing.assert_allclose(mu.get_ydata(), np.degrees(result.table["mu"]))
+    np.testing.assert_allclose(minimum.get_ydata(), [30.0, 30.0])
 
 
 def test_linkage_command(tmp_path, capsys):
@@ -286,10 +303,12 @@ def test_linkage_command(tmp_path, capsys):
 
     assert main(["linkage", "slotted_link", "--samples", "90", "--json", "--csv", str(tmp_path / "s.csv"),
                  "--plot", str(tmp_path / "s.png"), "--set", "d=0.25"]) == 0
-    summary = json.loads(capsys.readouterr().out)
+    out, err = capsys.readouterr()
+    summary = json.loads(out)
     assert summary["mobility"] == 1 and summary["assembled"] == 90
     assert summary["points"]["B"]["x"] == pytest.approx([-0.1, 0.1], abs=1e-3)
     assert (tmp_path / "s.csv").exists() and (tmp_path / "s.png").exists()
+    assert f"wrote {tmp_path / 's.csv'}" in err
     assert main(["linkage", "puma560"]) == 2
     assert "no closed loops" in capsys.readouterr().err
     assert main(["linkage", "crank_slider", "--samples", "20", "--plans", str(tmp_path / "plans.png"),

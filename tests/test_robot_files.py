@@ -63,7 +63,8 @@ def test_example_robot_data_arms_load_from_disk():
     assert ur5.nq == 6 and panda.nq == 7  # the panda's fingers are locked
     assert "tool" in ur5.frame_names and "tool" in panda.frame_names
     # the UR5 tool0 frame at the zero pose: upper arm 0.425 m, forearm 0.39225 m along x, wrist offsets along y/z
-    np.testing.assert_allclose(mechatron.kinematics.frame_position(ur5, np.zeros(6)), [0.81725, 0.19145, -0.005491], atol=1e-6)
+    np.testing.assert_allclose(mechatron.kinematics.frame_position(ur5, np.zeros(6)), [0.81725, 0.19145, -0.005491],
+                               atol=1e-6)
     # joint origins are named parameters and can be overridden
     assert ur5.parameters["elbow_joint_z"].value == pytest.approx(0.425)
     longer = mechatron.load("ur5", elbow_joint_z=0.5)
@@ -83,9 +84,11 @@ CASES = [
     ("missing field", GOOD.replace('joint = "prismatic"\n', ""), ["links[2].joint", "missing required field"]),
     ("wrong type", GOOD.replace("a = 0.5", 'a = "half a metre"'), ["links[1].a", "expected a number"]),
     ("negative mass", GOOD.replace("mass = 1.0", "mass = -1.0"), ["links[1].mass", ">= 0"]),
-    ("inertia not positive definite", GOOD.replace("xx = 0.001, yy = 0.02, zz = 0.02", "xx = -0.001, yy = 0.02, zz = 0.02"),
+    ("inertia not positive definite",
+     GOOD.replace("xx = 0.001, yy = 0.02, zz = 0.02", "xx = -0.001, yy = 0.02, zz = 0.02"),
      ["links[1].inertia", "positive definite"]),
-    ("inertia violating triangle inequality", GOOD.replace("xx = 0.001, yy = 0.02, zz = 0.02", "xx = 0.001, yy = 0.002, zz = 0.02"),
+    ("inertia violating triangle inequality",
+     GOOD.replace("xx = 0.001, yy = 0.02, zz = 0.02", "xx = 0.001, yy = 0.002, zz = 0.02"),
      ["links[1].inertia", "triangle inequality"]),
     ("unknown joint kind", GOOD.replace('joint = "prismatic"', 'joint = "spherical"'),
      ["links[2].joint", "unknown value 'spherical'", "revolute, prismatic"]),

@@ -1,10 +1,12 @@
-"""The textbook's arms of section 4.1 against their closed forms (notes seed-textbook-ch4a-ch5.md, §2.5-2.7, E5-E6b).
+"""The arms of [Egorov, section 4.1] (the planar 2R arm of fig. 4.7, the cylindrical robot of fig. 4.8, the
+articulated robot of fig. 4.9) against their closed forms.
 
 The closed forms are re-derived here by hand; the printed misprints are corrected and named where they matter:
-- 2R arm (L2498): the book's ÿ_C has l2·cos q1·q̈1 where differentiation gives l1·cos q1·q̈1;
-- 2R arm (L2502): the modulus of the acceleration is labelled v_c; it is a_C;
-- cylindrical robot (L2547): "z_Δ = q̈2" is z̈_D = q̈2.
-The numbers of the worked checks E5, E6a and E6b in the notes were recomputed from these closed forms (and agree).
+- 2R arm, acceleration of C (fig. 4.7): the book's ÿ_C has l2·cos q1·q̈1 where differentiation gives l1·cos q1·q̈1;
+- 2R arm: the modulus of the acceleration is labelled v_c; it is a_C;
+- cylindrical robot (fig. 4.8): "z_Δ = q̈2" is z̈_D = q̈2.
+The worked values below (the book prints none) were computed from these closed forms and checked by central finite
+differences of the position functions.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ rates = st.floats(-3.0, 3.0)
 
 
 def planar_2r(l1, l2, q, qd, qdd):
-    """Position, velocity and acceleration of C (section 4.1, fig. 4.7), with the l1 of L2498 corrected."""
+    """Position, velocity and acceleration of C (section 4.1, fig. 4.7), with the book's l2 in ÿ_C corrected to l1."""
     q1, q2 = q
     d1, d2 = qd
     a1, a2 = qdd
@@ -72,7 +74,7 @@ def kinematics(mech, q, qd, qdd):
             mechatron.kinematics.point_acceleration(mech, q, qd, qdd))
 
 
-def test_E5_planar_2r_worked_values():
+def test_planar_2r_worked_values():
     mech = mechatron.load("planar_2r")
     q, qd, qdd = np.radians([30.0, 45.0]), np.array([1.0, 2.0]), np.array([0.5, -1.0])
     pos, vel, acc = kinematics(mech, q, qd, qdd)
@@ -81,11 +83,11 @@ def test_E5_planar_2r_worked_values():
     np.testing.assert_allclose(acc, [-1.296576, -3.562590, 0.0], atol=1e-6)
     assert np.linalg.norm(vel) == pytest.approx(1.593276, abs=1e-6)
     assert np.linalg.norm(acc) == pytest.approx(3.791195, abs=1e-6)
-    # the printed ÿ_C with l2 in place of l1 (L2498) would give -3.605892: the tool is right, the book's misprint is not
+    # the printed ÿ_C with l2 in place of l1 (fig. 4.7) would give -3.605892: the book's misprint, not the tool's
     assert acc[1] != pytest.approx(-3.605892, abs=1e-3)
 
 
-def test_E6a_cylindrical_worked_values():
+def test_cylindrical_worked_values():
     mech = mechatron.load("cylindrical_rpp")
     q, qd, qdd = np.array([math.radians(30), 0.2, 0.5]), np.array([1.0, 0.1, 0.2]), np.array([0.5, 0.05, -0.1])
     pos, vel, acc = kinematics(mech, q, qd, qdd)
@@ -96,7 +98,7 @@ def test_E6a_cylindrical_worked_values():
     assert np.linalg.norm(acc) == pytest.approx(0.8860023, abs=1e-7)
 
 
-def test_E6b_articulated_worked_values():
+def test_articulated_worked_values():
     mech = mechatron.load("articulated_rrr")
     q, qd, qdd = np.radians([30.0, 20.0, 40.0]), np.array([1.0, 0.5, -0.5]), np.array([0.2, 0.1, 0.3])
     pos, vel, acc = kinematics(mech, q, qd, qdd)
@@ -140,7 +142,8 @@ def test_articulated_closed_form(q, qd, qdd):
 
 
 def test_planar_3r_closed_form_and_jacobian_of_fig_8_4(rng):
-    # x = Σ l_k cos(q1+…+q_k), y = Σ l_k sin(q1+…+q_k) and the partial derivatives written out in section 8
+    # x = Σ l_k cos(q1+…+q_k), y = Σ l_k sin(q1+…+q_k) and the partial derivatives written out in
+    # [Egorov, section 8, fig. 8.4]
     mech = mechatron.load("planar_3r")
     lengths = [0.4, 0.3, 0.2]
     for _ in range(20):

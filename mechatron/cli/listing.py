@@ -30,7 +30,7 @@ def cmd_list(args: argparse.Namespace) -> int:
           f"{len(examples)} arms from example-robot-data")
     from ..structure.description import shipped_structures
 
-    print(f"structural descriptions of the textbook's cases (mechatron structure NAME): "
+    print(f"structural descriptions of the cases of [Egorov, chapter 3] (mechatron structure NAME): "
           f"{', '.join(shipped_structures())}")
     return 0
 

@@ -1,30 +1,42 @@
-"""Drawings and charts of mechanisms (matplotlib, object-oriented API: works without a display).
+"""Drawings of mechanisms: the mechanism plan of [Egorov, fig. 4.10] (a planar linkage at one position, lengths in
+metres) and a stick figure of a serial arm, drawn into matplotlib axes given by the caller.
 
-- :func:`draw_mechanism` — the linkage at one configuration (bodies as polylines, cylinders thick, ground pivots);
-- :func:`plot_sweep` — the linkage at several positions along a sweep and chosen curves against the input;
-- :func:`plot_plans` — velocity and acceleration plans (textbook section 4.2): every point's velocity and acceleration
-  drawn from a pole, tips of points of one body joined (the relative velocities and accelerations).
+Nothing here imports matplotlib at module import or writes a file: every function draws into given axes or returns
+a new :class:`~matplotlib.figure.Figure` (``mechatron.io.output.save_figure`` writes one to a file).
+
+- :func:`draw_mechanism` — a linkage at one configuration (bodies as polylines, cylinders thick, ground pivots);
+- :func:`draw_positions` — a linkage at several configurations of a motion, fading from light to dark;
+- :func:`draw_stick_figure` — the joint origins of a kinematic tree joined parent to child, in one projection;
+- :func:`draw_plan` — a velocity or acceleration plan ([Egorov, fig. 4.10]): vectors from a pole;
+- :func:`configuration_figure` — a mechanism at one configuration: a linkage's drawing or an arm's two projections;
+- :func:`key_below` — one legend under a figure's axes for the labelled artists of several axes.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from pathlib import Path
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
-from matplotlib.axes import Axes
-from matplotlib.figure import Figure
+from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError
 from ..model.mechanism import Mechanism
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 _STYLE = {"link": dict(lw=2.0, marker="o", ms=4), "cylinder": dict(lw=5.0, solid_capstyle="round", alpha=0.6),
           "slider": dict(lw=0, marker="s", ms=9), "ground": dict(lw=1.0, ls="--")}
+_KIND_LABEL = {"link": "link", "cylinder": "hydraulic cylinder", "slider": "slider", "ground": "frame (ground)"}
+#: Views of a stick figure: (horizontal axis, vertical axis) as indices of x, y, z.
+PROJECTIONS = {"xz": (0, 2), "xy": (0, 1), "yz": (1, 2)}
 
 
-def _point_positions(mech: Mechanism, q: np.ndarray, names: Sequence[str]) -> dict[str, np.ndarray]:
-    pin.forwardKinematics(mech.model, mech.data, q)
+def _point_positions(mech: Mechanism, q: ArrayLike, names: Sequence[str]) -> dict[str, NDArray[np.float64]]:
+    """World (x, y) (m) of the origins of the frames ``names`` at q."""
+    pin.forwardKinematics(mech.model, mech.data, np.asarray(q, dtype=float))
     return {n: pin.updateFramePlacement(mech.model, mech.data, mech.frame_id(n)).translation[:2].copy()
             for n in names}
 
@@ -36,117 +48,158 @@ def _sketch_names(mech: Mechanism) -> list[str]:
     return names
 
 
-def draw_mechanism(mech: Mechanism, q: np.ndarray, ax: Axes, *, color: str | None = None, alpha: float = 1.0,
-                   labels: bool = True) -> None:
-    """Draw ``mech`` at configuration ``q`` on ``ax`` (metres)."""
+def draw_mechanism(mech: Mechanism, q: ArrayLike, ax: Axes, *, color: str | None = None, alpha: float = 1.0,
+                   labels: bool = True, key: bool = False) -> Axes:
+    """Draw the linkage ``mech`` at configuration ``q`` on ``ax`` (x, y in metres): its sketch lines, its ground
+    pivots (triangles) and, with ``labels``, the names of its points. With ``key`` the first line of each kind and
+    the first ground pivot carry a legend label (the caller adds the legend). Returns ``ax``."""
     positions = _point_positions(mech, q, _sketch_names(mech))
+    keyed: set[str] = set()
     for line in mech.sketch:
         xy = np.array([positions[p] for p in line.points])
         style = dict(_STYLE.get(line.kind, _STYLE["link"]))
+        label = None
+        if key and line.kind not in keyed:
+            keyed.add(line.kind)
+            label = _KIND_LABEL.get(line.kind, line.kind)
         ax.plot(xy[:, 0], xy[:, 1], color=color or ("tab:orange" if line.kind == "cylinder" else "tab:blue"),
-                alpha=alpha * style.pop("alpha", 1.0), **style)
+                alpha=alpha * style.pop("alpha", 1.0), label=label, **style)
     ground = [n for n in mech.points if mech.model.frames[mech.frame_id(n)].parentJoint == 0]
-    for name in ground:
-        ax.plot(*positions[name], marker="^", ms=10, color="black", alpha=alpha, ls="")
+    for i, name in enumerate(ground):
+        ax.plot(*positions[name], marker="^", ms=10, color="black", alpha=alpha, ls="",
+                label="ground pivot" if key and i == 0 else None)
     if labels:
         for name in mech.points:
             ax.annotate(name, positions[name], textcoords="offset points", xytext=(4, 4), fontsize=8, alpha=alpha)
+    return ax
 
 
-def plot_positions(mech: Mechanism, configurations: np.ndarray, ax: Axes, trace: str | None = None) -> None:
-    """Draw several configurations (fading from light to dark) and the path of point ``trace``."""
+def draw_positions(mech: Mechanism, configurations: ArrayLike, ax: Axes, *, trace: str | None = None) -> Axes:
+    """Draw the linkage at several ``configurations`` (N, nq), fading from light (first) to dark (last, with its
+    point names and a key), and the path of the point ``trace`` through them if given (m). Returns ``ax``."""
+    configurations = np.atleast_2d(np.asarray(configurations, dtype=float))
     k = len(configurations)
     for i, q in enumerate(configurations):
-        draw_mechanism(mech, q, ax, alpha=0.25 + 0.75 * (i + 1) / k, labels=i == k - 1)
+        last = i == k - 1
+        draw_mechanism(mech, q, ax, alpha=0.25 + 0.75 * (i + 1) / k, labels=last, key=last)
+    if trace is not None:
+        path = np.array([_point_positions(mech, q, [trace])[trace] for q in configurations])
+        ax.plot(path[:, 0], path[:, 1], color="tab:red", lw=1, label=f"path of {trace}")
     ax.set(aspect="equal", xlabel="x (m)", ylabel="y (m)")
     ax.grid(True, alpha=0.3)
+    return ax
 
 
-def plot_sweep(result, path: str | Path, *, x: str | None = None, curves: Sequence[str] | None = None,
-               positions: int = 6, trace: str | None = None, title: str | None = None) -> Path:
-    """A PNG with the mechanism at ``positions`` configurations of the sweep (and the path of ``trace``) beside the
-    ``curves`` (table columns) against the input ``x``."""
-    mech = result.mechanism
-    table = result.table
-    if table.empty:
-        raise InputError(f"{mech.name}: no sample could be assembled, nothing to plot")
-    x = x or mech.actuated[0]
-    curves = [c for c in (curves or []) if c in table.columns]
-    fig = Figure(figsize=(12, 5.5), layout="constrained")
-    ax_mech, ax_curves = fig.subplots(1, 2, width_ratios=[1.2, 1])
-    picks = np.linspace(0, len(table) - 1, min(positions, len(table))).round().astype(int)
-    plot_positions(mech, result.q[picks], ax_mech)
-    if trace and f"{trace}_x" in table:
-        ax_mech.plot(table[f"{trace}_x"], table[f"{trace}_y"], color="tab:red", lw=1, label=f"path of {trace}")
-        ax_mech.legend(loc="best", fontsize=8)
-    ax_mech.set_title(title or mech.description or mech.name, fontsize=10)
-    for column in curves:
-        values = table[column].to_numpy()
-        is_angle = any(m.name == column and m.kind == "transmission_angle" for m in result.measures)
-        ax_curves.plot(table[x], np.degrees(values) if is_angle else values,
-                       label=column + (" (deg)" if is_angle else ""))
-    for m in result.measures:
-        if m.minimum is not None and m.name in curves and m.kind == "transmission_angle":
-            ax_curves.axhline(np.degrees(m.minimum), color="gray", ls=":", lw=1)
-    ax_curves.set(xlabel=x)
-    ax_curves.grid(True, alpha=0.3)
-    if curves:
-        ax_curves.legend(fontsize=8)
-    path = Path(path)
-    _save(fig, path)
-    return path
+def joint_origins(mech: Mechanism, q: ArrayLike) -> tuple[NDArray[np.float64], list[tuple[int, int]]]:
+    """World positions (m) of the joint origins at q, (njoints, 3) with the universe's origin first, and the
+    (parent, child) pairs that join them."""
+    pin.forwardKinematics(mech.model, mech.data, np.asarray(q, dtype=float))
+    origins = np.array([mech.data.oMi[j].translation for j in range(mech.model.njoints)])
+    edges = [(int(mech.model.parents[j]), j) for j in range(1, mech.model.njoints)]
+    return origins, edges
 
 
-def plot_plans(mech: Mechanism, q: np.ndarray, v: np.ndarray, a: np.ndarray, path: str | Path,
-               points: Sequence[str] | None = None) -> Path:
-    """Velocity and acceleration plans (textbook fig. 4.10) of ``points`` at one position, as a PNG.
+def draw_stick_figure(mech: Mechanism, q: ArrayLike, ax: Axes, *, view: str = "xz",
+                      frame: str | None = None) -> Axes:
+    """Draw the joint origins of ``mech`` at q joined parent to child, projected on the world plane ``view``
+    ("xz": side view, "xy": top view, "yz": front view; metres), with the base and, if given, the origin of
+    ``frame`` marked and keyed. Returns ``ax``."""
+    i, j = PROJECTIONS[view]
+    origins, edges = joint_origins(mech, q)
+    for k, (parent, child) in enumerate(edges):
+        ax.plot(origins[[parent, child], i], origins[[parent, child], j], color="tab:blue", lw=2.5, marker="o",
+                ms=5, label="links (joint origin to joint origin)" if k == 0 else None)
+    ax.plot(origins[0, i], origins[0, j], ls="", marker="s", ms=9, color="black", label="base")
+    if frame is not None:
+        fid = mech.frame_id(frame)
+        placement = pin.updateFramePlacement(mech.model, mech.data, fid)
+        parent = mech.model.frames[fid].parentJoint
+        ends = np.array([origins[parent], placement.translation])
+        ax.plot(ends[:, i], ends[:, j], color="tab:blue", lw=1.5, ls=":")
+        ax.plot(placement.translation[i], placement.translation[j], ls="", marker="*", ms=13, color="tab:red",
+                label=f"frame {frame}")
+    names = "xyz"
+    ax.set(aspect="equal", xlabel=f"{names[i]} (m)", ylabel=f"{names[j]} (m)")
+    ax.grid(True, alpha=0.3)
+    return ax
 
-    Each point's absolute velocity is drawn from the pole p (its acceleration from the pole π); joining the tips of
-    two points of one body gives their relative velocity (acceleration), e.g. v_CB = v_C − v_B.
-    """
-    from .transfer import point_state
 
-    points = list(points or mech.points)
-    states = {p: point_state(mech, q, v, a, p) for p in points}
-    fig = Figure(figsize=(13, 4.5), layout="constrained")
-    ax_mech, ax_v, ax_a = fig.subplots(1, 3)
-    draw_mechanism(mech, q, ax_mech)
-    ax_mech.set(aspect="equal", title="mechanism (m)")
-    for ax, k, pole, unit in ((ax_v, 1, "p", "m/s"), (ax_a, 2, "π", "m/s²")):
-        for name in points:
-            vec = states[name][k][:2]
-            ax.annotate("", xy=vec, xytext=(0, 0), arrowprops=dict(arrowstyle="->", color="tab:blue"))
-            ax.annotate(name.lower(), vec, textcoords="offset points", xytext=(3, 3), fontsize=9)
-        for line in mech.sketch:
-            members = [p for p in line.points if p in states]
-            if len(members) >= 2:
-                tips = np.array([states[p][k][:2] for p in members])
-                ax.plot(tips[:, 0], tips[:, 1], color="tab:gray", ls="--", lw=1)
-        ax.plot(0, 0, "ko")
-        ax.annotate(pole, (0, 0), textcoords="offset points", xytext=(-10, -10))
-        ax.set(aspect="equal", title=f"{'velocity' if k == 1 else 'acceleration'} plan ({unit})")
+def draw_plan(ax: Axes, vectors: Mapping[str, ArrayLike], groups: Sequence[Sequence[str]], *, pole: str,
+              unit: str, quantity: str, legend: bool = True) -> Axes:
+    """A velocity or acceleration plan ([Egorov, 4.2, fig. 4.10]) on ``ax``: each point's vector (its first two
+    components, in ``unit``) drawn from the pole, its tip named by the point's name in lower case; the tips of the
+    points of one body (``groups``) are joined, each joining segment being the relative velocity (acceleration) of
+    two points of that body, e.g. v_CB = v_C − v_B. ``quantity`` names the axes ("v" or "a"); ``legend`` adds the
+    axes' legend (else the caller keys the pole and the joined tips). Returns ``ax``."""
+    tips = {name: np.asarray(vec, dtype=float)[:2] for name, vec in vectors.items()}
+    for name, tip in tips.items():
+        ax.annotate("", xy=tip, xytext=(0, 0), arrowprops=dict(arrowstyle="->", color="tab:blue"))
+        ax.annotate(name.lower(), tip, textcoords="offset points", xytext=(3, 3), fontsize=9)
+    joined = False
+    for group in groups:
+        members = [p for p in group if p in tips]
+        if len(members) >= 2:
+            xy = np.array([tips[p] for p in members])
+            ax.plot(xy[:, 0], xy[:, 1], color="tab:gray", ls="--", lw=1,
+                    label=None if joined else "relative (points of one body)")
+            joined = True
+    ax.plot(0, 0, "ko", label=f"pole {pole}")
+    ax.annotate(pole, (0, 0), textcoords="offset points", xytext=(-10, -10))
+    every = np.array([*tips.values(), [0.0, 0.0]])
+    span = max(float(np.ptp(every, axis=0).max()), 1e-12)
+    ax.set_xlim(every[:, 0].min() - 0.1 * span, every[:, 0].max() + 0.1 * span)
+    ax.set_ylim(every[:, 1].min() - 0.1 * span, every[:, 1].max() + 0.1 * span)
+    ax.set(aspect="equal", xlabel=f"{quantity}_x ({unit})", ylabel=f"{quantity}_y ({unit})")
+    ax.grid(True, alpha=0.3)
+    if legend:
+        ax.legend(fontsize=8, loc="upper right")
+    return ax
+
+
+def key_below(figure: Figure, axes: Sequence[Axes]) -> None:
+    """One legend under the axes of ``figure`` (a constrained layout makes room for it) with every labelled artist
+    of ``axes``, each label once."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    if handles:
+        figure.legend(list(handles.values()), list(handles), loc="outside lower center", ncol=min(len(handles), 6),
+                      fontsize=8, frameon=False)
+
+
+def configuration_figure(mech: Mechanism, q: ArrayLike, *, frame: str | None = None, ax: Axes | None = None,
+                         title: str | None = None) -> Figure:
+    """``mech`` at configuration q (m): a linkage with a sketch as its drawing (:func:`draw_mechanism`), any other
+    tree as a stick figure (:func:`draw_stick_figure`) in a side (x–z) and a top (x–y) view, the origin of ``frame``
+    marked and everything keyed. Drawn into ``ax`` if given (a linkage's drawing or the side view), else into a new
+    figure; returns the figure."""
+    from ..report.figures import figure_axes, new_figure
+
+    title = title or f"{mech.name} at q = {np.round(mech.coordinates(q), 4).tolist()}"
+    given = ax is not None
+    if mech.sketch:
+        figure, ax = figure_axes(ax, 7.0, 5.5)
+        draw_mechanism(mech, q, ax, key=True)
+        if frame is not None:
+            xy = _point_positions(mech, q, [frame])[frame]
+            ax.plot(*xy, ls="", marker="*", ms=13, color="tab:red", label=f"frame {frame}")
+        ax.set(aspect="equal", xlabel="x (m)", ylabel="y (m)")
+        ax.set_title(title, fontsize=10)
         ax.grid(True, alpha=0.3)
-        all_tips = np.array([states[p][k][:2] for p in points] + [[0.0, 0.0]])
-        span = max(np.ptp(all_tips, axis=0).max(), 1e-12)
-        ax.set_xlim(all_tips[:, 0].min() - 0.1 * span, all_tips[:, 0].max() + 0.1 * span)
-        ax.set_ylim(all_tips[:, 1].min() - 0.1 * span, all_tips[:, 1].max() + 0.1 * span)
-    path = Path(path)
-    _save(fig, path)
-    return path
-
-
-def output_directory(directory: str | Path) -> Path:
-    """``directory``, created if needed (an error naming it if it cannot be)."""
-    directory = Path(directory)
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create the directory: {exc.strerror}", file=directory) from None
-    return directory
-
-
-def _save(fig: Figure, path: Path) -> None:
-    try:
-        fig.savefig(path, dpi=110)
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
+        axes = [ax]
+    else:
+        if given:
+            axes = [ax]
+        else:
+            figure = new_figure(11.0, 5.0)
+            axes = list(figure.subplots(1, 2))
+        for view, axis in zip(("xz", "xy"), axes):
+            draw_stick_figure(mech, q, axis, view=view, frame=frame)
+            axis.set_title(f"{title}: {'side' if view == 'xz' else 'top'} view", fontsize=10)
+        figure = axes[0].get_figure()
+    if given:
+        axes[0].legend(fontsize=8, loc="best")
+    else:
+        key_below(figure, axes)
+    return figure

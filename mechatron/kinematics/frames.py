@@ -4,10 +4,10 @@ Every function takes one configuration ``q`` of shape (nq,) or a batch of shape 
 accelerations ``a`` of shape (nv,) or (N, nv)) and returns one result or an array of N results. Positions are in
 metres, angles in radians, everything is expressed in the world (base) frame unless said otherwise.
 
-Textbook equations (section 4.3): the position of a point M is r = B_{0,i} r_i (4.44); its velocity
-v = Σ_k ∂r/∂q_k q̇_k = J q̇ (4.47–4.48); its acceleration a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s (4.49–4.50); the
-angular velocity of link i is Ω_i = Σ_{j≤i} σ_j z_{j-1} q̇_j (4.56) and its angular acceleration
-E_i = dΩ_i/dt (4.57), σ_j = 1 for a revolute and 0 for a prismatic pair.
+The equations of [Egorov, 4.44–4.57]: the position of a point M is r = B_{0,i} r_i ([Egorov, 4.44–4.45]); its
+velocity v = Σ_k ∂r/∂q_k q̇_k = J q̇ ([Egorov, 4.46–4.48]); its acceleration a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s
+([Egorov, 4.49–4.50]); the angular velocity of link i is Ω_i = Σ_{j≤i} σ_j z_{j-1} q̇_j ([Egorov, 4.56]) and its
+angular acceleration E_i = dΩ_i/dt ([Egorov, 4.57]), σ_j = 1 for a revolute and 0 for a prismatic pair.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from typing import Literal
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..model.mechanism import Mechanism
@@ -37,8 +38,10 @@ def reference_frame(reference: str) -> pin.ReferenceFrame:
         raise InputError(f"unknown reference {reference!r}; expected one of: {', '.join(REFERENCES)}") from None
 
 
-def samples(mech: Mechanism, q, *rates) -> tuple[bool, np.ndarray, list[np.ndarray]]:
-    """Validate shapes: (is a single sample, Q of shape (N, nq), each rate of shape (N, nv))."""
+def samples(mech: Mechanism, q: ArrayLike, *rates: ArrayLike
+            ) -> tuple[bool, NDArray[np.float64], list[NDArray[np.float64]]]:
+    """Validate shapes: (is a single sample, Q of shape (N, nq), each rate of shape (N, nv)); q in Pinocchio's
+    configuration (nq,) or (N, nq), rates (joint velocities, accelerations) (nv,) or (N, nv)."""
     q = mech.check_configuration(q)
     single = q.ndim == 1
     Q = np.atleast_2d(q)
@@ -56,7 +59,7 @@ def samples(mech: Mechanism, q, *rates) -> tuple[bool, np.ndarray, list[np.ndarr
     return single, Q, out
 
 
-def _offset(offset) -> np.ndarray | None:
+def _offset(offset: ArrayLike | None) -> NDArray[np.float64] | None:
     if offset is None:
         return None
     p = np.asarray(offset, dtype=float)
@@ -66,8 +69,9 @@ def _offset(offset) -> np.ndarray | None:
 
 
 # ------------------------------------------------------------------------------------------------- positions
-def frame_placement(mech: Mechanism, q, frame: str = "tool") -> pin.SE3:
-    """Placement (SE3, metres) of ``frame`` in the world at one configuration: B_{0,i} of eq. 4.45 for a DH arm."""
+def frame_placement(mech: Mechanism, q: ArrayLike, frame: str = "tool") -> pin.SE3:
+    """Placement (SE3; translation in m) of ``frame`` in the world at one configuration q (nq,): B_{0,i} of
+    [Egorov, 4.45] for a DH arm."""
     q = mech.check_configuration(q)
     if q.ndim != 1:
         raise InputError("frame_placement takes one configuration; use frame_position/frame_rotation for a batch")
@@ -76,7 +80,7 @@ def frame_placement(mech: Mechanism, q, frame: str = "tool") -> pin.SE3:
     return pin.updateFramePlacement(mech.model, mech.data, fid).copy()
 
 
-def _placements(mech: Mechanism, q, frame: str) -> tuple[bool, np.ndarray, np.ndarray]:
+def _placements(mech: Mechanism, q: ArrayLike, frame: str) -> tuple[bool, NDArray[np.float64], NDArray[np.float64]]:
     single, Q, _ = samples(mech, q)
     fid = mech.frame_id(frame)
     model, data = mech.model, mech.data
@@ -87,26 +91,29 @@ def _placements(mech: Mechanism, q, frame: str) -> tuple[bool, np.ndarray, np.nd
     return single, homogeneous[:, :3, 3].copy(), homogeneous[:, :3, :3].copy()
 
 
-def frame_position(mech: Mechanism, q, frame: str = "tool") -> np.ndarray:
-    """Position (m) of the origin of ``frame`` in the world (eq. 4.44): (3,) or (N, 3)."""
+def frame_position(mech: Mechanism, q: ArrayLike, frame: str = "tool") -> NDArray[np.float64]:
+    """Position (m) of the origin of ``frame`` in the world ([Egorov, 4.44]) at q (nq,) or (N, nq): (3,) or
+    (N, 3)."""
     single, positions, _ = _placements(mech, q, frame)
     return positions[0] if single else positions
 
 
-def frame_rotation(mech: Mechanism, q, frame: str = "tool") -> np.ndarray:
-    """Rotation matrix of ``frame`` in the world (the 3×3 block of B_{0,i}): (3, 3) or (N, 3, 3)."""
+def frame_rotation(mech: Mechanism, q: ArrayLike, frame: str = "tool") -> NDArray[np.float64]:
+    """Rotation matrix of ``frame`` in the world (the 3×3 block of B_{0,i}, [Egorov, 4.45]) at q (nq,) or (N, nq):
+    (3, 3) or (N, 3, 3)."""
     single, _, rotations = _placements(mech, q, frame)
     return rotations[0] if single else rotations
 
 
 # ------------------------------------------------------------------------------------------------- Jacobians
-def fk_and_jacobian(mech: Mechanism, q, frame: str = "tool", reference: Reference = "world_aligned"
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Positions (N, 3), rotations (N, 3, 3) and 6×nv Jacobians (N, 6, nv) of ``frame`` over a batch ``q`` (N, nq).
+def fk_and_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", reference: Reference = "world_aligned"
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Positions (m; N, 3), rotations (N, 3, 3) and 6×nv Jacobians (N, 6, nv) of ``frame`` over a batch ``q``
+    (N, nq).
 
     One Pinocchio call (``computeFrameJacobian``) per sample gives both the placement and the Jacobian. The Jacobian
-    maps q̇ to the frame's twist [v; ω] in ``reference`` (:func:`reference_frame`); its linear rows in
-    ``"world_aligned"`` are ∂r/∂q of eq. 4.47.
+    maps q̇ (rad/s, m/s) to the frame's twist [v (m/s); ω (rad/s)] in ``reference`` (:func:`reference_frame`); its
+    linear rows in ``"world_aligned"`` are ∂r/∂q of [Egorov, 4.47].
     """
     _, Q, _ = samples(mech, q)
     fid = mech.frame_id(frame)
@@ -122,15 +129,19 @@ def fk_and_jacobian(mech: Mechanism, q, frame: str = "tool", reference: Referenc
     return homogeneous[:, :3, 3].copy(), homogeneous[:, :3, :3].copy(), jacobians
 
 
-def frame_jacobian(mech: Mechanism, q, frame: str = "tool", reference: Reference = "world_aligned") -> np.ndarray:
-    """6×nv Jacobian of ``frame`` (linear rows first): (6, nv) or (N, 6, nv). See :func:`fk_and_jacobian`."""
+def frame_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", reference: Reference = "world_aligned"
+                   ) -> NDArray[np.float64]:
+    """6×nv Jacobian of ``frame`` at q (nq,) or (N, nq): linear rows (m/s per unit joint rate) first, then angular
+    rows (rad/s per unit joint rate) ([Egorov, 4.47]): (6, nv) or (N, 6, nv). See :func:`fk_and_jacobian`."""
     single = np.ndim(q) == 1
     jacobians = fk_and_jacobian(mech, q, frame, reference)[2]
     return jacobians[0] if single else jacobians
 
 
-def point_jacobian(mech: Mechanism, q, frame: str = "tool", offset=None) -> np.ndarray:
-    """∂r/∂q (3×nv, world axes) of a point fixed to the body of ``frame`` (eq. 4.47).
+def point_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", offset: ArrayLike | None = None
+                   ) -> NDArray[np.float64]:
+    """∂r/∂q (3×nv, world axes; m/rad or m/m) of a point fixed to the body of ``frame`` ([Egorov, 4.47]) at q
+    (nq,) or (N, nq): (3, nv) or (N, 3, nv).
 
     Args:
         offset: Coordinates (m) of the point in ``frame``; default the frame's origin.
@@ -146,7 +157,8 @@ def point_jacobian(mech: Mechanism, q, frame: str = "tool", offset=None) -> np.n
 
 
 # ----------------------------------------------------------------------------------- velocities, accelerations
-def _frame_motion(mech: Mechanism, q, v, a, frame: str, offset=None):
+def _frame_motion(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike | None, frame: str,
+                  offset: ArrayLike | None = None):
     """World linear velocity of the point, angular velocity, and (if ``a`` is given) the point's classical linear
     acceleration and the angular acceleration of the body of ``frame``; each (N, 3)."""
     p = _offset(offset)
@@ -176,8 +188,10 @@ def _frame_motion(mech: Mechanism, q, v, a, frame: str, offset=None):
     return single, lin_v, ang_v, lin_a, ang_a
 
 
-def point_velocity(mech: Mechanism, q, v, frame: str = "tool", offset=None) -> np.ndarray:
-    """Velocity (m/s, world) of a point of the body of ``frame``: v = J q̇ (eq. 4.47–4.48). (3,) or (N, 3).
+def point_velocity(mech: Mechanism, q: ArrayLike, v: ArrayLike, frame: str = "tool",
+                   offset: ArrayLike | None = None) -> NDArray[np.float64]:
+    """Velocity (m/s, world) of a point of the body of ``frame`` at q (nq,) moving with joint velocity v (nv,;
+    rad/s, m/s): v = J q̇ ([Egorov, 4.47–4.48]). (3,), or (N, 3) for batches (N, nq), (N, nv).
 
     Args:
         offset: Coordinates (m) of the point in ``frame``; default the frame's origin.
@@ -186,26 +200,36 @@ def point_velocity(mech: Mechanism, q, v, frame: str = "tool", offset=None) -> n
     return lin_v[0] if single else lin_v
 
 
-def point_acceleration(mech: Mechanism, q, v, a, frame: str = "tool", offset=None) -> np.ndarray:
-    """Acceleration (m/s², world) of a point of the body of ``frame``: a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s
-    (eq. 4.49–4.50), the classical (not spatial) acceleration. (3,) or (N, 3)."""
+def point_acceleration(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str = "tool",
+                       offset: ArrayLike | None = None) -> NDArray[np.float64]:
+    """Acceleration (m/s², world) of a point of the body of ``frame`` at q (nq,) with joint velocity v and
+    acceleration a (nv,; rad/s, m/s; rad/s², m/s²): a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s ([Egorov, 4.49–4.50]),
+    the classical (not spatial) acceleration. (3,), or (N, 3) for batches.
+
+    Args:
+        offset: Coordinates (m) of the point in ``frame``; default the frame's origin.
+    """
     single, _, _, lin_a, _ = _frame_motion(mech, q, v, a, frame, offset)
     return lin_a[0] if single else lin_a
 
 
-def angular_velocity(mech: Mechanism, q, v, link: str) -> np.ndarray:
-    """Absolute angular velocity Ω (rad/s, world) of the body carrying the frame ``link`` (eq. 4.56)."""
+def angular_velocity(mech: Mechanism, q: ArrayLike, v: ArrayLike, link: str) -> NDArray[np.float64]:
+    """Absolute angular velocity Ω (rad/s, world) of the body carrying the frame ``link`` at q (nq,) with joint
+    velocity v (nv,) ([Egorov, 4.56]): (3,), or (N, 3) for batches."""
     single, _, ang_v, _, _ = _frame_motion(mech, q, v, None, link)
     return ang_v[0] if single else ang_v
 
 
-def angular_acceleration(mech: Mechanism, q, v, a, link: str) -> np.ndarray:
-    """Absolute angular acceleration E = dΩ/dt (rad/s², world) of the body carrying the frame ``link`` (eq. 4.57)."""
+def angular_acceleration(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, link: str
+                         ) -> NDArray[np.float64]:
+    """Absolute angular acceleration E = dΩ/dt (rad/s², world) of the body carrying the frame ``link`` at q (nq,)
+    with joint velocity v and acceleration a (nv,) ([Egorov, 4.57]): (3,), or (N, 3) for batches."""
     single, _, _, _, ang_a = _frame_motion(mech, q, v, a, link)
     return ang_a[0] if single else ang_a
 
 
-def _link_motion(mech: Mechanism, q, v, a=None) -> tuple[bool, np.ndarray, np.ndarray | None]:
+def _link_motion(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike | None = None
+                 ) -> tuple[bool, NDArray[np.float64], NDArray[np.float64] | None]:
     """World angular velocity and acceleration of every joint's body: (N, njoints−1, 3) each."""
     single, Q, rates = samples(mech, q, v) if a is None else samples(mech, q, v, a)
     model, data = mech.model, mech.data
@@ -226,13 +250,15 @@ def _link_motion(mech: Mechanism, q, v, a=None) -> tuple[bool, np.ndarray, np.nd
     return single, omega, epsilon
 
 
-def link_angular_velocities(mech: Mechanism, q, v) -> np.ndarray:
-    """Ω_i (rad/s, world) of every link i, in the order of ``mech.link_names`` (eq. 4.56): (n, 3) or (N, n, 3)."""
+def link_angular_velocities(mech: Mechanism, q: ArrayLike, v: ArrayLike) -> NDArray[np.float64]:
+    """Ω_i (rad/s, world) of every link i, in the order of ``mech.link_names`` ([Egorov, 4.56]), at q (nq,) with
+    joint velocity v (nv,): (n, 3), or (N, n, 3) for batches."""
     single, omega, _ = _link_motion(mech, q, v)
     return omega[0] if single else omega
 
 
-def link_angular_accelerations(mech: Mechanism, q, v, a) -> np.ndarray:
-    """E_i (rad/s², world) of every link i, in the order of ``mech.link_names`` (eq. 4.57): (n, 3) or (N, n, 3)."""
+def link_angular_accelerations(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike) -> NDArray[np.float64]:
+    """E_i (rad/s², world) of every link i, in the order of ``mech.link_names`` ([Egorov, 4.57]), at q (nq,) with
+    joint velocity v and acceleration a (nv,): (n, 3), or (N, n, 3) for batches."""
     single, _, epsilon = _link_motion(mech, q, v, a)
     return epsilon[0] if single else epsilon

@@ -18,15 +18,16 @@ from ..model.mechanism import Measure, Mechanism
 
 
 def point_positions(mech: Mechanism, q: ArrayLike, *frames: str) -> list[NDArray[np.float64]]:
-    """World (x, y) of the origins of ``frames`` at q (m)."""
+    """World (x, y) (m) of the origins of ``frames`` at q (nq,): r = B_{0,i} r_i ([Egorov, 4.44])."""
     pin.forwardKinematics(mech.model, mech.data, np.asarray(q, dtype=float))
     return [pin.updateFramePlacement(mech.model, mech.data, mech.frame_id(f)).translation[:2].copy()
             for f in frames]
 
 
 def transmission_angles(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -> NDArray[np.float64]:
-    """Angle (rad, in [0, π/2]) between the lines ab and cd for arrays (N, 2) of points: the transmission angle when
-    ab is the coupler or cylinder and cd the driven lever (90° is ideal; designs ask for at least 30° or so)."""
+    """Angle (rad, in [0, π/2]) between the lines ab and cd for arrays (N, 2) of points (m): the transmission angle
+    when ab is the coupler or cylinder and cd the driven lever (90° is ideal; designs ask for at least 30° or so,
+    [Shovel, 3.18–3.19])."""
     a, b, c, d = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (a, b, c, d))
     u, w = b - a, d - c
     cosine = np.abs((u * w).sum(axis=1)) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1))

@@ -1,7 +1,6 @@
-r"""Closed-loop mechanisms: position analysis (assembly), velocity and acceleration analysis, transfer functions,
-transmission angles and cylinder lever arms.
+r"""Closed-loop mechanisms: position analysis (assembly), velocity and acceleration analysis.
 
-With the closure equations Φ(q) = 0 of a mechanism (see :mod:`mechatron.closures`) and its coordinates split into
+With the closure equations Φ(q) = 0 of a mechanism (see :mod:`mechatron.model.closures`) and its coordinates split into
 actuated q_a (the inputs: crank angles, cylinder lengths) and dependent q_d:
 
 - position analysis solves Φ(q_a, q_d) = 0 for q_d by Newton's method, starting from a named assembly branch or a
@@ -9,8 +8,9 @@ actuated q_a (the inputs: crank angles, cylinder lengths) and dependent q_d:
 - velocity analysis: J_d q̇_d = −J_a q̇_a, i.e. q̇ = S q̇_a with S = [I; −J_d⁻¹ J_a];
 - acceleration analysis: J_d q̈_d = −J_a q̈_a − J̇ q̇.
 
-For a 1-DOF mechanism the columns of S are the first transfer functions (textbook eq. 4.2, 4.10) of all coordinates
-with respect to the input, and the accelerations at q̇_a = 1, q̈_a = 0 are the second transfer functions (4.7, 4.15).
+For a 1-DOF mechanism the columns of S are the first transfer functions ([Egorov, 4.2, 4.10]) of all coordinates
+with respect to the input, and the accelerations at q̇_a = 1, q̈_a = 0 are the second transfer functions
+([Egorov, 4.7, 4.15]).
 """
 
 from __future__ import annotations
@@ -19,10 +19,14 @@ import math
 from collections.abc import Mapping
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, SingularityError, UnreachableError
 from ..model.closures import ClosureSystem
 from ..model.mechanism import Mechanism, unknown_name_error
+
+#: A float array (coordinates, rates, Jacobians: m, rad and their rates).
+Vector = NDArray[np.float64]
 
 #: Newton stops when every closure residual is below this (m for positions, rad for angles).
 TOLERANCE = 1e-10
@@ -56,7 +60,7 @@ class LoopSolver:
         self.selection[self.act, np.arange(len(self.act))] = 1.0
 
     # ------------------------------------------------------------------------------------------ helpers
-    def _inputs(self, values: Mapping[str, float] | np.ndarray, what: str) -> dict[int, float]:
+    def _inputs(self, values: Mapping[str, float] | Vector, what: str) -> dict[int, float]:
         """Actuated values by coordinate index; only actuated names are accepted."""
         if isinstance(values, np.ndarray):
             if values.shape != (len(self.act),):
@@ -71,7 +75,7 @@ class LoopSolver:
             out[self.index[name]] = float(value)
         return out
 
-    def rank(self, q: np.ndarray) -> int:
+    def rank(self, q: Vector) -> int:
         """Rank of the closure Jacobian at q."""
         _, J = self.system.evaluate(np.asarray(q, dtype=float))
         if J.size == 0:
@@ -79,7 +83,7 @@ class LoopSolver:
         return int(np.linalg.matrix_rank(J, tol=1e-9 * max(1.0, np.abs(J).max())))
 
     @staticmethod
-    def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    def solve(A: Vector, b: Vector) -> Vector:
         """A x = b (least squares if A is not square or is singular)."""
         if A.shape[0] == A.shape[1]:
             try:
@@ -88,12 +92,12 @@ class LoopSolver:
                 pass
         return np.linalg.lstsq(A, b, rcond=None)[0]
 
-    def _describe_inputs(self, q: np.ndarray) -> str:
+    def _describe_inputs(self, q: Vector) -> str:
         return ", ".join(f"{n} = {q[self.index[n]]:.6g}" for n in self.mech.actuated)
 
     # ------------------------------------------------------------------------------------------ position
-    def assemble(self, inputs: Mapping[str, float] | np.ndarray, guess: np.ndarray | None = None,
-                 max_iterations: int = 50) -> np.ndarray:
+    def assemble(self, inputs: Mapping[str, float] | Vector, guess: Vector | None = None,
+                 max_iterations: int = 50) -> Vector:
         """Solve the closures for the dependent coordinates with the actuated ones at ``inputs``.
 
         If ``guess`` (default: the reference configuration) is an assembled configuration, the inputs are moved from
@@ -133,7 +137,7 @@ class LoopSolver:
         return self.newton(q, max_iterations, polish=True)[0]
 
     @property
-    def max_step(self) -> np.ndarray:
+    def max_step(self) -> Vector:
         """Largest input step of a continuation: 0.05 rad for angles, 2% of the stroke (or 5 mm) for lengths."""
         steps = []
         for i in self.act:
@@ -145,7 +149,7 @@ class LoopSolver:
                 steps.append(0.05)
         return np.array(steps)
 
-    def newton(self, q: np.ndarray, max_iterations: int = 50, polish: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def newton(self, q: Vector, max_iterations: int = 50, polish: bool = False) -> tuple[Vector, Vector]:
         """Newton's method on the dependent coordinates of q; returns (q, closure Jacobian at q), the residual Φ(q)
         being left in :attr:`residual`. It stops below :data:`TOLERANCE`; with ``polish`` it takes one more step,
         which brings the residual to rounding level."""
@@ -180,7 +184,7 @@ class LoopSolver:
                                f"(closure residual {error:.3g} at {worst} after {max_iterations} Newton iterations)")
 
     # ------------------------------------------------------------------------------------ velocity, acceleration
-    def dependent_inverse(self, q: np.ndarray, J: np.ndarray) -> np.ndarray:
+    def dependent_inverse(self, q: Vector, J: Vector) -> Vector:
         """J_d⁻¹ (or its pseudo-inverse when the closure equations are redundant), checked for singularity."""
         Jd = J[:, self.dep]
         try:
@@ -192,8 +196,8 @@ class LoopSolver:
                                    "the actuated coordinates do not determine the motion")
         return inverse
 
-    def analyse(self, q: np.ndarray, J: np.ndarray, rates: np.ndarray, accelerations: np.ndarray
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def analyse(self, q: Vector, J: Vector, rates: Vector, accelerations: Vector
+                ) -> tuple[Vector, Vector, Vector]:
         """(S, q̇, q̈) at an assembled q with closure Jacobian J, for actuated rates and accelerations in
         ``mech.actuated`` order: q̇ = S q̇_a, J_d q̈_d = −J_a q̈_a − J̇ q̇. Leaves J_d⁻¹ in :attr:`inverse`."""
         S = self.selection.copy()
@@ -209,18 +213,18 @@ class LoopSolver:
             self.system.drift(q, v)
         return S, v, a
 
-    def inverse_correction(self) -> np.ndarray:
+    def inverse_correction(self) -> Vector:
         """The Newton step J_d⁻¹ Φ (as a full-length vector) for the last :meth:`newton` residual and the last
         :meth:`analyse` inverse; subtracting it from q brings the residual to second order."""
         correction = np.zeros(self.mech.nv)
         correction[self.dep] = self.inverse @ self.residual
         return correction
 
-    def _vector(self, values: Mapping[str, float] | np.ndarray, what: str) -> np.ndarray:
+    def _vector(self, values: Mapping[str, float] | Vector, what: str) -> Vector:
         given = self._inputs(values, what)
         return np.array([given.get(int(i), 0.0) for i in self.act])
 
-    def velocity_matrix(self, q: np.ndarray, J: np.ndarray | None = None) -> np.ndarray:
+    def velocity_matrix(self, q: Vector, J: Vector | None = None) -> Vector:
         """S (nv × n_act) with q̇ = S q̇_a: S_a = I, S_d = −J_d⁻¹ J_a."""
         q = np.asarray(q, dtype=float)
         J = self.system.evaluate(q)[1] if J is None else J
@@ -230,12 +234,12 @@ class LoopSolver:
             S[self.dep] = -self.dependent_inverse(q, J) @ J[:, self.act]
         return S
 
-    def velocity(self, q: np.ndarray, rates: Mapping[str, float] | np.ndarray) -> np.ndarray:
+    def velocity(self, q: Vector, rates: Mapping[str, float] | Vector) -> Vector:
         """q̇ for the actuated rates (missing ones are 0)."""
         return self.velocity_matrix(q) @ self._vector(rates, "rate")
 
-    def acceleration(self, q: np.ndarray, v: np.ndarray, accelerations: Mapping[str, float] | np.ndarray
-                     ) -> np.ndarray:
+    def acceleration(self, q: Vector, v: Vector, accelerations: Mapping[str, float] | Vector
+                     ) -> Vector:
         """q̈ for the joint velocity v (consistent with the closures) and the actuated accelerations (missing ones
         are 0): J_d q̈_d = −J_a q̈_a − J̇ q̇."""
         q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
@@ -250,13 +254,15 @@ class LoopSolver:
 
 # ------------------------------------------------------------------------------------------ the public calls
 def loop_solver(mech: Mechanism) -> LoopSolver:
-    """The :class:`LoopSolver` of ``mech``, built once and kept in its cache."""
+    """The :class:`LoopSolver` of ``mech`` (assembly, velocity and acceleration analysis of its closed loops), built
+    once and kept in its cache."""
     return mech.cached("loop_solver", lambda: LoopSolver(mech))
 
 
-def assemble(mech: Mechanism, inputs: Mapping[str, float] | None = None, guess: np.ndarray | None = None,
-             branch: str | None = None) -> np.ndarray:
-    """Configuration q (length nq) with the actuated coordinates at ``inputs`` (m, rad) and all closures satisfied.
+def assemble(mech: Mechanism, inputs: Mapping[str, float] | None = None, guess: ArrayLike | None = None,
+             branch: str | None = None) -> Vector:
+    """Configuration q (length nq) with the actuated coordinates at ``inputs`` (m, rad) and all closures Φ(q) = 0
+    satisfied (position analysis, Newton's method on the dependent coordinates, to 1e-10 m or rad).
 
     The solution continues from ``guess`` (a previous solution) or from the named assembly ``branch`` (one of
     ``mech.branches``; default the reference configuration) and stays on its branch.
@@ -273,14 +279,21 @@ def assemble(mech: Mechanism, inputs: Mapping[str, float] | None = None, guess: 
     return loop_solver(mech).assemble(inputs or {}, guess)
 
 
-def joint_velocity(mech: Mechanism, q: np.ndarray, rates: Mapping[str, float]) -> np.ndarray:
-    """Joint velocity q̇ = S·q̇_a (length nv) for the actuated rates (m/s or rad/s; missing ones 0) at an assembled
-    q: S = [I; −J_d⁻¹ J_a] from the closure Jacobian (velocity analysis, [Egorov, 4.2])."""
+def joint_velocity(mech: Mechanism, q: ArrayLike, rates: Mapping[str, float]) -> Vector:
+    """Joint velocity q̇ = S·q̇_a (length nv; rad/s, m/s) for the actuated rates (m/s or rad/s; missing ones 0) at an
+    assembled q: S = [I; −J_d⁻¹ J_a] from the closure Jacobian, its columns the first transfer functions
+    ([Egorov, 4.2–4.3, 4.10–4.11]).
+
+    Raises:
+        SingularityError: at a singular position (the actuated coordinates do not determine the motion).
+    """
     return loop_solver(mech).velocity(q, rates)
 
 
-def joint_acceleration(mech: Mechanism, q: np.ndarray, v: np.ndarray,
-                       accelerations: Mapping[str, float] | None = None) -> np.ndarray:
-    """Joint acceleration q̈ (length nv) from J q̈ = −J̇ q̇ with the actuated accelerations (m/s², rad/s²) given
-    (default 0) at an assembled q moving with q̇ = ``v``."""
+def joint_acceleration(mech: Mechanism, q: ArrayLike, v: ArrayLike,
+                       accelerations: Mapping[str, float] | None = None) -> Vector:
+    """Joint acceleration q̈ (length nv; rad/s², m/s²) from J_d q̈_d = −J_a q̈_a − J̇ q̇ with the actuated
+    accelerations q̈_a (m/s², rad/s²; default 0) at an assembled q moving with q̇ = ``v`` (rad/s, m/s): the
+    acceleration analysis whose result at q̇_a = 1, q̈_a = 0 is the second transfer functions, a = a_q q̇² + v_q q̈
+    ([Egorov, 4.7–4.8, 4.15–4.16])."""
     return loop_solver(mech).acceleration(q, v, accelerations or {})

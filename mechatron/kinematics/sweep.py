@@ -1,8 +1,8 @@
 """Analysis of a mechanism over the strokes of its inputs: N samples into a table (pandas), with the assembly branch
 kept by continuation from sample to sample.
 
-Each sample is assembled by Newton's method from a first-order prediction q_{k-1} + S_{k-1} (u_k − u_{k-1}) (S the
-velocity map of the previous sample), then analysed for velocities and accelerations. A sample that cannot be
+Each sample is assembled by Newton's method from the polynomial through the last (up to four) solutions extrapolated
+one input step further, then analysed for velocities and accelerations, all samples at once. A sample that cannot be
 assembled (cylinder out of stroke, a loop that cannot close, a singular position) goes to ``failures`` with the
 reason instead of into the table; the sweep goes on from the last good sample.
 """
@@ -12,55 +12,67 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, MechatronError
 from ..model.mechanism import Measure, Mechanism
+from ..report.result import Result, frame_records, json_ready
 from .geometry import measure_values
 from .loops import SINGULAR_RATIO, LoopSolver, loop_solver
 
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
 ProgressCallback = Callable[[int, int], None]
+
+#: Units of the per-point and per-link columns of a sweep table, by suffix (angles are charted in degrees).
+_POINT_UNITS = {"x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "v": "m/s", "ax": "m/s²", "ay": "m/s²", "a": "m/s²"}
+_LINK_UNITS = {"angle": "deg", "omega": "rad/s", "epsilon": "rad/s²"}
+_QUANTITY = {"deg": "angle", "m": "length", "m/s": "speed", "m/s²": "acceleration", "rad/s": "angular velocity",
+             "rad/s²": "angular acceleration", "-": "value"}
+_MEASURE_QUANTITY = {"transmission_angle": "transmission angle", "lever_arm": "lever arm", "distance": "distance"}
 
 
 @dataclass
-class SweepResult:
-    """Results of :func:`sweep`.
+class SweepResult(Result):
+    """Results of :func:`sweep`: a mechanism analysed along the strokes of its inputs.
 
     Attributes:
-        table: One row per assembled sample: the inputs, every joint coordinate ``q_*``, velocity ``v_*`` and
-            acceleration ``a_*``, each point's ``{P}_x, _y, _vx, _vy, _v, _ax, _ay, _a``, each link's
-            ``{L}_angle, _omega, _epsilon`` and each measure (SI units: m, rad, s).
-        failures: One row per sample that could not be analysed: its index, inputs and the reason.
+        mechanism: The mechanism swept.
+        table: One row per assembled sample: its index ``sample``, the inputs, every joint coordinate ``q_*``,
+            velocity ``v_*`` and acceleration ``a_*``, each point's ``{P}_x, _y`` (m), ``_vx, _vy, _v`` (m/s),
+            ``_ax, _ay, _a`` (m/s²), each link's ``{L}_angle`` (rad), ``_omega`` (rad/s), ``_epsilon`` (rad/s²)
+            and each measure (rad or m). SI units throughout.
+        failures: One row per sample that could not be analysed: its index ``sample``, its inputs and the
+            ``reason``.
         q, v, a: Joint coordinates, velocities and accelerations of the table's rows, (n, nv) arrays.
+        measures: The transmission angles and lever arms evaluated (columns of ``table``).
+        points, links: The points and links of ``table``.
+
+    The protocol: :meth:`to_frame` is ``table``; :meth:`as_dict` the ranges of inputs, points and measures with the
+    measures' checks and every failure; :meth:`plot` the linkage at several positions beside chosen curves;
+    ``str`` the text report of ``mechatron linkage``.
     """
 
     mechanism: Mechanism
     table: pd.DataFrame
     failures: pd.DataFrame
-    q: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
+    q: NDArray[np.float64]
+    v: NDArray[np.float64]
+    a: NDArray[np.float64]
     measures: list[Measure] = field(default_factory=list)
+    points: list[str] = field(default_factory=list)
+    links: list[str] = field(default_factory=list)
 
-    def to_csv(self, path: str | Path) -> list[Path]:
-        """Write the table (and, if any, the failures next to it as ``*.failures.csv``); return the files."""
-        path = Path(path)
-        try:
-            self.table.to_csv(path, index=False, float_format="%.10g")
-            written = [path]
-            if len(self.failures):
-                other = path.with_name(path.stem + ".failures.csv")
-                self.failures.to_csv(other, index=False)
-                written.append(other)
-        except OSError as exc:
-            raise InputError(f"cannot write: {exc.strerror}", file=path) from None
-        return written
-
-    def check_measures(self) -> list[dict]:
-        """Each measure's minimum over the sweep against its required minimum (if any)."""
+    # --------------------------------------------------------------------------------------------- the data
+    def check_measures(self) -> list[dict[str, Any]]:
+        """Each measure's minimum and maximum over the sweep (rad or m) against its required minimum (if any):
+        ``name, kind, min, max, required_min, pass`` (``pass`` None when nothing is required)."""
         out = []
         for m in self.measures:
             values = self.table[m.name].to_numpy()
@@ -70,10 +82,172 @@ class SweepResult:
                         "required_min": m.minimum, "pass": None if m.minimum is None else bool(worst >= m.minimum)})
         return out
 
+    def _span(self, column: str) -> list[float] | None:
+        values = self.table[column]
+        return [float(values.min()), float(values.max())] if len(values) else None
 
-def default_inputs(mech: Mechanism, samples: int) -> dict[str, np.ndarray]:
-    """Every actuated coordinate from its lower to its upper limit together (a full turn from the reference angle
-    for an unlimited revolute input)."""
+    def _rate(self, name: str) -> float | list[float] | None:
+        """The rate of input ``name``: one number if constant over the sweep, else its [min, max]."""
+        span = self._span(f"v_{name}")
+        if span is None:
+            return self.mechanism.input_rates.get(name, 1.0)
+        return span[0] if span[1] - span[0] <= 1e-12 * max(1.0, abs(span[0])) else span
+
+    def to_frame(self) -> pd.DataFrame:
+        """:attr:`table`: one row per assembled sample (SI units; see the class docstring for the columns)."""
+        return self.table.copy()
+
+    def as_dict(self) -> dict[str, Any]:
+        """The sweep as plain data: ``mechanism, description, actuated, mobility, redundant_closure_equations``,
+        ``samples`` (asked for) and ``assembled`` (analysed), ``inputs`` ({name: [min, max]}, m or rad), ``rates``
+        (m/s or rad/s: one number per input, or [min, max] if it varies), ``points`` ({name: {x, y: [min, max]
+        (m), v_max (m/s), a_max (m/s²)}}), ``measures`` (:meth:`check_measures`) and ``failures`` (every sample
+        not analysed: ``sample``, its inputs, ``reason``)."""
+        mech, table = self.mechanism, self.table
+        return json_ready({
+            "mechanism": mech.name, "description": mech.description, "actuated": list(mech.actuated),
+            "mobility": mech.mobility(), "redundant_closure_equations": mech.redundant_closure_equations(),
+            "samples": int(len(table) + len(self.failures)), "assembled": int(len(table)),
+            "inputs": {name: self._span(name) for name in mech.actuated},
+            "rates": {name: self._rate(name) for name in mech.actuated},
+            "points": {p: {"x": self._span(f"{p}_x"), "y": self._span(f"{p}_y"),
+                           "v_max": float(table[f"{p}_v"].max()) if len(table) else None,
+                           "a_max": float(table[f"{p}_a"].max()) if len(table) else None}
+                       for p in self.points if f"{p}_x" in table},
+            "measures": self.check_measures(),
+            "failures": frame_records(self.failures),
+        })
+
+    def __str__(self) -> str:
+        data = self.as_dict()
+        lines = [f"{data['mechanism']}: {data['description']}",
+                 f"mobility W = {data['mobility']} (redundant closure equations: "
+                 f"{data['redundant_closure_equations']}); {data['assembled']} of {data['samples']} positions "
+                 "analysed"]
+        for name, span in data["inputs"].items():
+            if span:
+                rate = data["rates"][name]
+                rate = f"{rate:g}" if not isinstance(rate, list) else f"{rate[0]:g} … {rate[1]:g}"
+                lines.append(f"  input {name}: {span[0]:.6g} … {span[1]:.6g} at rate {rate}")
+        lines += ["", f"{'point':<10} {'x min':>10} {'x max':>10} {'y min':>10} {'y max':>10} {'|v| max':>10} "
+                      f"{'|a| max':>10}"]
+        for name, p in data["points"].items():
+            if p["x"]:
+                lines.append(f"{name:<10} {p['x'][0]:10.4f} {p['x'][1]:10.4f} {p['y'][0]:10.4f} {p['y'][1]:10.4f} "
+                             f"{p['v_max']:10.4g} {p['a_max']:10.4g}")
+        if data["measures"] and data["assembled"]:
+            lines += ["", f"{'measure':<28} {'min':>10} {'max':>10}  check"]
+            for m in data["measures"]:
+                angle = m["kind"] == "transmission_angle"
+                f = math.degrees if angle else float
+                unit = "deg" if angle else "m"
+                check = "" if m["required_min"] is None else \
+                    f"{'PASS' if m['pass'] else 'FAIL'} (>= {f(m['required_min']):.4g} {unit})"
+                lines.append(f"{m['name']:<28} {f(m['min']):10.4f} {f(m['max']):10.4f}  {unit} {check}")
+        if data["failures"]:
+            shown = 10
+            lines += ["", f"{len(data['failures'])} positions not analysed:"]
+            for row in data["failures"][:shown]:
+                inputs = ", ".join(f"{n} = {row[n]:.6g}" for n in data["actuated"] if row.get(n) is not None)
+                lines.append(f"  sample {row['sample']} ({inputs}): {row['reason']}")
+            if len(data["failures"]) > shown:
+                lines.append(f"  … and {len(data['failures']) - shown} more (all of them in --json)")
+        return "\n".join(lines)
+
+    # -------------------------------------------------------------------------------------------- the chart
+    def column_unit(self, column: str) -> str:
+        """The unit a chart shows the table column ``column`` in: "deg" for angles (the table holds radians), "m",
+        "m/s", "m/s²", "rad/s", "rad/s²", or "-" if unknown."""
+        mech = self.mechanism
+        for m in self.measures:
+            if m.name == column:
+                return "deg" if m.kind == "transmission_angle" else "m"
+        angular = dict(zip(mech.joint_names, mech.angular_coordinates()))
+        if column in angular:
+            return "deg" if angular[column] else "m"
+        for prefix, units in (("q_", ("deg", "m")), ("v_", ("rad/s", "m/s")), ("a_", ("rad/s²", "m/s²"))):
+            if column.startswith(prefix) and column[2:] in angular:
+                return units[0] if angular[column[2:]] else units[1]
+        for names, units in ((self.points, _POINT_UNITS), (self.links, _LINK_UNITS)):
+            for name in names:
+                if column.startswith(name + "_") and column[len(name) + 1:] in units:
+                    return units[column[len(name) + 1:]]
+        return "-"
+
+    def _chart_values(self, column: str) -> NDArray[np.float64]:
+        values = self.table[column].to_numpy(dtype=float)
+        return np.degrees(values) if self.column_unit(column) == "deg" else values
+
+    def default_curves(self) -> list[str]:
+        """The curves :meth:`plot` draws by default: the measures, or the speed of the tool point."""
+        if self.measures:
+            return [m.name for m in self.measures]
+        tool = self.mechanism.tool_frame
+        speeds = [f"{p}_v" for p in ([tool] if tool in self.points else self.points[:1])]
+        return [c for c in speeds if c in self.table]
+
+    def plot(self, ax: Axes | None = None, *, x: str | None = None, curves: Sequence[str] | None = None,
+             positions: int = 6, trace: str | None = None, title: str | None = None) -> Figure:
+        """The linkage at ``positions`` configurations of the sweep with the path of the point ``trace`` (default
+        the tool point), beside the ``curves`` (table columns; default :meth:`default_curves`) against the column
+        ``x`` (default the first input), one chart per unit, with the required minima of the measures drawn.
+        Angles are shown in degrees, everything else in SI units. Given ``ax``, draws the linkage into it.
+
+        Raises:
+            InputError: if no sample was assembled.
+        """
+        from ..report.figures import figure_axes, new_figure, style_axes
+        from .drawing import draw_positions, key_below
+
+        mech, table = self.mechanism, self.table
+        if table.empty:
+            raise InputError(f"{mech.name}: no sample could be assembled, nothing to plot")
+        x = x or mech.actuated[0]
+        if x not in table:
+            raise InputError(f"no column {x!r} in the sweep table to plot against")
+        curves = [c for c in (self.default_curves() if curves is None else curves) if c in table.columns]
+        trace = trace or (mech.tool_frame if mech.tool_frame in self.points else None)
+        if ax is None:
+            figure = new_figure(12.0, 5.5)
+            grid = figure.add_gridspec(max(1, len({self.column_unit(c) for c in curves})), 2, width_ratios=[1.2, 1])
+            ax_mech = figure.add_subplot(grid[:, 0])
+        else:
+            figure, ax_mech = figure_axes(ax)
+        picks = np.linspace(0, len(table) - 1, min(positions, len(table))).round().astype(int)
+        draw_positions(mech, self.q[picks], ax_mech)
+        if trace and f"{trace}_x" in table:
+            ax_mech.plot(table[f"{trace}_x"], table[f"{trace}_y"], color="tab:red", lw=1, label=f"path of {trace}")
+        ax_mech.set_title(title or mech.description or mech.name, fontsize=10)
+        if ax is not None:
+            ax_mech.legend(loc="upper right", fontsize=8)
+            return figure
+        key_below(figure, [ax_mech])
+        groups: dict[str, list[str]] = {}
+        for column in curves:
+            groups.setdefault(self.column_unit(column), []).append(column)
+        kinds = {m.name: m.kind for m in self.measures}
+        x_unit = self.column_unit(x)
+        xs = self._chart_values(x)
+        first = None
+        for row, (unit, columns) in enumerate(groups.items()):
+            axis = figure.add_subplot(grid[row, 1], sharex=first)
+            first = first or axis
+            for column in columns:
+                axis.plot(xs, self._chart_values(column), label=column)
+            for m in self.measures:
+                if m.minimum is not None and m.name in columns:
+                    limit = math.degrees(m.minimum) if unit == "deg" else m.minimum
+                    axis.axhline(limit, color="gray", ls=":", lw=1, label=f"{m.name} required minimum")
+            measured = {kinds.get(c) for c in columns}
+            quantity = _MEASURE_QUANTITY.get(measured.pop(), _QUANTITY.get(unit, "value")) if len(measured) == 1 \
+                else _QUANTITY.get(unit, "value")
+            style_axes(axis, f"{x} ({x_unit})", f"{quantity} ({unit})", legend=True, loc="upper right")
+        return figure
+
+
+def default_inputs(mech: Mechanism, samples: int) -> dict[str, NDArray[np.float64]]:
+    """``samples`` values of every actuated coordinate from its lower to its upper limit together (m or rad; a full
+    turn, 2π rad, from the reference angle for an unlimited revolute input)."""
     lower, upper = mech.model.lowerPositionLimit, mech.model.upperPositionLimit
     solver = loop_solver(mech)
     out = {}
@@ -101,21 +275,32 @@ def _as_arrays(values: Mapping[str, object] | None, names: Sequence[str], n: int
     return out
 
 
-def sweep(mech: Mechanism, inputs: Mapping[str, object] | None = None, *, samples: int = 200,
-          rates: Mapping[str, object] | None = None, accelerations: Mapping[str, object] | None = None,
+def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, samples: int = 200,
+          rates: Mapping[str, ArrayLike] | None = None, accelerations: Mapping[str, ArrayLike] | None = None,
           frames: Sequence[str] | None = None, links: Sequence[str] | None = None,
-          measures: Sequence[Measure] | None = None, guess: np.ndarray | None = None,
+          measures: Sequence[Measure] | None = None, guess: ArrayLike | None = None,
           progress: ProgressCallback | None = None) -> SweepResult:
-    """Analyse ``mech`` along the input values ``inputs`` (name → array of N values; default :func:`default_inputs`).
+    """Analyse ``mech`` at N positions along the input values ``inputs`` (name → N values, m or rad; default
+    :func:`default_inputs` with ``samples`` values): positions, velocities and accelerations of every joint, point
+    and link, the position analysis by continuation on one assembly branch, the velocity analysis
+    q̇ = S q̇_a ([Egorov, 4.2–4.5, 4.9–4.11]) and the acceleration analysis J_d q̈_d = −J_a q̈_a − J̇ q̇
+    ([Egorov, 4.6–4.8, 4.14–4.16]).
 
     Args:
+        inputs: Values of the actuated coordinates (m, rad); inputs not given stay at their value in ``guess``.
+        samples: Number of positions when ``inputs`` is not given.
         rates: Actuated rates (m/s, rad/s), scalars or arrays of N; default ``mech.input_rates`` or 1.
-        accelerations: Actuated accelerations, default 0.
-        frames: Points (frames) to report (default ``mech.points``).
-        links: Links (body frames) whose angle, angular velocity and acceleration to report (default: none).
+        accelerations: Actuated accelerations (m/s², rad/s²), default 0.
+        frames: Points (frame names) to report (default ``mech.points``).
+        links: Links (body frame names) whose angle, angular velocity and acceleration to report (default: none).
         measures: Transmission angles, lever arms (default ``mech.measures``).
-        guess: Start of the continuation (default the reference configuration: its assembly branch).
+        guess: Start of the continuation, a configuration (nq,) (default the reference configuration: its assembly
+            branch).
         progress: Called as progress(done, total) every few hundred samples.
+
+    Returns:
+        A :class:`SweepResult`; the samples that cannot be analysed (an input out of its range, loops that do not
+        close, a singular position) are in its ``failures`` with the reason, not in its table.
     """
     base = loop_solver(mech)
     inputs = dict(inputs) if inputs is not None else default_inputs(mech, samples)
@@ -280,6 +465,8 @@ def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: 
             H: np.ndarray, twist: np.ndarray, accel: np.ndarray, frame_names: list[str], points: list[str],
             links: list[str], measures: list[Measure], failures: list[dict], names: list[str]) -> SweepResult:
     """The table of the samples ``good`` (their q, v, a; frame placements H, twists and accelerations)."""
+    import pandas as pd
+
     index = {name: j for j, name in enumerate(frame_names)}
     columns: dict[str, np.ndarray] = {"sample": good}
     for j, name in enumerate(names):
@@ -302,4 +489,4 @@ def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: 
         columns[m.name] = measure_values(m, {p: position[:, index[p]] for p in m.points})
     failure_columns = ["sample", *names, "reason"]
     return SweepResult(mech, pd.DataFrame(columns), pd.DataFrame(failures, columns=failure_columns), Q, V, A,
-                       measures)
+                       measures, points, links)
