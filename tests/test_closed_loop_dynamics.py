@@ -2,8 +2,9 @@
 
 The crank-slider numbers were worked by hand by the force analysis of [Egorov, section 5.6] (the central
 crank-slider of [Egorov, fig. 5.7]) with chosen dimensions and masses, by two independent methods, the reaction
-chain of the Assur dyad and the power balance (Zhukovsky's lever, [Egorov, 5.18]): l1 = 0.1, L2 = 0.4 m, q1 = 30°, q̇1 = 10 rad/s, q̈1 = 0, rod 2 kg at its middle
-with J_S2 = m L²/12, slider 1 kg, crank balanced, g = 9.81 m/s², 1000 N on the slider along +x.
+chain of the Assur dyad and the power balance (Zhukovsky's lever, [Egorov, 5.18]): l1 = 0.1, L2 = 0.4 m,
+q1 = 30°, q̇1 = 10 rad/s, q̈1 = 0, rod 2 kg at its middle with J_S2 = m L²/12, slider 1 kg, crank balanced,
+g = 9.81 m/s², 1000 N on the slider along +x.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import pinocchio as pin
 import pytest
 
 import mechatron
+from mechatron import dynamics as dyn
 from mechatron.dynamics import constrained as cd
 from mechatron.dynamics import reduced as rd
 from mechatron.dynamics.kinetostatics import kinetostatics
@@ -101,9 +103,9 @@ def test_reduced_inertia_gives_the_kinetic_energy():
                               ("slotted_link", "q1", -2.0)):
         mech = mechatron.load(name)
         for q in sweep(mech, samples=7).q:
-            J = mechatron.dynamics.reduced_inertia(mech, q, input)
+            J = dyn.reduced_inertia(mech, q, input)
             v = joint_velocity(mech, q, {input: rate})
-            assert 0.5 * J * rate**2 == pytest.approx(mechatron.dynamics.kinetic_energy(mech, q, v), rel=1e-12)
+            assert 0.5 * J * rate**2 == pytest.approx(dyn.kinetic_energy(mech, q, v), rel=1e-12)
 
 
 def test_reduced_inertia_derivative_equals_finite_differences():
@@ -112,8 +114,8 @@ def test_reduced_inertia_derivative_equals_finite_differences():
         mech = mechatron.load(name)
         for value in values:
             q = assemble(mech, {input: value})
-            J = [mechatron.dynamics.reduced_inertia(mech, assemble(mech, {input: value + s * h}, q), input) for s in (1, -1)]
-            assert mechatron.dynamics.reduced_inertia_derivative(mech, q, input) == pytest.approx((J[0] - J[1]) / (2 * h),
+            J = [dyn.reduced_inertia(mech, assemble(mech, {input: value + s * h}, q), input) for s in (1, -1)]
+            assert dyn.reduced_inertia_derivative(mech, q, input) == pytest.approx((J[0] - J[1]) / (2 * h),
                                                                                           rel=1e-6, abs=1e-9)
 
 
@@ -121,8 +123,8 @@ def test_reduced_moment_of_gravity_is_minus_the_derivative_of_potential_energy()
     mech = mechatron.load("six_bar_bucket")
     q = assemble(mech, {"L1": 1.4})
     h = 1e-6
-    V = [mechatron.dynamics.potential_energy(mech, assemble(mech, {"L1": 1.4 + s * h}, q)) for s in (1, -1)]
-    assert mechatron.dynamics.reduced_moment(mech, q, "L1") == pytest.approx(-(V[0] - V[1]) / (2 * h), rel=1e-6)
+    V = [dyn.potential_energy(mech, assemble(mech, {"L1": 1.4 + s * h}, q)) for s in (1, -1)]
+    assert dyn.reduced_moment(mech, q, "L1") == pytest.approx(-(V[0] - V[1]) / (2 * h), rel=1e-6)
 
 
 def motor(t, q, v):
@@ -142,14 +144,15 @@ def test_one_mass_model_reproduces_the_full_simulation(crank):
     np.testing.assert_allclose(one.phi, full.q[:, 0], atol=1e-8)
     np.testing.assert_allclose(one.omega, full.v[:, 0], rtol=1e-7, atol=1e-7)
     # ½ J_пр ω² is the kinetic energy along the motion [Egorov, 6.6]
-    kinetic = np.array([mechatron.dynamics.kinetic_energy(crank, q, v) for q, v in zip(full.q, full.v)])
+    kinetic = np.array([dyn.kinetic_energy(crank, q, v) for q, v in zip(full.q, full.v)])
     np.testing.assert_allclose(0.5 * one.inertia * one.omega**2, kinetic, rtol=1e-6)
 
 
 def test_energy_form_matches_the_simulation_for_a_position_dependent_moment(crank):
     """With M_пр depending on φ only (a constant torque and gravity), [Egorov, 6.40] gives ω(φ) without time."""
     q0 = assemble(crank, {"q1": 0.0})
-    full = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 2.0}), 0.5, 5e-4, actuation=lambda t, q, v: {"q1": 1.5})
+    full = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 2.0}), 0.5, 5e-4,
+                       actuation=lambda t, q, v: {"q1": 1.5})
     phi = full.q[:, 0]  # the energy form on the positions the simulation went through
     table = rd.reduced_table(crank, "q1", phi, forces={"q1": 1.5})
     omega = rd.energy_form(phi, table.inertia, table.moment, 2.0)
@@ -158,7 +161,8 @@ def test_energy_form_matches_the_simulation_for_a_position_dependent_moment(cran
 
 def test_motion_regimes_and_speed_fluctuation(crank):
     q0 = assemble(crank, {"q1": 0.0})
-    sim = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 1.0}), 2.5, 1e-3, actuation=motor, loads_at=slider_damper)
+    sim = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 1.0}), 2.5, 1e-3, actuation=motor,
+                      loads_at=slider_damper)
     regimes = rd.motion_regimes(sim.t, sim.q[:, 0], sim.v[:, 0])
     assert regimes.regimes[0] == "run-up"
     assert all(regime == "steady" for regime in regimes.regimes[1:])

@@ -26,7 +26,8 @@ Array = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class MotorLoads:
-    """Motor-side loads of every joint (arrays (N, nv), or (nv,) for one state); joints without drive data are direct drives (u = 1, η = 1).
+    """Motor-side loads of every joint (arrays (N, nv), or (nv,) for one state); joints without drive data are
+    direct drives (u = 1, η = 1).
 
     Attributes:
         torque: Motor torque τ_m (N·m), rotor inertia, transmission losses and friction included.

@@ -78,8 +78,36 @@ def _accelerations(mech: Mechanism, q: Array, v: Array, applied: Array) -> tuple
     m, n = J.shape[0], mech.nv
     kkt = np.zeros((n + m, n + m))
     kkt[:n, :n], kkt[:n, n:], kkt[n:, :n] = M, -J.T, J
-    solution = np.linalg.lstsq(kkt, np.concatenate([rhs, -drift]), rcond=None)[0]
+    solution = _least_squares(mech, kkt, np.concatenate([rhs, -drift]))
     return solution[:n], solution[n:]
+
+
+def _least_squares(mech: Mechanism, A: Array, b: Array) -> Array:
+    """The minimum-norm least-squares solution of A x = b. With independent closure equations (no redundant rows,
+    decided once per mechanism) the square systems of the closures are regular and solved directly, which gives the
+    same x; else, or at a singular position, by SVD (``lstsq``)."""
+    if A.shape[0] == A.shape[1] and _independent_closures(mech):
+        try:
+            return np.linalg.solve(A, b)
+        except np.linalg.LinAlgError:
+            pass
+    return np.linalg.lstsq(A, b, rcond=None)[0]
+
+
+def _min_norm(mech: Mechanism, J: Array, b: Array) -> Array:
+    """J⁺ b, the smallest x with J x = b for a closure Jacobian J (m, nv): Jᵀ (J Jᵀ)⁻¹ b when the rows are
+    independent, else by SVD."""
+    if _independent_closures(mech):
+        try:
+            return J.T @ np.linalg.solve(J @ J.T, b)
+        except np.linalg.LinAlgError:
+            pass
+    return np.linalg.lstsq(J, b, rcond=None)[0]
+
+
+def _independent_closures(mech: Mechanism) -> bool:
+    """Whether the closure equations of ``mech`` are independent (rank = rows at the reference configuration)."""
+    return mech.cached("independent_closures", lambda: mech.redundant_closure_equations() == 0)
 
 
 def inverse(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike,
@@ -242,9 +270,9 @@ def _project(mech: Mechanism, q: Array, v: Array, iterations: int = 5) -> tuple[
     for _ in range(iterations):
         if np.abs(phi).max() < 1e-14:
             break
-        q = pin.integrate(mech.model, q, -np.linalg.lstsq(J, phi, rcond=None)[0])
+        q = pin.integrate(mech.model, q, -_min_norm(mech, J, phi))
         phi, J = system.evaluate(q)
-    v = v - np.linalg.lstsq(J, J @ v, rcond=None)[0]
+    v = v - _min_norm(mech, J, J @ v)
     return q, v, float(np.abs(phi).max(initial=0.0))
 
 

@@ -80,12 +80,19 @@ def velocity_map(mech: Mechanism, q: ArrayLike, input: str) -> tuple[Array, Arra
     return S, np.zeros(mech.nv)
 
 
+def _terms(mech: Mechanism, q: Array, S: Array, S2: Array, applied: Array) -> tuple[float, float, float]:
+    """(J_пр, dJ_пр/dφ, M_пр) at q for the first and second transfer functions S, S′ and the applied generalized
+    forces τ + Q: Sᵀ M S, 2 Sᵀ(M S′ + C(q, S) S) (an RNEA pass less gravity) and Sᵀ(τ + Q − g)."""
+    model, data = mech.model, mech.data
+    gravity = pin.computeGeneralizedGravity(model, data, q)
+    inertia = float(S @ joint_space_inertia(model, data, q) @ S)
+    return inertia, float(2 * S @ (pin.rnea(model, data, q, S, S2) - gravity)), float(S @ (applied - gravity))
+
+
 def _inertia_terms(mech: Mechanism, q: Array, input: str) -> tuple[float, float]:
     """(J_пр, dJ_пр/dφ) from one velocity analysis."""
     S, S2 = velocity_map(mech, q, input)
-    M = joint_space_inertia(mech.model, mech.data, q)
-    inertial = pin.rnea(mech.model, mech.data, q, S, S2) - pin.computeGeneralizedGravity(mech.model, mech.data, q)
-    return float(S @ M @ S), float(2 * S @ inertial)
+    return _terms(mech, q, S, S2, np.zeros(mech.nv))[:2]
 
 
 def reduced_inertia(mech: Mechanism, q: ArrayLike, input: str) -> float:
@@ -205,8 +212,7 @@ def reduced_table(mech: Mechanism, input: str | None = None, values: ArrayLike |
     q = None
     for k, value in enumerate(values):
         q = assemble(mech, {input: value}, guess=q) if mech.closures else _serial_q(mech, input, value, q)
-        out[k] = (reduced_inertia(mech, q, input), reduced_inertia_derivative(mech, q, input),
-                  reduced_moment(mech, q, input, forces, loads))
+        out[k] = _terms(mech, q, *velocity_map(mech, q, input), generalized_forces(mech, q, forces, loads))
     return ReducedModel(mech.name, input, mech.joint_kind(input) == "prismatic", values, *out.T.copy())
 
 
@@ -321,7 +327,6 @@ def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, d
     input = _one_dof(mech, input)
     state = {"q": assemble(mech, {input: phi0}) if mech.closures else _serial_q(mech, input, phi0, None)}
     solver = loop_solver(mech) if mech.closures else None
-    model, data = mech.model, mech.data
 
     def terms(t: float, phi: float, omega: float) -> tuple[float, float, tuple[float, float]]:
         """(ε, 0, (J_пр, M_пр)) at (t, φ, ω)."""
@@ -334,14 +339,10 @@ def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, d
             q = _serial_q(mech, input, phi, state["q"])
             S, S2 = velocity_map(mech, q, input)
         state["q"] = q
-        M = joint_space_inertia(model, data, q)
-        gravity = pin.computeGeneralizedGravity(model, data, q)
-        inertia = float(S @ M @ S)
-        d_inertia = float(2 * S @ (pin.rnea(model, data, q, S, S2) - gravity))
         v = S * omega
         applied = generalized_forces(mech, q, actuation(t, q, v) if actuation else None,
                                      loads_at(t, q, v) if loads_at else None)
-        moment = float(S @ (applied - gravity))
+        inertia, d_inertia, moment = _terms(mech, q, S, S2, applied)
         return (moment - 0.5 * d_inertia * omega**2) / inertia, 0.0, (inertia, moment)
 
     steps = time_steps(duration, dt)

@@ -12,6 +12,7 @@ Units: N·m for revolute and N for prismatic joints, J for energies, SI everywhe
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Mapping
 
@@ -60,23 +61,29 @@ def frame_index(mech: Mechanism, name: str) -> int:
 
 def generalized_forces(mech: Mechanism, q: ArrayLike, forces: Mapping[str, float] | None = None,
                        loads: Loads = None) -> Array:
-    """τ + Q (nv,; N, N·m): forces or torques on named joint coordinates plus the generalized forces
-    Q = Σ J_pᵀ F_p of external ``loads`` (the power equality of [Egorov, 6.15]), Q = rnea(q, 0, 0) −
-    rnea(q, 0, 0, f_ext)."""
+    """τ + Q (nv,; N, N·m) at the configuration q: forces or torques on named joint coordinates plus the
+    generalized forces Q = Σ J_pᵀ [F_p; M_p] of external ``loads``, J_p the Jacobian of the load's frame origin in
+    world axes (Q·q̇ is the loads' power, [Egorov, 6.15])."""
     tau = np.zeros(mech.nv)
     for name, value in (forces or {}).items():
         tau[mech.model.joints[mech.joint_id(name)].idx_v] += value
-    fext = external_forces(mech, q, loads)
-    if fext is not None:
-        zero = np.zeros(mech.nv)
-        tau += pin.rnea(mech.model, mech.data, q, zero, zero) - pin.rnea(mech.model, mech.data, q, zero, zero, fext)
+    for load in as_loads(loads):
+        J = pin.computeFrameJacobian(mech.model, mech.data, q, frame_index(mech, load.frame),
+                                     pin.LOCAL_WORLD_ALIGNED)
+        tau += J[:3].T @ load.force + J[3:].T @ load.moment
     return tau
 
 
 def joint_space_inertia(model: pin.Model, data: pin.Data, q: ArrayLike) -> Array:
-    """M(q) (nv, nv; kg, kg·m, kg·m²) from CRBA, which fills only the upper triangle: symmetrised."""
+    """M(q) (nv, nv; kg, kg·m, kg·m²) from CRBA, whose upper triangle is the matrix: symmetrised from it."""
     M = pin.crba(model, data, q)
-    return np.triu(M) + np.triu(M, 1).T
+    return np.where(_below_diagonal(model.nv), M.T, M)
+
+
+@functools.lru_cache(maxsize=32)
+def _below_diagonal(n: int) -> NDArray[np.bool_]:
+    """The (n, n) mask of the entries below the diagonal."""
+    return np.tri(n, k=-1, dtype=bool)
 
 
 #: Batches at least this long go to Pinocchio's parallel RNEA/ABA (C++ loop over the samples, all cores).

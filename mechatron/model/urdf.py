@@ -232,8 +232,9 @@ def to_urdf(mechanism: Mechanism) -> str:
         position = ("" if kind == "continuous" else f'lower="{_num(model.lowerPositionLimit[iq])}" '
                     f'upper="{_num(model.upperPositionLimit[iq])}" ')
         lines.append(f"  <link name={quoteattr(links[joint_id])}>{_inertial_xml(model.inertias[joint_id])}</link>")
+        parent = links[model.parents[joint_id]]
         lines.append(
-            f"  <joint name={quoteattr(name)} type=\"{kind}\"><parent link={quoteattr(links[model.parents[joint_id]])}/>"
+            f"  <joint name={quoteattr(name)} type=\"{kind}\"><parent link={quoteattr(parent)}/>"
             f"<child link={quoteattr(links[joint_id])}/>{_origin(model.jointPlacements[joint_id])}"
             f'<axis xyz="{_vec(axis)}"/><limit {position}effort="{_num(model.effortLimit[iv])}" '
             f'velocity="{_num(model.velocityLimit[iv])}"/></joint>')
