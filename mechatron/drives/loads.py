@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from ..dynamics.motion import coordinate_names
 from ..dynamics.series import UNITS, coordinate_columns, plot_lines, stacked_axes, text_table
 from ..dynamics.trajectory import actuator_forces
 from ..dynamics.tree import inverse_dynamics
@@ -150,7 +151,7 @@ def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = Non
         return TrajectoryLoads(mech.name, "actuator", names, angular, t, positions, speeds, accelerations, forces)
     forces = inverse_dynamics(mech, trajectory.q, speeds, accelerations, loads)
     motor = motor_loads(mech, speeds, accelerations, forces)
-    names = list(trajectory.names)
+    names = coordinate_names(mech)
     driven = [name in mech.drives for name in names]
     return TrajectoryLoads(mech.name, "joint", names, [bool(x) for x in mech.angular_coordinates()], t, positions,
                            speeds, accelerations, forces, motor.torque, motor.speed, driven)

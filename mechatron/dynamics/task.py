@@ -108,7 +108,8 @@ def _waypoints(reader: FieldReader, angular: np.ndarray) -> list[np.ndarray] | N
 
 
 def read_task(path: str | Path, mech: Mechanism) -> Task:
-    """A task from a TOML file (see the module docstring) or a trajectory CSV, for ``mech``."""
+    """A task for ``mech`` from a TOML file (the format of the module docstring: SI units, or degrees with
+    ``_deg``) or a trajectory CSV (:func:`~mechatron.dynamics.motion.read_trajectory`)."""
     from ..io.toml import read_toml
 
     path = Path(path)
@@ -167,10 +168,10 @@ def task_file(mech: Mechanism) -> Path | None:
 
 
 def generic_task(mech: Mechanism, dwell: float = 0.2, dt: float = 0.005) -> Task:
-    """A task for any mechanism: from the reference position, every coordinate moves by 40 % of its range (at
-    most 90° or 0.5 m; the sign that stays inside the limits) and back, with a trapezoidal profile at the model's
-    velocity limits (1 rad/s or 0.25 m/s where it has none; the nominal rates of a closed loop's inputs) reached
-    in 0.25 s, resting ``dwell`` s at each end."""
+    """A task for any mechanism, sampled every ``dt`` seconds: from the reference position (the neutral one of a
+    serial arm), every coordinate moves by 40 % of its range (at most 90° or 0.5 m; the sign that stays inside the
+    limits) and back, with a trapezoidal profile at the model's velocity limits (1 rad/s or 0.25 m/s where it has
+    none; the nominal rates of a closed loop's inputs) reached in 0.25 s, resting ``dwell`` s at each end."""
     names, angular = _coordinates(mech)
     if mech.closures:
         solver = loop_solver(mech)

@@ -13,7 +13,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..kinematics.sweep import sweep
 from ..model.loads import Loads
 from ..model.mechanism import Mechanism
 from .constrained import inverse
@@ -28,6 +27,8 @@ def closed_loop_states(mech: Mechanism, trajectory: Trajectory) -> tuple[Array, 
     """(Q, V, A): the full joint states (N, nq/nv; rad, m and their rates) of a closed-loop mechanism along a
     trajectory of its actuated coordinates (assembly, velocity and acceleration analysis of the loops); an error
     if the motion leaves the reachable range."""
+    from ..kinematics.sweep import sweep  # pandas: only when a trajectory is analysed
+
     inputs = {name: trajectory.coordinates[:, i] for i, name in enumerate(mech.actuated)}
     rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}
     accels = {name: trajectory.a[:, i] for i, name in enumerate(mech.actuated)}
