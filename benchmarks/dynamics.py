@@ -6,6 +6,9 @@ Robotics Toolbox for Python's DH dynamics (``DHRobot.rne`` of its Puma560 and UR
 (goal: mechatron at least 10x faster). The toolbox is timed two ways: called per state, as its Python API is used
 in a loop over a trajectory, and with the whole (N, 6) arrays at once, which runs its C loop over the samples.
 
+It also times a closed-loop simulation (``mechatron.dynamics.constrained.simulate``: KKT system, RK4 on the
+configuration manifold, projection onto the closures) of the crank-slider, per integration step.
+
     python benchmarks/dynamics.py [--samples N] [--repeats R]
 """
 
@@ -18,7 +21,9 @@ import pinocchio as pin
 from timing import best_time
 
 import mechatron
+from mechatron.dynamics.constrained import simulate
 from mechatron.dynamics.tree import inverse_dynamics
+from mechatron.kinematics.loops import assemble, joint_velocity
 
 
 def bare_loop(model: pin.Model, data: pin.Data, Q: np.ndarray, V: np.ndarray, A: np.ndarray) -> np.ndarray:
@@ -67,6 +72,12 @@ def main() -> None:
                      f"{'ok' if t_state / t_ours >= 10 else 'SLOWER':<7}"
                      f"{t_arrays * 1e3:>10.1f} ms{t_arrays / t_ours:>9.1f}x")
         print(line)
+    crank = mechatron.load("crank_slider")
+    q0 = assemble(crank, {"q1": 0.2})
+    v0 = joint_velocity(crank, q0, {"q1": 8.0})
+    steps = 1000
+    t_sim = best_time(lambda: simulate(crank, q0, v0, steps * 1e-3, 1e-3), args.repeats)
+    print(f"simulate crank_slider, {steps} RK4 steps: {t_sim * 1e3:.0f} ms ({t_sim / steps * 1e6:.0f} µs per step)")
 
 
 if __name__ == "__main__":

@@ -5,11 +5,14 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import mechatron
 from mechatron.cli import main
+from mechatron.drives.loads import trajectory_loads
 from mechatron.dynamics.motion import move
+from mechatron.dynamics.reduced import reduced_table
 from mechatron.kinematics.loops import assemble
 
 
@@ -32,6 +35,24 @@ def test_dynamics_move_json_equals_the_api(capsys):
     assert result["duration"] == pytest.approx(traj.t[-1])
 
 
+def test_dynamics_outputs_are_the_result_s(tmp_path, capsys):
+    """--json is as_dict(), --csv is to_frame(), --plot is plot(), the text is str()."""
+    argv = ["dynamics", "planar_2r", "--move", "0,0;30,-60", "--deg", "--vmax", "1", "--amax", "4"]
+    code, out, err = run(capsys, *argv, "--json", "--csv", str(tmp_path / "loads.csv"), "--plot",
+                         str(tmp_path / "loads.svg"))
+    assert code == 0
+    mech = mechatron.load("planar_2r")
+    result = trajectory_loads(mech, move(mech, [0, 0], np.radians([30, -60]), vmax=1, amax=4))
+    assert json.loads(out) == json.loads(result.to_json())
+    written = pd.read_csv(tmp_path / "loads.csv")
+    expected = result.to_frame()
+    assert list(written.columns) == list(expected.columns)
+    np.testing.assert_allclose(written.to_numpy(), expected.to_numpy(), rtol=1e-9, atol=1e-12)
+    assert (tmp_path / "loads.svg").read_text().count("<svg") == 1 and "wrote" in err
+    code, out, _ = run(capsys, *argv)
+    assert code == 0 and out.strip() == str(result).strip()
+
+
 def test_dynamics_trajectory_file_with_payload_and_outputs(tmp_path, capsys):
     mech = mechatron.load("scara")
     traj = move(mech, [0, 0, 0, 0], [1.0, -1.0, 0.1, 2.0], profile="scurve", dt=0.002)
@@ -40,8 +61,6 @@ def test_dynamics_trajectory_file_with_payload_and_outputs(tmp_path, capsys):
                        "--csv", str(tmp_path / "loads.csv"), "--plot", str(tmp_path / "loads.png"))
     assert code == 0 and "peak_motor_torque" in out
     assert (tmp_path / "loads.png").stat().st_size > 20_000
-    import pandas as pd
-
     table = pd.read_csv(tmp_path / "loads.csv")
     assert {"tau_q1", "motor_torque_q1", "power_q3"} <= set(table.columns)
 
@@ -78,3 +97,10 @@ def test_reduced_command(tmp_path, capsys):
     assert (tmp_path / "r.png").exists()
     code, out, _ = run(capsys, "reduced", "six_bar_bucket")
     assert code == 0 and "reduced mass" in out
+    assert out.strip() == str(reduced_table(mechatron.load("six_bar_bucket"))).strip()
+    code, out, _ = run(capsys, "reduced", "crank_slider", "--samples", "5", "--csv", str(tmp_path / "r.csv"),
+                       "--json")
+    expected = reduced_table(mech, samples=5)
+    assert json.loads(out) == json.loads(expected.to_json())
+    np.testing.assert_allclose(pd.read_csv(tmp_path / "r.csv").to_numpy(), expected.to_frame().to_numpy(),
+                               rtol=1e-9, atol=1e-12)

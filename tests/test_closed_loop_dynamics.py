@@ -1,8 +1,10 @@
-"""Closed-loop dynamics, kinetostatics (chapter 5) and the reduced one-mass model (chapter 6).
+"""Closed-loop dynamics, kinetostatics ([Egorov, ch. 5]) and the reduced one-mass model ([Egorov, ch. 6]).
 
-The crank-slider numbers are the notes' worked case E7 (recomputed there by two independent methods, the dyad
-reaction chain and the power balance): l1 = 0.1, L2 = 0.4 m, q1 = 30°, q̇1 = 10 rad/s, q̈1 = 0, rod 2 kg at its
-middle with J_S2 = m L²/12, slider 1 kg, crank balanced, g = 9.81 m/s², 1000 N on the slider along +x.
+The crank-slider numbers were worked by hand by the force analysis of [Egorov, section 5.6] (the central
+crank-slider of [Egorov, fig. 5.7]) with chosen dimensions and masses, by two independent methods, the reaction
+chain of the Assur dyad and the power balance (Zhukovsky's lever, [Egorov, 5.18]): l1 = 0.1, L2 = 0.4 m,
+q1 = 30°, q̇1 = 10 rad/s, q̈1 = 0, rod 2 kg at its middle with J_S2 = m L²/12, slider 1 kg, crank balanced,
+g = 9.81 m/s², 1000 N on the slider along +x.
 """
 
 from __future__ import annotations
@@ -14,13 +16,14 @@ import pinocchio as pin
 import pytest
 
 import mechatron
+from mechatron import dynamics as dyn
 from mechatron.dynamics import constrained as cd
 from mechatron.dynamics import reduced as rd
 from mechatron.dynamics.kinetostatics import kinetostatics
 from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity, loop_solver
 from mechatron.kinematics.sweep import sweep
 
-E7_LOAD = [("C_slider", [1000.0, 0.0, 0.0])]
+SLIDER_LOAD = [("C_slider", [1000.0, 0.0, 0.0])]
 
 
 @pytest.fixture(scope="module")
@@ -28,9 +31,9 @@ def crank():
     return mechatron.load("crank_slider")
 
 
-def test_E7_kinetostatics(crank):
+def test_crank_slider_kinetostatics(crank):
     q = assemble(crank, {"q1": math.radians(30)})
-    k = kinetostatics(crank, q, {"q1": 10.0}, loads=E7_LOAD)
+    k = kinetostatics(crank, q, {"q1": 10.0}, loads=SLIDER_LOAD)
     assert k.driving["q1"] == pytest.approx(63.112255, abs=1e-6)  # M_D
     assert k.zhukovsky["q1"] == pytest.approx(63.112255, abs=1e-6)  # Zhukovsky's lever (virtual power)
     # force of the slider on the rod at C, of the crank on the rod at B, of the guide on the slider
@@ -45,7 +48,7 @@ def test_E7_kinetostatics(crank):
     # quasi-static part only (no inertia, no gravity): M_D = F3 |v_qC| = 60.910895 N·m
     static = mechatron.load("crank_slider")
     static.model.gravity = pin.Motion.Zero()
-    ks = kinetostatics(static, q, {"q1": 1e-9}, loads=E7_LOAD)
+    ks = kinetostatics(static, q, {"q1": 1e-9}, loads=SLIDER_LOAD)
     assert ks.driving["q1"] == pytest.approx(60.910895, abs=1e-5)
 
 
@@ -100,9 +103,9 @@ def test_reduced_inertia_gives_the_kinetic_energy():
                               ("slotted_link", "q1", -2.0)):
         mech = mechatron.load(name)
         for q in sweep(mech, samples=7).q:
-            J = mechatron.dynamics.reduced_inertia(mech, q, input)
+            J = dyn.reduced_inertia(mech, q, input)
             v = joint_velocity(mech, q, {input: rate})
-            assert 0.5 * J * rate**2 == pytest.approx(mechatron.dynamics.kinetic_energy(mech, q, v), rel=1e-12)
+            assert 0.5 * J * rate**2 == pytest.approx(dyn.kinetic_energy(mech, q, v), rel=1e-12)
 
 
 def test_reduced_inertia_derivative_equals_finite_differences():
@@ -111,8 +114,8 @@ def test_reduced_inertia_derivative_equals_finite_differences():
         mech = mechatron.load(name)
         for value in values:
             q = assemble(mech, {input: value})
-            J = [mechatron.dynamics.reduced_inertia(mech, assemble(mech, {input: value + s * h}, q), input) for s in (1, -1)]
-            assert mechatron.dynamics.reduced_inertia_derivative(mech, q, input) == pytest.approx((J[0] - J[1]) / (2 * h),
+            J = [dyn.reduced_inertia(mech, assemble(mech, {input: value + s * h}, q), input) for s in (1, -1)]
+            assert dyn.reduced_inertia_derivative(mech, q, input) == pytest.approx((J[0] - J[1]) / (2 * h),
                                                                                           rel=1e-6, abs=1e-9)
 
 
@@ -120,8 +123,8 @@ def test_reduced_moment_of_gravity_is_minus_the_derivative_of_potential_energy()
     mech = mechatron.load("six_bar_bucket")
     q = assemble(mech, {"L1": 1.4})
     h = 1e-6
-    V = [mechatron.dynamics.potential_energy(mech, assemble(mech, {"L1": 1.4 + s * h}, q)) for s in (1, -1)]
-    assert mechatron.dynamics.reduced_moment(mech, q, "L1") == pytest.approx(-(V[0] - V[1]) / (2 * h), rel=1e-6)
+    V = [dyn.potential_energy(mech, assemble(mech, {"L1": 1.4 + s * h}, q)) for s in (1, -1)]
+    assert dyn.reduced_moment(mech, q, "L1") == pytest.approx(-(V[0] - V[1]) / (2 * h), rel=1e-6)
 
 
 def motor(t, q, v):
@@ -140,34 +143,35 @@ def test_one_mass_model_reproduces_the_full_simulation(crank):
     one = rd.differential_form(crank, "q1", 0.0, 1.0, duration, dt, actuation=motor, loads_at=slider_damper)
     np.testing.assert_allclose(one.phi, full.q[:, 0], atol=1e-8)
     np.testing.assert_allclose(one.omega, full.v[:, 0], rtol=1e-7, atol=1e-7)
-    # ½ J_пр ω² is the kinetic energy along the motion; the energy form (6.40) gives the same speeds
-    kinetic = np.array([mechatron.dynamics.kinetic_energy(crank, q, v) for q, v in zip(full.q, full.v)])
+    # ½ J_пр ω² is the kinetic energy along the motion [Egorov, 6.6]
+    kinetic = np.array([dyn.kinetic_energy(crank, q, v) for q, v in zip(full.q, full.v)])
     np.testing.assert_allclose(0.5 * one.inertia * one.omega**2, kinetic, rtol=1e-6)
 
 
 def test_energy_form_matches_the_simulation_for_a_position_dependent_moment(crank):
-    """With M_пр depending on φ only (a constant torque and gravity), (6.40) gives ω(φ) without time."""
+    """With M_пр depending on φ only (a constant torque and gravity), [Egorov, 6.40] gives ω(φ) without time."""
     q0 = assemble(crank, {"q1": 0.0})
-    full = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 2.0}), 0.5, 5e-4, actuation=lambda t, q, v: {"q1": 1.5})
+    full = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 2.0}), 0.5, 5e-4,
+                       actuation=lambda t, q, v: {"q1": 1.5})
     phi = full.q[:, 0]  # the energy form on the positions the simulation went through
     table = rd.reduced_table(crank, "q1", phi, forces={"q1": 1.5})
-    omega = rd.energy_form(phi, table["J_reduced"].to_numpy(), table["M_reduced"].to_numpy(), 2.0)
+    omega = rd.energy_form(phi, table.inertia, table.moment, 2.0)
     np.testing.assert_allclose(omega, full.v[:, 0], rtol=1e-5)
 
 
 def test_motion_regimes_and_speed_fluctuation(crank):
     q0 = assemble(crank, {"q1": 0.0})
-    sim = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 1.0}), 2.5, 1e-3, actuation=motor, loads_at=slider_damper)
-    cycles = rd.motion_regimes(sim.t, sim.q[:, 0], sim.v[:, 0])
-    assert cycles["regime"].iloc[0] == "run-up"
-    assert (cycles["regime"].iloc[1:] == "steady").all()
-    steady = cycles.iloc[-1]
-    assert steady["fluctuation"] == pytest.approx((steady["omega_max"] - steady["omega_min"])
-                                                  / steady["omega_mean"])
-    # over a steady cycle the work of all forces is zero: the speed returns to its value (6.53)
-    assert steady["omega_end"] == pytest.approx(steady["omega_start"], rel=1e-3)
+    sim = cd.simulate(crank, q0, joint_velocity(crank, q0, {"q1": 1.0}), 2.5, 1e-3, actuation=motor,
+                      loads_at=slider_damper)
+    regimes = rd.motion_regimes(sim.t, sim.q[:, 0], sim.v[:, 0])
+    assert regimes.regimes[0] == "run-up"
+    assert all(regime == "steady" for regime in regimes.regimes[1:])
+    steady = regimes.cycles[-1]
+    assert steady.fluctuation == pytest.approx((steady.omega_max - steady.omega_min) / steady.omega_mean)
+    # over a steady cycle the work of all forces is zero: the speed returns to its value [Egorov, 6.53]
+    assert steady.omega_end == pytest.approx(steady.omega_start, rel=1e-3)
     # switching the motor off (a light damper left) gives a run-down
     off = cd.simulate(crank, sim.q[-1], sim.v[-1], 2.0, 2e-3,
                       loads_at=lambda t, q, v: [("C_slider", [-0.3 * v[2], 0.0, 0.0])])
-    regimes = rd.motion_regimes(off.t, off.q[:, 0], off.v[:, 0])["regime"]
+    regimes = rd.motion_regimes(off.t, off.q[:, 0], off.v[:, 0]).regimes
     assert len(regimes) >= 2 and set(regimes) == {"run-down"}

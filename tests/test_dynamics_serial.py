@@ -10,8 +10,9 @@ import pytest
 from conftest import random_state
 
 import mechatron
-from mechatron.dynamics import constrained as cd
+from mechatron import dynamics as dyn
 from mechatron.drives.transmission import motor_loads
+from mechatron.dynamics import constrained as cd
 from mechatron.model.dh import dh_mechanism
 from mechatron.model.payload import with_payload
 from mechatron.model.planar import GROUND, PlanarBuilder
@@ -32,18 +33,18 @@ def test_aba_inverts_rnea(rng, name):
 def test_terms_of_the_equation_of_motion(rng):
     mech = mechatron.load("puma560")
     q, v, a = random_state(mech, rng)
-    M = mechatron.dynamics.mass_matrix(mech, q)
+    M = dyn.mass_matrix(mech, q)
     np.testing.assert_allclose(M, M.T, atol=0)
-    np.testing.assert_allclose(mechatron.inverse_dynamics(mech, q, v, a), M @ a + mechatron.dynamics.bias_forces(mech, q, v),
+    np.testing.assert_allclose(mechatron.inverse_dynamics(mech, q, v, a), M @ a + dyn.bias_forces(mech, q, v),
                                atol=1e-10)
-    np.testing.assert_allclose(mechatron.dynamics.bias_forces(mech, q, np.zeros(6)), mechatron.dynamics.gravity_torques(mech, q),
+    np.testing.assert_allclose(dyn.bias_forces(mech, q, np.zeros(6)), dyn.gravity_torques(mech, q),
                                atol=1e-12)
-    assert mechatron.dynamics.kinetic_energy(mech, q, v) == pytest.approx(0.5 * v @ M @ v, rel=1e-12)
+    assert dyn.kinetic_energy(mech, q, v) == pytest.approx(0.5 * v @ M @ v, rel=1e-12)
     # g(q) = ∂V/∂q by central differences of the potential energy
     h = 1e-6
-    grad = [(mechatron.dynamics.potential_energy(mech, q + h * e) - mechatron.dynamics.potential_energy(mech, q - h * e)) / (2 * h)
+    grad = [(dyn.potential_energy(mech, q + h * e) - dyn.potential_energy(mech, q - h * e)) / (2 * h)
             for e in np.eye(6)]
-    np.testing.assert_allclose(grad, mechatron.dynamics.gravity_torques(mech, q), atol=1e-6)
+    np.testing.assert_allclose(grad, dyn.gravity_torques(mech, q), atol=1e-6)
 
 
 def test_energy_is_kept_by_an_unforced_simulation():
@@ -59,7 +60,7 @@ def test_energy_is_kept_by_an_unforced_simulation():
 def test_joint_wrenches_carry_the_joint_torques(rng):
     mech = mechatron.load("puma560")
     q, v, a = random_state(mech, rng)
-    wrenches = mechatron.dynamics.joint_wrenches(mech, q, v, a)
+    wrenches = dyn.joint_wrenches(mech, q, v, a)
     tau = mechatron.inverse_dynamics(mech, q, v, a)
     pin.forwardKinematics(mech.model, mech.data, q)
     for j in range(6):
@@ -67,7 +68,7 @@ def test_joint_wrenches_carry_the_joint_torques(rng):
         # the wrench through the joint drives the links; the rotor's inertia (armature) is the motor's own
         assert wrenches[j, 3:] @ joint_axis == pytest.approx(tau[j] - mech.model.armature[j] * a[j], abs=1e-9)
     # a static payload: the first joint's force balances the whole weight
-    static = mechatron.dynamics.joint_wrenches(mech, q, np.zeros(6), np.zeros(6))
+    static = dyn.joint_wrenches(mech, q, np.zeros(6), np.zeros(6))
     assert static[0, 2] == pytest.approx(mech.total_mass * 9.81, rel=1e-12)
 
 
@@ -99,9 +100,9 @@ def test_reflected_inertia_equals_an_explicit_geared_rotor():
     table = arm_dh.dh
     link = replace(table.links[0], drive=mechatron.model.dh.Drive(rotor_inertia=Jr, gear_ratio=u))
     mech = dh_mechanism(replace(table, links=(link,)))
-    inertia = mechatron.dynamics.mass_matrix(mech, np.zeros(1))[0, 0]
+    inertia = dyn.mass_matrix(mech, np.zeros(1))[0, 0]
     bare = dh_mechanism(replace(table, links=(table.links[0],)))
-    assert inertia - mechatron.dynamics.mass_matrix(bare, np.zeros(1))[0, 0] == pytest.approx(Jr * u**2, rel=1e-12)
+    assert inertia - dyn.mass_matrix(bare, np.zeros(1))[0, 0] == pytest.approx(Jr * u**2, rel=1e-12)
 
 
 def test_motor_side_with_efficiency_and_power_direction():
@@ -130,6 +131,6 @@ def test_payload_adds_its_weight():
     mech = mechatron.load("scara")
     q = np.zeros(4)
     loaded = with_payload(mech, 2.0)
-    g = mechatron.dynamics.gravity_torques(loaded, q) - mechatron.dynamics.gravity_torques(mech, q)
+    g = dyn.gravity_torques(loaded, q) - dyn.gravity_torques(mech, q)
     assert g[2] == pytest.approx(-2.0 * 9.81)  # the quill (z down-positive, α2 = 180°) carries the weight
     assert loaded.total_mass == pytest.approx(mech.total_mass + 2.0)

@@ -7,66 +7,151 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
+from ..dynamics.motion import coordinate_names
+from ..dynamics.series import UNITS, coordinate_columns, plot_lines, stacked_axes, text_table
 from ..dynamics.trajectory import actuator_forces
 from ..dynamics.tree import inverse_dynamics
 from ..model.loads import Loads
 from ..model.mechanism import Mechanism
+from ..report.result import Result
 from .transmission import motor_loads
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..dynamics.motion import Trajectory
+
+Array = NDArray[np.float64]
 
 
-@dataclass
-class TrajectoryLoads:
-    """Forces along a trajectory: ``table`` has t, every coordinate's q, q̇, q̈, the force/torque of every driven
-    coordinate (``tau_<name>``), its power (``power_<name>``) and, for joints with drives, the motor torque and speed;
-    ``summary`` per driven coordinate: peak and RMS force, peak speed, peak power, positive work."""
+@dataclass(eq=False)
+class TrajectoryLoads(Result):
+    """Forces along a trajectory, one column per driven coordinate (the joints of a serial arm, the actuated
+    coordinates of a closed loop).
 
-    table: pd.DataFrame
-    summary: pd.DataFrame
+    Attributes:
+        mechanism: Name of the mechanism.
+        kind: ``"joint"`` (serial arm) or ``"actuator"`` (closed loop).
+        names: The driven coordinates.
+        angular: Which of them are angles (N·m and rad/s; else N and m/s).
+        t: Times (N,) (s).
+        positions, speeds, accelerations: (N, n) (rad, m and their rates).
+        forces: Force or torque of every driven coordinate (N, n) (N·m, N): RNEA, or the constrained inverse
+            dynamics of a closed loop.
+        motor_torque, motor_speed: (N, n) motor torque (N·m) and speed (rad/s) of the joints with drive data
+            (``driven``), ``None`` for a closed loop.
+        driven: Which coordinates have drive data (a motor side).
+    """
+
+    mechanism: str
+    kind: str
     names: list[str]
+    angular: list[bool]
+    t: Array
+    positions: Array
+    speeds: Array
+    accelerations: Array
+    forces: Array
+    motor_torque: Array | None = None
+    motor_speed: Array | None = None
+    driven: list[bool] | None = None
+
+    @property
+    def power(self) -> Array:
+        """Power τ·q̇ (N, n) (W) delivered to each coordinate."""
+        return self.forces * self.speeds
+
+    @property
+    def duration(self) -> float:
+        """t_end − t_start (s)."""
+        return float(self.t[-1] - self.t[0]) if len(self.t) > 1 else 0.0
+
+    def _has_motor(self, i: int) -> bool:
+        return self.motor_torque is not None and bool(self.driven and self.driven[i])
+
+    def summary(self) -> list[dict]:
+        """Per driven coordinate: peak and RMS force (N·m or N), peak speed (rad/s or m/s), peak power (W), positive
+        work ∫ max(τ q̇, 0) dt (J) and, with drive data, peak and RMS motor torque (N·m) and peak motor speed (rad/s).
+        RMS values are √(∫ x² dt / T) (trapezoidal rule)."""
+        t, duration, rows = self.t, self.duration, []
+
+        def rms(x: Array) -> float:
+            return float(np.sqrt(np.trapezoid(x**2, t) / duration)) if duration > 0 else float(abs(x[0]))
+
+        for i, name in enumerate(self.names):
+            tau, power = self.forces[:, i], self.power[:, i]
+            row = {"coordinate": name, "unit": UNITS[self.angular[i]][3], "peak_force": float(np.abs(tau).max()),
+                   "rms_force": rms(tau), "peak_speed": float(np.abs(self.speeds[:, i]).max()),
+                   "peak_power": float(np.abs(power).max()),
+                   "positive_work": float(np.trapezoid(np.maximum(power, 0.0), t)) if len(t) > 1 else 0.0}
+            if self._has_motor(i):
+                torque = self.motor_torque[:, i]
+                row.update(peak_motor_torque=float(np.abs(torque).max()),
+                           rms_motor_torque=rms(torque) if duration > 0 else 0.0,
+                           peak_motor_speed=float(np.abs(self.motor_speed[:, i]).max()))
+            rows.append(row)
+        return rows
+
+    # -------------------------------------------------------------------------------------------- the protocol
+    def to_frame(self) -> pd.DataFrame:
+        """One row per sample: t (s), every coordinate's position, ``qd_``, ``qdd_`` (rad, m and their rates), its
+        force ``tau_<name>`` (N·m, N) and power ``power_<name>`` (W), and for joints with drives
+        ``motor_torque_<name>`` (N·m) and ``motor_speed_<name>`` (rad/s)."""
+        import pandas as pd
+
+        columns = coordinate_columns(self.t, self.names, self.positions, self.speeds, self.accelerations)
+        power = self.power
+        for i, name in enumerate(self.names):
+            columns[f"tau_{name}"] = self.forces[:, i]
+            columns[f"power_{name}"] = power[:, i]
+            if self._has_motor(i):
+                columns[f"motor_torque_{name}"] = self.motor_torque[:, i]
+                columns[f"motor_speed_{name}"] = self.motor_speed[:, i]
+        return pd.DataFrame(columns)
+
+    def as_dict(self) -> dict:
+        """mechanism, kind, duration (s), samples and coordinates: :meth:`summary`."""
+        return {"mechanism": self.mechanism, "kind": self.kind, "duration": self.duration, "samples": len(self.t),
+                "coordinates": self.summary()}
+
+    def plot(self, ax: Axes | None = None) -> Figure:
+        """Forces against time (drawn into ``ax`` if given), then speeds and power."""
+        from ..dynamics.series import unit_label
+
+        figure, axes = stacked_axes(ax, 3, 10.0, 2.3)
+        plot_lines(axes[0], self.t, self.forces, self.names, "t (s)", unit_label("force", self.angular, 3),
+                   f"{self.mechanism}: {self.kind} loads along the motion")
+        if len(axes) > 1:
+            plot_lines(axes[1], self.t, self.speeds, self.names, "t (s)", unit_label("speed", self.angular, 1))
+            plot_lines(axes[2], self.t, self.power, self.names, "t (s)", "power (W)")
+        return figure
+
+    def __str__(self) -> str:
+        return (f"{self.mechanism}: {self.kind} loads over {self.duration:.3f} s ({len(self.t)} samples)\n"
+                + text_table(self.summary())
+                + "\nunits: force in the unit column, speed rad/s or m/s, power W, work J; motor torque N·m, "
+                  "motor speed rad/s")
 
 
-def trajectory_loads(mech: Mechanism, trajectory, loads: Loads = None) -> TrajectoryLoads:
+def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> TrajectoryLoads:
     """Joint (or, for a closed-loop mechanism, actuator) forces along ``trajectory`` (a
-    :class:`~mechatron.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
-    mechanism), with the drives' motor side (:func:`motor_loads`)."""
-    import pandas as pd
-
+    :class:`~mechatron.dynamics.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
+    mechanism) under gravity and ``loads``: τ = M q̈ + h − Σ Jᵀ F (RNEA) or the constrained inverse dynamics, with
+    the drives' motor side (:func:`~mechatron.drives.transmission.motor_loads`, [Egorov, 4.59])."""
     t = np.asarray(trajectory.t, dtype=float)
+    positions, speeds, accelerations = trajectory.coordinates, trajectory.v, trajectory.a
     if mech.closures:
+        names = list(mech.actuated)
         forces = actuator_forces(mech, trajectory, loads)[1]
-        names, qs, vs, accs, taus = list(mech.actuated), trajectory.q, trajectory.v, trajectory.a, forces
-        motor = None
-    else:
-        names = mech.joint_names
-        qs, vs, accs = trajectory.q, trajectory.v, trajectory.a
-        taus = inverse_dynamics(mech, qs, vs, accs, loads)
-        motor = motor_loads(mech, vs, accs, taus)
-    columns: dict[str, np.ndarray] = {"t": t}
-    for i, name in enumerate(names):
-        columns[name], columns[f"qd_{name}"], columns[f"qdd_{name}"] = qs[:, i], vs[:, i], accs[:, i]
-    for i, name in enumerate(names):
-        columns[f"tau_{name}"] = taus[:, i]
-        columns[f"power_{name}"] = taus[:, i] * vs[:, i]
-        if motor is not None and name in mech.drives:
-            columns[f"motor_torque_{name}"] = motor.torque[:, i]
-            columns[f"motor_speed_{name}"] = motor.speed[:, i]
-    table = pd.DataFrame(columns)
-    duration = t[-1] - t[0] if len(t) > 1 else 0.0
-    rows = []
-    for i, name in enumerate(names):
-        tau, speed, power = taus[:, i], vs[:, i], taus[:, i] * vs[:, i]
-        rms = float(np.sqrt(np.trapezoid(tau**2, t) / duration)) if duration > 0 else float(abs(tau[0]))
-        row = {"coordinate": name, "peak_force": float(np.abs(tau).max()), "rms_force": rms,
-               "peak_speed": float(np.abs(speed).max()), "peak_power": float(np.abs(power).max()),
-               "positive_work": float(np.trapezoid(np.maximum(power, 0.0), t)) if len(t) > 1 else 0.0}
-        if motor is not None and name in mech.drives:
-            mt = motor.torque[:, i]
-            row["peak_motor_torque"] = float(np.abs(mt).max())
-            row["rms_motor_torque"] = float(np.sqrt(np.trapezoid(mt**2, t) / duration)) if duration > 0 else 0.0
-            row["peak_motor_speed"] = float(np.abs(motor.speed[:, i]).max())
-        rows.append(row)
-    return TrajectoryLoads(table, pd.DataFrame(rows), names)
+        angular = [mech.joint_kind(n) == "revolute" for n in names]
+        return TrajectoryLoads(mech.name, "actuator", names, angular, t, positions, speeds, accelerations, forces)
+    forces = inverse_dynamics(mech, trajectory.q, speeds, accelerations, loads)
+    motor = motor_loads(mech, speeds, accelerations, forces)
+    names = coordinate_names(mech)
+    driven = [name in mech.drives for name in names]
+    return TrajectoryLoads(mech.name, "joint", names, [bool(x) for x in mech.angular_coordinates()], t, positions,
+                           speeds, accelerations, forces, motor.torque, motor.speed, driven)

@@ -1,10 +1,11 @@
-r"""The drive side of a joint: motor torque and speed through a transmission of ratio u and efficiency η.
+r"""The drive side of a joint: motor torque and speed through a transmission of ratio u = ω_m/q̇ [Egorov, 4.58] and
+efficiency η.
 
 The rotor and gear inertia is in the dynamics already, reflected into the joint as Pinocchio's ``armature``
 J_rotor·u² (:mod:`mechatron.model.dh`); efficiency and friction act outside Pinocchio, on the motor side, and depend
 on the direction of the power flow:
 
-- motoring (the joint takes power, τ_load·q̇ ≥ 0): τ_m = τ_load / (u·η),
+- motoring (the joint takes power, τ_load·q̇ ≥ 0): τ_m = τ_load / (u·η) [Egorov, 4.59–4.62],
 - back-driven (the load returns power): τ_m = τ_load·η / u,
 
 plus the rotor's own inertia torque J_rotor·u·q̈ and the motor-side friction B·ω_m + T_c(sign ω_m).
@@ -15,14 +16,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..model.mechanism import Mechanism
 
+Array = NDArray[np.float64]
+
 
 @dataclass(frozen=True)
 class MotorLoads:
-    """Motor-side loads of every joint (arrays (N, nv), or (nv,) for one state); joints without drive data are direct drives (u = 1, η = 1).
+    """Motor-side loads of every joint (arrays (N, nv), or (nv,) for one state); joints without drive data are
+    direct drives (u = 1, η = 1).
 
     Attributes:
         torque: Motor torque τ_m (N·m), rotor inertia, transmission losses and friction included.
@@ -32,27 +37,30 @@ class MotorLoads:
         motoring: Whether power flows from the motor to the load (τ_load·q̇ ≥ 0).
     """
 
-    torque: np.ndarray
-    speed: np.ndarray
-    joint_torque: np.ndarray
-    load_torque: np.ndarray
-    motoring: np.ndarray
+    torque: Array
+    speed: Array
+    joint_torque: Array
+    load_torque: Array
+    motoring: NDArray[np.bool_]
 
     @property
-    def power(self) -> np.ndarray:
+    def power(self) -> Array:
         """Motor shaft power τ_m·ω_m (W)."""
         return self.torque * self.speed
 
 
-def transmitted_torque(load, speed, ratio, efficiency):
-    """The motor-side torque that carries the joint load τ through a transmission of ratio u and efficiency η:
-    τ/(u η) when the load takes power (τ q̇ ≥ 0), τ η/u when it drives the motor back. Arrays broadcast."""
+def transmitted_torque(load: ArrayLike, speed: ArrayLike, ratio: ArrayLike, efficiency: ArrayLike) -> Array:
+    """The motor-side torque (N·m) that carries the joint load τ (N·m or N) through a transmission of ratio u
+    (1, or rad/m for a rotary-to-linear drive) and efficiency η: τ/(u η) when the load takes power (τ q̇ ≥ 0, the
+    speed q̇ in rad/s or m/s) [Egorov, 4.59], τ η/u when it drives the motor back. Arrays broadcast."""
+    load, speed = np.asarray(load, dtype=float), np.asarray(speed, dtype=float)
     motoring = load * speed >= 0
     return np.where(motoring, load / (ratio * efficiency), load * efficiency / ratio)
 
 
-def motor_loads(mech: Mechanism, v, a, tau) -> MotorLoads:
-    """Motor torques and speeds for joint velocities v, accelerations a and joint torques τ (from the dynamics).
+def motor_loads(mech: Mechanism, v: ArrayLike, a: ArrayLike, tau: ArrayLike) -> MotorLoads:
+    """Motor torques (N·m) and speeds (rad/s) for joint velocities v (rad/s, m/s), accelerations a (rad/s², m/s²)
+    and joint torques τ (N·m, N; from the dynamics), (nv,) or (N, nv).
 
     τ_m = J_rotor·u·q̈ + τ_load/(u·η) when motoring, J_rotor·u·q̈ + τ_load·η/u when back-driven, + B·ω_m + T_c,
     with τ_load = τ − J_rotor·u²·q̈ (the reflected rotor inertia is counted once: in τ through the armature, and

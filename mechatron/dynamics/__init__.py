@@ -1,6 +1,8 @@
 """Dynamics: the tree's inverse and forward dynamics (RNEA, ABA, CRBA), energies and joint wrenches; closed loops
 through their Lagrange multipliers; motions and trajectories; the one-mass (reduced) model; kinetostatics; tasks;
-one integrator on the configuration manifold."""
+one integrator on the configuration manifold. Every analysis returns a result of the result protocol
+(:class:`~mechatron.report.result.Result`): :class:`Trajectory`, :class:`Simulation`, :class:`Kinetostatics`,
+:class:`ReducedModel`, :class:`ReducedMotion`, :class:`MotionRegimes`."""
 
 from .._exports import lazy_exports
 
@@ -8,13 +10,16 @@ _EXPORTS = {
     **dict.fromkeys(["inverse_dynamics", "forward_dynamics", "mass_matrix", "bias_forces", "gravity_torques",
                      "kinetic_energy", "potential_energy", "mechanical_energy", "joint_wrenches", "external_forces",
                      "generalized_forces"], ".tree"),
-    **dict.fromkeys(["forward", "inverse", "reactions", "simulate", "project", "Simulation", "Reactions"],
-                    ".constrained"),
+    **dict.fromkeys(["forward", "inverse", "reactions", "simulate", "project", "Simulation", "Reactions",
+                     "Actuation", "LoadsAt"], ".constrained"),
     **dict.fromkeys(["closed_loop_states", "actuator_forces", "holding_forces"], ".trajectory"),
-    **dict.fromkeys(["Trajectory", "move", "cycle", "make_profile", "read_trajectory", "PROFILES"], ".motion"),
+    **dict.fromkeys(["Trajectory", "move", "cycle", "make_profile", "read_trajectory", "PROFILES",
+                     "coordinate_names", "coordinate_limits"], ".motion"),
     **dict.fromkeys(["reduced_inertia", "reduced_inertia_derivative", "reduced_moment", "reduced_table",
-                     "differential_form", "energy_form", "motion_regimes"], ".reduced"),
-    **dict.fromkeys(["kinetostatics", "inertia_loads", "zhukovsky"], ".kinetostatics"),
+                     "ReducedModel", "ReducedMotion", "MotionRegimes", "Cycle", "default_values",
+                     "differential_form", "energy_form", "motion_regimes", "velocity_map"], ".reduced"),
+    **dict.fromkeys(["kinetostatics", "Kinetostatics", "InertiaLoad", "inertia_loads", "zhukovsky"],
+                    ".kinetostatics"),
     **dict.fromkeys(["Task", "read_task", "default_task", "generic_task"], ".task"),
     "rk4_step": ".integrate",
 }

@@ -13,7 +13,7 @@ velocities and accelerations,
 
 with v_1 = q̇_n, v_2 = q̇_n + Δt/2·a_1, v_3 = q̇_n + Δt/2·a_2, v_4 = q̇_n + Δt·a_3 and the accelerations at
 (q_n, v_1), (q_n ⊕ Δt/2·v_1, v_2), (q_n ⊕ Δt/2·v_2, v_3), (q_n ⊕ Δt·v_3, v_4). For vector spaces (q ⊕ δ = q + δ)
-this is the textbook RK4, fourth-order accurate. A scalar rate (a power) can be integrated alongside (its work).
+this is the classical RK4, fourth-order accurate. A scalar rate (a power) can be integrated alongside (its work).
 """
 
 from __future__ import annotations
@@ -32,7 +32,8 @@ Retraction = Callable[[Any, Any], Any]
 
 def rk4_step(dynamics: Dynamics, t: float, q: Any, v: Any, dt: float, first: tuple[Any, float, Any] | None = None,
              retraction: Retraction = np.add) -> tuple[Any, Any, float]:
-    """One RK4 step of q̈ = a(t, q, q̇) from (t, q, q̇): returns (q_{n+1}, q̇_{n+1}, ∫ rate dt over the step).
+    """One RK4 step of q̈ = a(t, q, q̇) from (t, q, q̇) over ``dt`` (s), the scheme of the module docstring: returns
+    (q_{n+1}, q̇_{n+1}, ∫ rate dt over the step).
 
     Args:
         first: ``dynamics(t, q, v)`` if the caller has it already (it is the first stage).

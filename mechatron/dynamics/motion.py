@@ -9,23 +9,36 @@ Profiles (distance D = 1, rest to rest):
 
 - ``triangular``: constant acceleration a, then deceleration; T = 2√(D/a) (it ignores v_max);
 - ``trapezoidal``: accelerate to v_max, cruise, decelerate; T = D/v + v/a, triangular if D < v²/a;
-- ``scurve``: jerk-limited double-S with limits on velocity, acceleration and jerk (7 segments at most);
+- ``scurve``: jerk-limited double-S with limits on velocity, acceleration and jerk (7 segments at most,
+  [Biagiotti, 3.4]);
 - ``quintic``: s = 10τ³ − 15τ⁴ + 6τ⁵, τ = t/T, with T = max(15D/(8v), √(10D/(√3 a))) from its peak velocity and
   acceleration.
+
+Joints with more than one configuration coordinate (a continuous joint's q is (cos θ, sin θ)) move in their joint
+coordinates (θ, unwrapped, so a move from −170° to +170° turns through 0); every sample's configuration is
+q = neutral ⊕ coordinates (:meth:`~mechatron.model.Mechanism.configuration`, ``pin.integrate``).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..model.mechanism import Mechanism
+from ..report.result import Result
+from .series import coordinate_columns, plot_lines, stacked_axes, text_table, unit_label
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 PROFILES = ("triangular", "trapezoidal", "scurve", "quintic")
 
@@ -40,8 +53,8 @@ class Profile:
     duration: float
     segments: tuple[tuple[float, float, float], ...] = ()  # (duration, acceleration at start, jerk)
 
-    def evaluate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(s, ṡ, s̈) at times t (clipped to [0, duration])."""
+    def evaluate(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """(s, ṡ, s̈) (1, 1/s, 1/s²) at times t (s, clipped to [0, duration])."""
         t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
         if self.kind == "quintic":
             T = self.duration
@@ -75,8 +88,9 @@ def _check_limit(name: str, value: float) -> float:
 
 def make_profile(kind: str, vmax: float, amax: float, jmax: float | None = None, duration: float | None = None
                  ) -> Profile:
-    """The shortest rest-to-rest profile of s: 0 → 1 of ``kind`` within the limits (per unit of s), or stretched to
-    ``duration`` if that is longer (same shape, limits scaled down)."""
+    """The shortest rest-to-rest profile of s: 0 → 1 of ``kind`` within the limits ``vmax`` (1/s), ``amax``
+    (1/s²) and ``jmax`` (1/s³) of s, or stretched to ``duration`` (s) if that is longer (same shape, limits scaled
+    down). Durations: see the module docstring; the double S is [Biagiotti, 3.4]."""
     if kind not in PROFILES:
         raise InputError(f"unknown profile {kind!r}; expected one of: {', '.join(PROFILES)}")
     _check_limit("acceleration", amax)
@@ -105,7 +119,7 @@ def _trapezoid(v: float, a: float) -> Profile:
 
 
 def _double_s(v: float, a: float, j: float) -> Profile:
-    """Jerk-limited rest-to-rest profile (Biagiotti & Melchiorri, Trajectory Planning for Automatic Machines, 3.4)."""
+    """Jerk-limited rest-to-rest profile, the double S of [Biagiotti, 3.4]."""
     if not math.isfinite(j):
         return _trapezoid(v, a)
     if v * j >= a * a:  # the acceleration limit is reached
@@ -135,39 +149,112 @@ def _stretch(profile: Profile, duration: float) -> Profile:
 
 
 # ------------------------------------------------------------------------------------------------ trajectories
-@dataclass
-class Trajectory:
-    """Joint positions, velocities and accelerations over time: t (N,), q (N, nq), v (N, nv), a (N, nv)."""
+def coordinate_names(mech: Mechanism) -> list[str]:
+    """One name per joint coordinate (velocity index): the joint's name for a one-axis joint (revolute, continuous,
+    prismatic), ``<joint>_1``… for a joint with more."""
+    names: list[str] = []
+    for j in range(1, mech.model.njoints):
+        name, nv = mech.model.names[j], mech.model.joints[j].nv
+        names += [name] if nv == 1 else [f"{name}_{k + 1}" for k in range(nv)]
+    return names
 
-    t: np.ndarray
-    q: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
+
+def coordinate_limits(mech: Mechanism) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(lower, upper) (nv,): the position limits of every joint coordinate (rad, m); ±inf for joints without them
+    (continuous joints, and every coordinate of a joint with more than one)."""
+    lower, upper = np.full(mech.nv, -np.inf), np.full(mech.nv, np.inf)
+    for joint in mech.model.joints[1:]:
+        if joint.nq == joint.nv == 1:
+            lower[joint.idx_v] = mech.model.lowerPositionLimit[joint.idx_q]
+            upper[joint.idx_v] = mech.model.upperPositionLimit[joint.idx_q]
+    return lower, upper
+
+
+@dataclass(eq=False)
+class Trajectory(Result):
+    """A motion of named coordinates over time.
+
+    Attributes:
+        t: Times (N,) (s).
+        q: Configurations (N, nq) of a serial mechanism (Pinocchio's q: a continuous joint's (cos θ, sin θ)), or the
+            actuated coordinates (N, n) of a closed loop.
+        v: Velocities (N, nv or n) (rad/s, m/s).
+        a: Accelerations (N, nv or n) (rad/s², m/s²).
+        names: One name per coordinate (the joint coordinates, or the actuated ones of a closed loop).
+        coordinates: (N, n) one value per name (rad, m): the joint angles (unwrapped) and displacements q was made
+            of, q = neutral ⊕ coordinates. Default: q (one coordinate per joint).
+        angular: Which coordinates are angles (for units), if known.
+    """
+
+    t: NDArray[np.float64]
+    q: NDArray[np.float64]
+    v: NDArray[np.float64]
+    a: NDArray[np.float64]
     names: list[str]
+    coordinates: NDArray[np.float64] | None = None
+    angular: list[bool] | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        self.t = np.asarray(self.t, dtype=float)
+        self.q, self.v, self.a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (self.q, self.v, self.a))
+        self.names = list(self.names)
+        if self.coordinates is None:
+            self.coordinates = self.q
+        self.coordinates = np.atleast_2d(np.asarray(self.coordinates, dtype=float))
+        n = len(self.names)
+        if not (self.coordinates.shape == self.v.shape == self.a.shape == (len(self.t), n)):
+            raise InputError(f"a trajectory needs {len(self.t)} samples of {n} coordinates ({', '.join(self.names)})"
+                             f" in its coordinates, velocities and accelerations; got shapes "
+                             f"{self.coordinates.shape}, {self.v.shape}, {self.a.shape}")
 
     def __len__(self) -> int:
         return len(self.t)
 
+    @property
+    def duration(self) -> float:
+        """t_end − t_start (s)."""
+        return float(self.t[-1] - self.t[0])
+
+    # -------------------------------------------------------------------------------------------- the protocol
     def to_frame(self) -> pd.DataFrame:
-        data = {"t": self.t}
-        for i, name in enumerate(self.names):
-            data[name] = self.q[:, i]
-        for i, name in enumerate(self.names):
-            data[f"qd_{name}"] = self.v[:, i]
-        for i, name in enumerate(self.names):
-            data[f"qdd_{name}"] = self.a[:, i]
-        return pd.DataFrame(data)
+        """Columns t (s), ``<name>`` (rad, m), ``qd_<name>`` (rad/s, m/s), ``qdd_<name>`` (rad/s², m/s²): the
+        trajectory file format (:func:`read_trajectory`)."""
+        import pandas as pd
+
+        return pd.DataFrame(coordinate_columns(self.t, self.names, self.coordinates, self.v, self.a))
+
+    def _rows(self) -> list[dict]:
+        return [{"coordinate": name, "start": float(self.coordinates[0, i]), "end": float(self.coordinates[-1, i]),
+                 "peak_speed": float(np.abs(self.v[:, i]).max()),
+                 "peak_acceleration": float(np.abs(self.a[:, i]).max())} for i, name in enumerate(self.names)]
+
+    def as_dict(self) -> dict:
+        """duration (s), samples, and per coordinate its start and end (rad, m), peak speed and acceleration."""
+        return {"duration": self.duration, "samples": len(self), "coordinates": self._rows()}
+
+    def plot(self, ax: Axes | None = None) -> Figure:
+        """Positions, speeds and accelerations against time (``ax``: the positions only)."""
+        figure, axes = stacked_axes(ax, 3)
+        series = (("position", self.coordinates), ("speed", self.v), ("acceleration", self.a))
+        for k, (axis, (what, values)) in enumerate(zip(axes, series)):
+            plot_lines(axis, self.t, values, self.names, "t (s)", unit_label(what, self.angular, k))
+        axes[0].set_title("trajectory", fontsize=10)
+        return figure
+
+    def __str__(self) -> str:
+        return (f"trajectory of {', '.join(self.names)}: {self.duration:.4g} s, {len(self)} samples "
+                "(rad and rad/s for angles, m and m/s for lengths)\n" + text_table(self._rows()))
 
     def to_csv(self, path: str | Path) -> Path:
-        path = Path(path)
-        try:
-            self.to_frame().to_csv(path, index=False, float_format="%.12g")
-        except OSError as exc:
-            raise InputError(f"cannot write: {exc.strerror}", file=path) from None
-        return path
+        """Write the trajectory file (:meth:`to_frame`, 12 significant digits so that it reads back as it was),
+        whole or not at all."""
+        from ..io.output import write_atomically
+
+        frame = self.to_frame()
+        return write_atomically(path, lambda fh: frame.to_csv(fh, index=False, float_format="%.12g"))
 
 
-def _axis_limits(mech: Mechanism | None, n: int, value, default: float, what: str) -> np.ndarray:
+def _axis_limits(mech: Mechanism | None, n: int, value: ArrayLike | None, default: float, what: str) -> np.ndarray:
     if value is None:
         if what == "velocity" and mech is not None:
             limits = mech.model.velocityLimit.copy()
@@ -180,24 +267,34 @@ def _axis_limits(mech: Mechanism | None, n: int, value, default: float, what: st
     return arr
 
 
-def move(mech: Mechanism | None, start: Sequence[float], end: Sequence[float], *, profile: str = "trapezoidal",
-         vmax=None, amax=None, jmax=None, duration: float | None = None, dt: float = 0.005,
-         t0: float = 0.0) -> Trajectory:
-    """A synchronised point-to-point move from ``start`` to ``end`` (rad, m).
+def _names(mech: Mechanism | None, n: int) -> tuple[list[str], list[bool] | None]:
+    if mech is None:
+        return [f"q{i + 1}" for i in range(n)], None
+    return coordinate_names(mech), [bool(x) for x in mech.angular_coordinates()]
+
+
+def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: str = "trapezoidal",
+         vmax: ArrayLike | None = None, amax: ArrayLike | None = None, jmax: ArrayLike | None = None,
+         duration: float | None = None, dt: float = 0.005, t0: float = 0.0) -> Trajectory:
+    """A synchronised point-to-point move from ``start`` to ``end``: one coordinate per joint (rad, m; a continuous
+    joint's angle, unwrapped), each following c_i(t) = start_i + (end_i − start_i)·s(t) for the profile s of the
+    module docstring; the configurations are q = neutral ⊕ c (``mech.configuration``).
 
     Args:
-        vmax, amax, jmax: Per-axis limits (scalars or one per joint; rad/s, rad/s², rad/s³ or m/s…). Default
+        mech: The mechanism (``None``: plain coordinates, as for the actuated inputs of a closed loop).
+        vmax, amax, jmax: Per-axis limits (scalars or one per coordinate; rad/s, rad/s², rad/s³ or m/s…). Default
             velocity limits come from the model (1 rad/s where it has none), acceleration 5, jerk 50.
-        duration: Make the move last this long if that is longer than the shortest move.
+        duration: Make the move last this long (s) if that is longer than the shortest move.
         dt: Sampling step (s); the end point is always included.
+        t0: Time of the first sample (s).
     """
     start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     n = len(start)
-    if end.shape != start.shape or (mech is not None and n != mech.nq):
-        raise InputError(f"a move needs start and end with {mech.nq if mech else n} joint values each")
+    if start.ndim != 1 or end.shape != start.shape or (mech is not None and n != mech.nv):
+        raise InputError(f"a move needs start and end with {mech.nv if mech else n} joint coordinates each")
     if not (np.all(np.isfinite(start)) and np.all(np.isfinite(end))):
         raise InputError("the start and end of a move must be finite")
-    names = mech.joint_names if mech is not None else [f"q{i + 1}" for i in range(n)]
+    names, angular = _names(mech, n)
     delta = end - start
     moving = np.abs(delta) > 0
     v_lim = _axis_limits(mech, n, vmax, 1.0, "velocity")
@@ -206,19 +303,25 @@ def move(mech: Mechanism | None, start: Sequence[float], end: Sequence[float], *
     if not moving.any():
         T = duration or 0.0
         t = t0 + np.arange(0.0, T + dt / 2, dt) if T > 0 else np.array([t0])
-        return Trajectory(t, np.tile(start, (len(t), 1)), np.zeros((len(t), n)), np.zeros((len(t), n)), names)
-    scale = np.abs(delta[moving])
-    shape = make_profile(profile, float(np.min(v_lim[moving] / scale)), float(np.min(a_lim[moving] / scale)),
-                         float(np.min(j_lim[moving] / scale)), duration)
-    steps = max(1, int(math.ceil(shape.duration / dt)))
-    local = np.linspace(0.0, shape.duration, steps + 1)
-    s, ds, dds = shape.evaluate(local)
-    return Trajectory(t0 + local, start + np.outer(s, delta), np.outer(ds, delta), np.outer(dds, delta), names)
+        s, ds, dds = np.zeros(len(t)), np.zeros(len(t)), np.zeros(len(t))
+    else:
+        scale = np.abs(delta[moving])
+        shape = make_profile(profile, float(np.min(v_lim[moving] / scale)), float(np.min(a_lim[moving] / scale)),
+                             float(np.min(j_lim[moving] / scale)), duration)
+        steps = max(1, int(math.ceil(shape.duration / dt)))
+        local = np.linspace(0.0, shape.duration, steps + 1)
+        s, ds, dds = shape.evaluate(local)
+        t = t0 + local
+    coordinates = start + np.outer(s, delta)
+    q = mech.configuration(coordinates) if mech is not None else coordinates
+    return Trajectory(t, q, np.outer(ds, delta), np.outer(dds, delta), names, coordinates, angular)
 
 
-def cycle(mech: Mechanism | None, waypoints: Sequence[Sequence[float]], *, dwell: float = 0.0,
-          profile: str = "trapezoidal", vmax=None, amax=None, jmax=None, dt: float = 0.005) -> Trajectory:
-    """Moves through ``waypoints`` one after another, resting ``dwell`` seconds at every waypoint after the first."""
+def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: float = 0.0,
+          profile: str = "trapezoidal", vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
+          jmax: ArrayLike | None = None, dt: float = 0.005) -> Trajectory:
+    """Moves (:func:`move`) through ``waypoints`` (one coordinate per joint each: rad, m) one after another,
+    resting ``dwell`` seconds at every waypoint after the first."""
     if len(waypoints) < 2:
         raise InputError("a cycle needs at least two waypoints")
     parts: list[Trajectory] = []
@@ -231,19 +334,23 @@ def cycle(mech: Mechanism | None, waypoints: Sequence[Sequence[float]], *, dwell
             rest = move(mech, b, b, duration=dwell, dt=dt, t0=t)
             parts.append(_drop_first(rest))
             t = float(rest.t[-1])
-    return Trajectory(np.concatenate([p.t for p in parts]), np.vstack([p.q for p in parts]),
-                      np.vstack([p.v for p in parts]), np.vstack([p.a for p in parts]), parts[0].names)
+    return Trajectory(*(np.concatenate([getattr(p, k) for p in parts]) for k in ("t", "q", "v", "a")),
+                      parts[0].names, np.concatenate([p.coordinates for p in parts]), parts[0].angular)
 
 
 def _drop_first(trajectory: Trajectory) -> Trajectory:
-    return Trajectory(trajectory.t[1:], trajectory.q[1:], trajectory.v[1:], trajectory.a[1:], trajectory.names)
+    return Trajectory(trajectory.t[1:], trajectory.q[1:], trajectory.v[1:], trajectory.a[1:], trajectory.names,
+                      trajectory.coordinates[1:], trajectory.angular)
 
 
 def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
-    """A trajectory CSV: columns ``t`` and one per joint (named as the joints, or q1…qn; for a closed-loop mechanism
-    one per actuated coordinate), optional ``qd_<joint>``
-    and ``qdd_<joint>``; missing velocities and accelerations are differentiated (second-order central
-    differences, which need increasing times)."""
+    """A trajectory CSV: columns ``t`` (s) and one per joint coordinate (named as the joints, or q1…qn; rad, m — a
+    continuous joint's angle; for a closed-loop mechanism one per actuated coordinate), optional ``qd_<name>``
+    (rad/s, m/s) and ``qdd_<name>`` (rad/s², m/s²); missing velocities and accelerations are differentiated
+    (second-order central differences, which need increasing times). The configurations are q = neutral ⊕ the
+    coordinates (``mech.configuration``)."""
+    import pandas as pd
+
     path = Path(path)
     try:
         frame = pd.read_csv(path)
@@ -253,7 +360,11 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
         raise InputError(f"not a readable CSV file: {str(exc).splitlines()[0]}", file=path) from None
     if "t" not in frame.columns:
         raise InputError("missing column", file=path, field="t")
-    names = list(mech.actuated) if mech.closures else mech.joint_names  # a closed loop: its inputs
+    if mech.closures:  # a closed loop: its inputs
+        names = list(mech.actuated)
+        angular = [mech.joint_kind(n) == "revolute" for n in names]
+    else:
+        names, angular = _names(mech, mech.nv)
     aliases = [f"q{i + 1}" for i in range(len(names))]
     columns = names if all(n in frame.columns for n in names) else aliases
     missing = [c for c in columns if c not in frame.columns]
@@ -276,7 +387,7 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
     if np.any(steps <= 0):
         row = int(np.flatnonzero(steps <= 0)[0]) + 3
         raise InputError("times must increase", file=path, row=row, field="t")
-    q = np.column_stack([numeric(c) for c in columns])
+    coordinates = np.column_stack([numeric(c) for c in columns])
 
     def derivative(values: np.ndarray) -> np.ndarray:
         return np.gradient(values, t, axis=0, edge_order=2) if len(t) > 2 else np.gradient(values, t, axis=0)
@@ -287,6 +398,7 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
             return np.column_stack([numeric(w) for w in wanted])
         return fallback()
 
-    v = optional("qd", lambda: derivative(q))
+    v = optional("qd", lambda: derivative(coordinates))
     a = optional("qdd", lambda: derivative(v))
-    return Trajectory(t, q, v, a, names)
+    q = coordinates if mech.closures else mech.configuration(coordinates)
+    return Trajectory(t, q, v, a, names, coordinates, angular)

@@ -36,30 +36,36 @@ import numpy as np
 from ..errors import InputError
 from ..io.schema import FieldReader
 from ..kinematics.loops import loop_solver
+from ..model.loads import Load
 from ..model.mechanism import Mechanism
-from .motion import PROFILES, Trajectory, cycle, read_trajectory
+from .motion import PROFILES, Trajectory, coordinate_limits, coordinate_names, cycle, read_trajectory
 
 
 @dataclass
 class Task:
-    """A task ready for analysis: the mechanism with the payload attached, the trajectory, external loads."""
+    """A task ready for analysis: the mechanism with the payload attached (kg), the trajectory, external loads
+    (constant :class:`~mechatron.model.Load` s)."""
 
     name: str
     mechanism: Mechanism
     trajectory: Trajectory
-    loads: list = field(default_factory=list)
+    loads: list[Load] = field(default_factory=list)
     payload: float = 0.0
     source: str = ""
 
     @property
     def duration(self) -> float:
-        return float(self.trajectory.t[-1] - self.trajectory.t[0])
+        """The trajectory's duration (s)."""
+        return self.trajectory.duration
 
 
 def _coordinates(mech: Mechanism) -> tuple[list[str], np.ndarray]:
-    """Names of the coordinates a task moves and which of them are angles."""
-    names = list(mech.actuated) if mech.closures else mech.joint_names
-    return names, np.array([mech.joint_kind(n) == "revolute" for n in names])
+    """Names of the coordinates a task moves (the joint coordinates; a closed loop's actuated ones) and which of
+    them are angles."""
+    if mech.closures:
+        names = list(mech.actuated)
+        return names, np.array([mech.joint_kind(n) == "revolute" for n in names])
+    return coordinate_names(mech), mech.angular_coordinates()
 
 
 def _per_axis(reader: FieldReader, key: str, angular: np.ndarray) -> np.ndarray | None:
@@ -102,7 +108,8 @@ def _waypoints(reader: FieldReader, angular: np.ndarray) -> list[np.ndarray] | N
 
 
 def read_task(path: str | Path, mech: Mechanism) -> Task:
-    """A task from a TOML file (see the module docstring) or a trajectory CSV, for ``mech``."""
+    """A task for ``mech`` from a TOML file (the format of the module docstring: SI units, or degrees with
+    ``_deg``) or a trajectory CSV (:func:`~mechatron.dynamics.motion.read_trajectory`)."""
     from ..io.toml import read_toml
 
     path = Path(path)
@@ -128,7 +135,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
             mech.frame_id(frame)
         except InputError as exc:
             raise load.error("frame", exc.message) from None
-        loads.append((frame, load.vector("force", 3, np.zeros(3)), load.vector("moment", 3, np.zeros(3))))
+        loads.append(Load(frame, load.vector("force", 3, np.zeros(3)), load.vector("moment", 3, np.zeros(3))))
         load.finish()
     if reader.has("trajectory"):
         if reader.has("waypoints") or reader.has("waypoints_deg"):
@@ -147,7 +154,8 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     reader.finish()
     trajectory = cycle(None if mech.closures else mech, points, dwell=dwell, profile=profile, dt=dt, **limits)
     if mech.closures:
-        trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names)
+        trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names,
+                                angular=[bool(x) for x in angular])
     return Task(name, loaded, trajectory, loads, payload, str(path))
 
 
@@ -160,10 +168,10 @@ def task_file(mech: Mechanism) -> Path | None:
 
 
 def generic_task(mech: Mechanism, dwell: float = 0.2, dt: float = 0.005) -> Task:
-    """A task for any mechanism: from the reference position, every coordinate moves by 40 % of its range (at
-    most 90° or 0.5 m; the sign that stays inside the limits) and back, with a trapezoidal profile at the model's
-    velocity limits (1 rad/s or 0.25 m/s where it has none; the nominal rates of a closed loop's inputs) reached
-    in 0.25 s, resting ``dwell`` s at each end."""
+    """A task for any mechanism, sampled every ``dt`` seconds: from the reference position (the neutral one of a
+    serial arm), every coordinate moves by 40 % of its range (at most 90° or 0.5 m; the sign that stays inside the
+    limits) and back, with a trapezoidal profile at the model's velocity limits (1 rad/s or 0.25 m/s where it has
+    none; the nominal rates of a closed loop's inputs) reached in 0.25 s, resting ``dwell`` s at each end."""
     names, angular = _coordinates(mech)
     if mech.closures:
         solver = loop_solver(mech)
@@ -172,8 +180,8 @@ def generic_task(mech: Mechanism, dwell: float = 0.2, dt: float = 0.005) -> Task
         lower, upper = mech.model.lowerPositionLimit[index], mech.model.upperPositionLimit[index]
         speed = np.array([mech.input_rates.get(n, 1.0 if a else 0.1) for n, a in zip(names, angular)])
     else:
-        start = mech.neutral()
-        lower, upper = mech.model.lowerPositionLimit, mech.model.upperPositionLimit
+        start = np.zeros(mech.nv)  # the neutral configuration's joint coordinates
+        lower, upper = coordinate_limits(mech)
         speed = mech.model.velocityLimit.copy()
         bad = ~np.isfinite(speed) | (speed <= 0) | (speed > 1e30)
         speed[bad] = np.where(angular, 1.0, 0.25)[bad]
@@ -186,7 +194,8 @@ def generic_task(mech: Mechanism, dwell: float = 0.2, dt: float = 0.005) -> Task
     end = np.where(finite, np.clip(end, lower, upper), end)
     trajectory = cycle(None if mech.closures else mech, [start, end, start], dwell=dwell, vmax=speed,
                        amax=speed / 0.25, dt=dt)
-    trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names)
+    trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names, trajectory.coordinates,
+                            [bool(x) for x in angular])
     return Task("generic out-and-back", mech, trajectory, source="generic")
 
 

@@ -7,19 +7,29 @@ joint's state, and the constrained inverse dynamics (:func:`mechatron.dynamics.c
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..kinematics.sweep import sweep
 from ..model.loads import Loads
 from ..model.mechanism import Mechanism
 from .constrained import inverse
 
+if TYPE_CHECKING:  # pragma: no cover
+    from .motion import Trajectory
 
-def closed_loop_states(mech: Mechanism, trajectory) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(Q, V, A): the full joint states (N, nq/nv) of a closed-loop mechanism along a trajectory of its actuated
-    coordinates (assembly, velocity and acceleration analysis); an error if the motion leaves the reachable range."""
-    inputs = {name: trajectory.q[:, i] for i, name in enumerate(mech.actuated)}
+Array = NDArray[np.float64]
+
+
+def closed_loop_states(mech: Mechanism, trajectory: Trajectory) -> tuple[Array, Array, Array]:
+    """(Q, V, A): the full joint states (N, nq/nv; rad, m and their rates) of a closed-loop mechanism along a
+    trajectory of its actuated coordinates (assembly, velocity and acceleration analysis of the loops); an error
+    if the motion leaves the reachable range."""
+    from ..kinematics.sweep import sweep  # pandas: only when a trajectory is analysed
+
+    inputs = {name: trajectory.coordinates[:, i] for i, name in enumerate(mech.actuated)}
     rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}
     accels = {name: trajectory.a[:, i] for i, name in enumerate(mech.actuated)}
     result = sweep(mech, inputs, rates=rates, accelerations=accels, frames=[], measures=[])
@@ -29,20 +39,21 @@ def closed_loop_states(mech: Mechanism, trajectory) -> tuple[np.ndarray, np.ndar
     return result.q, result.v, result.a
 
 
-def actuator_forces(mech: Mechanism, trajectory, loads: Loads = None
-                    ) -> tuple[np.ndarray, np.ndarray]:
+def actuator_forces(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> tuple[Array, Array]:
     """(Q, F): the joint positions (N, nq) of a closed-loop mechanism along a trajectory of its actuated
-    coordinates and the actuator forces (N, n_actuated; N for a cylinder, N·m for a crank) that drive it
-    (constrained inverse dynamics)."""
+    coordinates and the actuator forces (N, n_actuated; N for a cylinder, N·m for a crank) that drive it under
+    gravity and ``loads`` (constrained inverse dynamics, :func:`~mechatron.dynamics.constrained.inverse`)."""
     Q, V, A = closed_loop_states(mech, trajectory)
     return Q, _forces(mech, Q, V, A, loads)
 
 
-def holding_forces(mech: Mechanism, Q: np.ndarray, loads: Loads = None) -> np.ndarray:
-    """Actuator forces (N, n_actuated) that hold a closed-loop mechanism at rest in each assembled position of Q."""
+def holding_forces(mech: Mechanism, Q: ArrayLike, loads: Loads = None) -> Array:
+    """Actuator forces (N, n_actuated; N or N·m) that hold a closed-loop mechanism at rest, under gravity and
+    ``loads``, in each assembled position of Q (N, nq)."""
+    Q = np.atleast_2d(np.asarray(Q, dtype=float))
     return _forces(mech, Q, np.zeros((len(Q), mech.nv)), np.zeros((len(Q), mech.nv)), loads)
 
 
-def _forces(mech: Mechanism, Q, V, A, loads) -> np.ndarray:
+def _forces(mech: Mechanism, Q: Array, V: Array, A: Array, loads: Loads) -> Array:
     return np.array([[f[n] for n in mech.actuated] for f in
                      (inverse(mech, q, v, a, loads)[0] for q, v, a in zip(Q, V, A))])

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from .closures import ClosureSystem
@@ -305,31 +306,37 @@ class Mechanism:
         return pin.neutral(self.model)
 
     def random_configuration(self, rng: np.random.Generator | None = None, size: int | None = None) -> np.ndarray:
-        """Random configurations within the joint limits, uniform in each joint's coordinates (Pinocchio's
-        ``randomConfiguration``, seeded from ``rng``): shape (nq,) or (size, nq).
+        """Random configurations within the joint limits, uniform in each joint's coordinates: shape (nq,) or
+        (size, nq), drawn from ``rng`` (a numpy generator; a fresh one if not given).
 
-        Unlimited joints (continuous, free) get Pinocchio's own sampling (a uniform angle, a uniform rotation);
-        prismatic joints without limits are an error, as there is no range to draw from.
+        Joints with one coordinate (revolute, prismatic) are drawn uniformly between their limits, which they must
+        have. Joints with more configuration coordinates than velocity coordinates get Pinocchio's
+        ``randomConfiguration`` (seeded from ``rng``): a continuous joint a uniform angle as a unit (cos θ, sin θ), a
+        free joint a uniform rotation (its translation within its limits, ±1 m where it has none).
         """
         rng = rng or np.random.default_rng()
         count = 1 if size is None else int(size)
         lower, upper = self.model.lowerPositionLimit, self.model.upperPositionLimit
-        if self.nq == self.nv and all(self.joint_kind(j) in ("revolute", "prismatic")
-                                      for j in range(1, self.model.njoints)):
+        one_axis = [j for j in range(1, self.model.njoints) if self.model.joints[j].nq == 1]
+        unbounded = [self.model.names[j] for j in one_axis
+                     if not (np.isfinite(lower[self.model.joints[j].idx_q])
+                             and np.isfinite(upper[self.model.joints[j].idx_q]))]
+        if unbounded:
+            raise InputError(f"{self.name}: random configurations need finite joint limits ({', '.join(unbounded)} "
+                             "has none)")
+        if len(one_axis) == self.model.njoints - 1:
             # one coordinate per joint: the same uniform law as randomConfiguration, drawn from the numpy generator
-            if not np.all(np.isfinite(lower) & np.isfinite(upper)):
-                raise InputError(f"{self.name}: random configurations need finite joint limits")
             out = rng.uniform(lower, upper, size=(count, self.nq))
         else:
             out = np.empty((count, self.nq))
             pin.seed(int(rng.integers(2**31 - 1)))
+            low, high = np.where(np.isfinite(lower), lower, -1.0), np.where(np.isfinite(upper), upper, 1.0)
             for k in range(count):
-                out[k] = pin.randomConfiguration(self.model, np.where(np.isfinite(lower), lower, -1.0),
-                                                 np.where(np.isfinite(upper), upper, 1.0))
+                out[k] = pin.randomConfiguration(self.model, low, high)
         return out[0] if size is None else out
 
     # --------------------------------------------------------------------------- coordinates and configurations
-    def configuration(self, coordinates: Any) -> np.ndarray:
+    def configuration(self, coordinates: ArrayLike) -> np.ndarray:
         """The configuration q (nq,) or (N, nq) of joint coordinates (nv,) or (N, nv): q = neutral ⊕ coordinates
         (``pin.integrate``). For revolute (also continuous) and prismatic joints a coordinate is the joint angle
         (rad) or displacement (m); a continuous joint's q is (cos θ, sin θ). Identity when nq = nv."""
@@ -337,26 +344,23 @@ class Mechanism:
         if values.shape[-1:] != (self.nv,):
             raise InputError(f"{self.name} needs {self.nv} joint coordinates ({', '.join(self.joint_names)}), "
                              f"got shape {values.shape}")
-        if self.nq == self.nv:
-            return values.copy()
+        return values.copy() if self.nq == self.nv else self._from_neutral(pin.integrate, values)
+
+    def coordinates(self, q: ArrayLike) -> np.ndarray:
+        """The joint coordinates (nv,) or (N, nv) (rad, m) of configurations q: q ⊖ neutral (``pin.difference``);
+        angles of continuous joints in (−π, π]. Identity when nq = nv."""
+        values = self.check_configuration(q)
+        return values.copy() if self.nq == self.nv else self._from_neutral(pin.difference, values)
+
+    def _from_neutral(self, operation: Callable[[pin.Model, np.ndarray, np.ndarray], np.ndarray],
+                      values: np.ndarray) -> np.ndarray:
+        """``operation(model, neutral, x)`` for every row x of ``values`` (one row or (N, n))."""
         neutral = pin.neutral(self.model)
-        flat = np.atleast_2d(values)
-        out = np.array([pin.integrate(self.model, neutral, c) for c in flat])
+        out = np.array([operation(self.model, neutral, x) for x in np.atleast_2d(values)])
         return out if values.ndim > 1 else out[0]
 
-    def coordinates(self, q: Any) -> np.ndarray:
-        """The joint coordinates (nv,) or (N, nv) of configurations q: q ⊖ neutral (``pin.difference``); angles of
-        continuous joints in (−π, π]. Identity when nq = nv."""
-        values = np.asarray(q, dtype=float)
-        if self.nq == self.nv:
-            return values.copy()
-        neutral = pin.neutral(self.model)
-        flat = np.atleast_2d(values)
-        out = np.array([pin.difference(self.model, neutral, x) for x in flat])
-        return out if values.ndim > 1 else out[0]
-
-    def check_configuration(self, q: Any, what: str = "q") -> np.ndarray:
-        """``q`` as a float array of length nq, or a clear error."""
+    def check_configuration(self, q: ArrayLike, what: str = "q") -> np.ndarray:
+        """``q`` (nq,) or (N, nq) as a float array, or a clear error (wrong length, not finite)."""
         arr = np.asarray(q, dtype=float)
         if arr.shape[-1:] != (self.nq,):
             raise InputError(f"{what} must have {self.nq} values for {self.name} ({', '.join(self.joint_names)}), "
@@ -365,9 +369,10 @@ class Mechanism:
             raise InputError(f"{what} must be finite, got {arr}")
         return arr
 
-    def limit_violations(self, q: np.ndarray) -> list[str]:
-        """Human-readable list of the joint coordinates of ``q`` outside their limits (joints with one coordinate;
-        continuous and free joints have none)."""
+    def limit_violations(self, q: ArrayLike) -> list[str]:
+        """Human-readable list of the joint coordinates of the configuration ``q`` (nq,) outside their limits
+        (rad, m; joints with one coordinate: continuous and free joints have none)."""
+        q = self.check_configuration(q)
         out = []
         lo, hi = self.model.lowerPositionLimit, self.model.upperPositionLimit
         for j in range(1, self.model.njoints):

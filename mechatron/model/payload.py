@@ -2,27 +2,34 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from .mechanism import Mechanism
 
 
-def with_payload(mech: Mechanism, mass: float, frame: str | None = None, com: Sequence[float] = (0, 0, 0),
-                 inertia: Sequence[Sequence[float]] | None = None) -> Mechanism:
-    """A copy of ``mech`` carrying a payload (kg) rigidly at ``frame`` (default the tool), its centre ``com`` (m)
-    in that frame and its inertia (kg·m², about the centre, frame axes; default a point mass)."""
+def with_payload(mech: Mechanism, mass: float, frame: str | None = None, com: ArrayLike = (0.0, 0.0, 0.0),
+                 inertia: ArrayLike | None = None) -> Mechanism:
+    """A copy of ``mech`` carrying a payload of ``mass`` (kg) rigidly at ``frame`` (a frame name, default the tool),
+    its centre ``com`` (m) in that frame and its ``inertia`` (3×3, kg·m², about the centre, frame axes; default a
+    point mass). The payload becomes part of the body of the frame's joint (Pinocchio's ``appendBodyToJoint``), so
+    every dynamics call carries its weight and inertia."""
     if not mass >= 0:
         raise InputError(f"payload mass must be >= 0 kg, got {mass:g}")
     frame = frame or mech.tool_frame
     fid = mech.frame_id(frame)
     model = pin.Model(mech.model)
     placement = model.frames[fid].placement
-    body = pin.Inertia(float(mass), np.asarray(com, dtype=float),
-                       np.zeros((3, 3)) if inertia is None else np.asarray(inertia, dtype=float))
+    centre = np.asarray(com, dtype=float)
+    tensor = np.zeros((3, 3)) if inertia is None else np.asarray(inertia, dtype=float)
+    if centre.shape != (3,) or tensor.shape != (3, 3) or not (np.all(np.isfinite(centre))
+                                                             and np.all(np.isfinite(tensor))):
+        raise InputError(f"a payload's com must be 3 finite numbers (m) and its inertia a finite 3×3 matrix (kg·m²), "
+                         f"got com {com!r}")
+    body = pin.Inertia(float(mass), centre, tensor)
     model.appendBodyToJoint(model.frames[fid].parentJoint, body, placement)
     return replace(mech, model=model, rebuild=None)

@@ -2,7 +2,8 @@
 
 :func:`load_urdf` makes a :class:`~mechatron.model.Mechanism` of a URDF file (joint origins become named geometric
 parameters ``{joint}_x``, ``{joint}_y``, ``{joint}_z``; rotor data come from a sibling ``.srdf`` file's
-``<rotor_params>``). :func:`export_urdf` writes any mechanism made of 1-DoF revolute and prismatic joints as URDF, plus
+``<rotor_params>``). :func:`export_urdf` writes any mechanism made of one-axis joints (revolute, continuous and
+prismatic) as URDF, plus
 an SRDF with the drives' rotor inertia and gear ratio (Pinocchio's ``loadRotorParameters`` turns them back into
 ``armature = J_rotor·u²``), so that the files loaded by Pinocchio give the same frames, mass matrix and RNEA torques.
 """
@@ -123,6 +124,10 @@ def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = N
               values: dict[str, float] | None = None) -> Mechanism:
     """A :class:`Mechanism` of the URDF file ``path``.
 
+    Every URDF joint kind Pinocchio reads is kept as it is: a ``continuous`` joint is Pinocchio's unbounded
+    revolute joint, two configuration coordinates (cos θ, sin θ) and one velocity coordinate; give one coordinate per
+    joint to :meth:`Mechanism.configuration <mechatron.model.Mechanism.configuration>` to get q.
+
     Args:
         path: URDF file. A file with the same stem and the suffix ``.srdf`` holding ``<rotor_params>`` sets the rotor
             inertia and gear ratio of the joints (armature = J_rotor·u²).
@@ -175,16 +180,17 @@ def _origin(placement: pin.SE3) -> str:
 
 
 def _joint_axis(joint: pin.JointModel, name: str) -> tuple[str, tuple[float, ...]]:
-    """URDF type and axis of a 1-DoF Pinocchio joint."""
+    """URDF type and axis of a one-axis Pinocchio joint (a continuous joint: Pinocchio's unbounded revolute)."""
     short = joint.shortname()
-    match = re.fullmatch(r"JointModel(R|P)(X|Y|Z)", short)
+    match = re.fullmatch(r"JointModel(R|P|RUB)(X|Y|Z)", short)
     if match:
-        return ("revolute" if match[1] == "R" else "prismatic"), _AXES[match[2]]
-    if short in ("JointModelRevoluteUnaligned", "JointModelPrismaticUnaligned"):
-        kind = "revolute" if "Revolute" in short else "prismatic"
-        return kind, tuple(float(a) for a in joint.extract().axis)
-    raise InputError(f"joint {name} ({short}) cannot be written as URDF: only 1-DoF revolute and prismatic joints "
-                     "are supported")
+        return {"R": "revolute", "P": "prismatic", "RUB": "continuous"}[match[1]], _AXES[match[2]]
+    kinds = {"JointModelRevoluteUnaligned": "revolute", "JointModelPrismaticUnaligned": "prismatic",
+             "JointModelRevoluteUnboundedUnaligned": "continuous"}
+    if short in kinds:
+        return kinds[short], tuple(float(a) for a in joint.extract().axis)
+    raise InputError(f"joint {name} ({short}) cannot be written as URDF: only one-axis revolute, continuous and "
+                     "prismatic joints are supported")
 
 
 def _body_link_names(model: pin.Model) -> list[str]:
@@ -220,14 +226,18 @@ def to_urdf(mechanism: Mechanism) -> str:
     for joint_id in range(1, model.njoints):
         name = model.names[joint_id]
         kind, axis = _joint_axis(model.joints[joint_id], name)
-        iq = model.joints[joint_id].idx_q
+        iq, iv = model.joints[joint_id].idx_q, model.joints[joint_id].idx_v
+        # position limits per configuration coordinate (none for a continuous joint), effort and velocity per joint
+        # coordinate
+        position = ("" if kind == "continuous" else f'lower="{_num(model.lowerPositionLimit[iq])}" '
+                    f'upper="{_num(model.upperPositionLimit[iq])}" ')
         lines.append(f"  <link name={quoteattr(links[joint_id])}>{_inertial_xml(model.inertias[joint_id])}</link>")
+        parent = links[model.parents[joint_id]]
         lines.append(
-            f"  <joint name={quoteattr(name)} type=\"{kind}\"><parent link={quoteattr(links[model.parents[joint_id]])}/>"
+            f"  <joint name={quoteattr(name)} type=\"{kind}\"><parent link={quoteattr(parent)}/>"
             f"<child link={quoteattr(links[joint_id])}/>{_origin(model.jointPlacements[joint_id])}"
-            f'<axis xyz="{_vec(axis)}"/><limit lower="{_num(model.lowerPositionLimit[iq])}" '
-            f'upper="{_num(model.upperPositionLimit[iq])}" effort="{_num(model.effortLimit[iq])}" '
-            f'velocity="{_num(model.velocityLimit[iq])}"/></joint>')
+            f'<axis xyz="{_vec(axis)}"/><limit {position}effort="{_num(model.effortLimit[iv])}" '
+            f'velocity="{_num(model.velocityLimit[iv])}"/></joint>')
     skip = set(links) | {"universe"} | set(model.names)
     for frame in model.frames:
         if frame.name in skip or frame.type in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT):
