@@ -142,7 +142,7 @@ def test_task_file(tmp_path, capsys):
     assert task.mechanism.total_mass == pytest.approx(mech.total_mass + 1.5)
     assert np.abs(task.trajectory.v).max() == pytest.approx(np.radians(60))
     assert np.allclose(task.trajectory.q[-1], 0) and np.allclose(task.trajectory.q.max(axis=0)[0], np.radians(30))
-    assert task.loads[0][0] == "tool" and np.allclose(task.loads[0][1], [0, -20, 0])
+    assert task.loads[0].frame == "tool" and np.allclose(task.loads[0].force, [0, -20, 0])
     code, out, _ = run(capsys, "size", "planar_2r", "--task", str(path), "--json")
     assert code == 0 and json.loads(out)["task"] == "two moves"
 

@@ -296,7 +296,7 @@ def test_puma560_move_rests_at_both_ends_inside_the_limits():
 def test_pick_and_place_task_moves_through_its_waypoints_within_its_limits():
     task = read("examples/data/pick_and_place.toml")
     assert task.name == "pick and place, 2 kg" and task.payload == 2.0
-    assert [(frame, list(force)) for frame, force, _ in task.loads] == [("tool", [0.0, 5.0, -15.0])]
+    assert [(load.frame, list(load.force)) for load in task.loads] == [("tool", [0.0, 5.0, -15.0])]
     waypoints = np.radians([[-45, 35, -165, 0, 40, -45], [-45, 47, -158, 0, 21, -45], [45, 35, -165, 0, 40, 45],
                             [45, 47, -158, 0, 21, 45]])
     q = task.trajectory.q

@@ -338,7 +338,7 @@ URDF = """<robot name="{name}">
 def test_continuous_joint_is_sized_like_its_revolute_twin(tmp_path):
     """A URDF turntable on a continuous joint (q = (cos θ, sin θ), nq = 3, nv = 2) carrying a prismatic slide: its
     duties and drives equal those of the same robot with a revolute joint, and the slide's stroke (the screw
-    length) is the slide's travel, whether the trajectory gives configurations or one coordinate per joint."""
+    length) is the slide's travel, whether the trajectory gives configurations (with their coordinates) or one coordinate per joint."""
     from mechatron.model.urdf import load_urdf
 
     paths = {}
@@ -355,7 +355,8 @@ def test_continuous_joint_is_sized_like_its_revolute_twin(tmp_path):
     start = np.array([0.5, 0.05])
     coordinates = start + np.outer(s, travel)
     motion = Trajectory(t, coordinates, np.outer(ds, travel), np.outer(dds, travel), ["turn", "reach"])
-    configurations = Trajectory(t, endless.configuration(coordinates), motion.v, motion.a, motion.names)
+    configurations = Trajectory(t, endless.configuration(coordinates), motion.v, motion.a, motion.names,
+                                coordinates=coordinates)
     reference = joint_duties(twin, motion)
     assert reference[1].stroke == pytest.approx(0.35)
     for trajectory in (motion, configurations):

@@ -153,14 +153,10 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -
             if joint.nv != 1:
                 raise InputError(f"joint {name}: cannot size a {mech.joint_kind(name)} joint (only revolute and "
                                  "prismatic)")
+        positions = np.atleast_2d(np.asarray(trajectory.coordinates, dtype=float))  # one per joint, unwrapped
         Q = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
-        positions = Q
-        if mech.nq != mech.nv and Q.shape[1] == mech.nv:  # one coordinate per joint
-            Q = mech.configuration(Q)
-        elif mech.nq != mech.nv:  # continuous joints' angles come back in (−π, π]: unwrap them along the motion
-            positions = mech.coordinates(Q)
-            angles = mech.angular_coordinates()
-            positions[:, angles] = np.unwrap(positions[:, angles], axis=0)
+        if Q.shape[1] != mech.nq:  # the trajectory was given in joint coordinates only
+            Q = mech.configuration(positions)
         tau = inverse_dynamics(bare, Q, V, A, loads)
         static = inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads)
         step = max(1, len(Q) // 200)
