@@ -203,6 +203,11 @@ class FieldReader:
             out.append(FieldReader(item, file=self.file, path=f"{self.field(key)}[{i + 1}]"))
         return out
 
+    def header(self, default_name: str) -> tuple[str, str, str]:
+        """(name, description, source): the identifying fields every file format starts with (strings, optional;
+        the name defaults to ``default_name``, usually the file's stem)."""
+        return self.string("name", default_name), self.string("description", ""), self.string("source", "")
+
     def finish(self) -> None:
         """Reject fields that no accessor asked for (misspelt or unsupported)."""
         unknown = [k for k in self.data if k not in self._used]

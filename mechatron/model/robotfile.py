@@ -116,9 +116,7 @@ def read_robot_file(path: str | Path) -> RobotFile:
     """Read and validate a robot file (schema: ``robots/README.md``)."""
     path = Path(path)
     top = FieldReader(read_toml(path), file=path)
-    name = top.string("name", path.stem)
-    description = top.string("description", "")
-    source = top.string("source", "")
+    name, description, source = top.header(path.stem)
     convention = top.string("convention", "standard", choices=CONVENTIONS)
     gravity = top.vector("gravity", 3, np.array([0.0, 0.0, -9.81]))
     base = _placement(top, "base")

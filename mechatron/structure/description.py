@@ -178,9 +178,7 @@ def read_structure(path: str | Path) -> StructuralDescription:
 
     path = Path(path)
     top = FieldReader(read_toml(path), file=path)
-    name = top.string("name", path.stem)
-    description = top.string("description", "")
-    source = top.string("source", "")
+    name, description, source = top.header(path.stem)
     planar = top.boolean("planar", False)
     frame = top.string("frame", "0")
     links_raw = top.raw("links")
