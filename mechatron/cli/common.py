@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import re
 import sys
 from collections.abc import Sequence
@@ -75,51 +74,8 @@ def _revolute_mask(mech: Mechanism) -> np.ndarray:
     """Which joint coordinates (velocity indices) are angles."""
     return mech.angular_coordinates()
 
-def _finite(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
-
 def _print_json(obj: Any) -> None:
     print(json.dumps(obj, indent=2, allow_nan=False))
-
-def _write_table(table, path) -> str:
-    """Write a DataFrame as CSV, whole or not at all; an error naming the file if it cannot be written."""
-    from ..io.output import write_table
-
-    return str(write_table(table, path))
-
-def _matrix_text(matrix: np.ndarray, rows: Sequence[str], cols: Sequence[str], fmt: str = "{:>11.5f}") -> str:
-    width = max(11, *(len(c) for c in cols))
-    head = " " * 6 + "".join(f"{c:>{width}}" for c in cols)
-    lines = [head] + [f"{r:<6}" + "".join(f"{fmt.format(x):>{width}}" for x in row) for r, row in zip(rows, matrix)]
-    return "\n".join(lines)
-
-def _robot_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("robot", help="robot name (see 'mechatron list') or a .toml/.urdf file")
-    parser.add_argument("--set", action="append", metavar="NAME=VALUE,...",
-                        help="override geometric parameters (SI units: m, rad), e.g. --set a2=0.45,d4=0.43")
-    parser.add_argument("--json", action="store_true", help="print machine-readable JSON")
-
-def _pose_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--q", required=True, metavar="Q1,Q2,...",
-                        help="joint coordinates, comma-separated (rad and m; see --deg)")
-    parser.add_argument("--deg", action="store_true", help="revolute joint values of --q are in degrees")
-    parser.add_argument("--frame", help="frame name (default: tool)")
-
-def _join_negative_values(argv: Sequence[str]) -> list[str]:
-    """Let ``--q -0.5,1`` mean ``--q=-0.5,1`` (argparse would take -0.5,1 for an option)."""
-    out: list[str] = []
-    items = list(argv)
-    i = 0
-    while i < len(items):
-        token = items[i]
-        if (token.startswith("--") and "=" not in token and i + 1 < len(items)
-                and _NEGATIVE_VALUE.match(items[i + 1])):
-            out.append(f"{token}={items[i + 1]}")
-            i += 2
-            continue
-        out.append(token)
-        i += 1
-    return out
 
 
 # ------------------------------------------------------------------------------------------- result outputs

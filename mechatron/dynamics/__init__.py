@@ -25,3 +25,7 @@ _EXPORTS = {
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)
 __all__ = sorted(_EXPORTS)
+
+# ``kinetostatics`` is both a module and the function it defines: imported here so that the package's name is always
+# the function (importing the module would otherwise bind the name to the module).
+from .kinetostatics import kinetostatics  # noqa: E402, F401
