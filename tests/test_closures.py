@@ -29,3 +29,47 @@ def test_a_gear_alone_closes_by_the_coordinates(ratio, offset):
         q = assemble(mech, {"driver_angle": angle})
         assert q[1] == pytest.approx(ratio * angle + offset, abs=1e-12)
     np.testing.assert_allclose(joint_velocity(mech, q, {"driver_angle": math.pi}), [math.pi, ratio * math.pi], atol=1e-12)
+
+
+def crank_slider_variant(kind: str, l1: float = 0.1, l2: float = 0.4, q1: float = 1.0):
+    """The central crank-slider with a massless slider, closed three ways: a prismatic slider pinned to the rod
+    (``pin``), the rod's end on the curve y = 0 (``curve``), or on a line of the ground (``slider``)."""
+    B = np.array([l1 * math.cos(q1), l1 * math.sin(q1)])
+    C = np.array([B[0] + math.sqrt(l2**2 - B[1] ** 2), 0.0])
+    b = PlanarBuilder(f"crank_slider_{kind}")
+    b.point("A", GROUND, (0.0, 0.0))
+    b.point("guide", GROUND, (0.0, 0.0), direction=(1.0, 0.0))
+    crank = b.revolute("crank", "A", toward=B, coordinate="q1", mass=1.0, com=(0.02, 0.01), inertia=1e-3)
+    b.point("B", crank, B)
+    rod = b.revolute("rod", "B", toward=C, coordinate="phi2", mass=2.0, com=(B + C) / 2, inertia=2.0 * l2**2 / 12)
+    b.point("C", rod, C)
+    if kind == "pin":
+        slider = b.prismatic("slider", "guide", (1.0, 0.0), reference=C[0], coordinate="xC")
+        b.point("C_slider", slider, C)
+        b.pin("C", "C_slider")
+    elif kind == "curve":
+        b.on_curve("C", lambda x: 0.0, lambda x: 0.0, lambda x: 0.0, label="y = 0")
+    else:
+        b.slider("C", "guide")
+    return b.build(actuated=["q1"], tool="C")
+
+
+def test_joint_reactions_do_not_depend_on_how_the_loop_is_closed():
+    """The wrenches in the crank's and the rod's joints follow from Newton's laws of the crank and the rod alone, so
+    they must be the same whether the rod's end is held by a pinned massless slider, a curve or a line closure: the
+    closure's force must enter the joints' equilibrium."""
+    from mechatron.dynamics.constrained import inverse, reactions
+    from mechatron.kinematics.loops import joint_acceleration
+
+    variants = {kind: crank_slider_variant(kind) for kind in ("pin", "curve", "slider")}
+    for angle, rate, acceleration in ((0.7, 12.0, 30.0), (2.5, -8.0, 5.0), (4.0, 20.0, -50.0)):
+        wrenches = {}
+        for kind, mech in variants.items():
+            q = assemble(mech, {"q1": angle})
+            v = joint_velocity(mech, q, {"q1": rate})
+            a = joint_acceleration(mech, q, v, {"q1": acceleration})
+            forces, lam = inverse(mech, q, v, a, loads=[("C", [-150.0, 0.0, 0.0])])
+            wrenches[kind] = (forces["q1"], reactions(mech, q, v, a, lam, loads=[("C", [-150.0, 0.0, 0.0])]).joints[:2])
+        for kind in ("curve", "slider"):
+            assert wrenches[kind][0] == pytest.approx(wrenches["pin"][0], rel=1e-9, abs=1e-9)
+            np.testing.assert_allclose(wrenches[kind][1], wrenches["pin"][1], rtol=1e-9, atol=1e-8)

@@ -97,6 +97,19 @@ def test_pin_forces_of_the_model_equal_the_papers_multipliers(runs):
         np.testing.assert_allclose(forces[name][:n], values, rtol=1e-4, atol=1.0, err_msg=name)
 
 
+def test_joint_reactions_carry_the_curve_force(runs):
+    """The hinge's horizontal force from the joint wrenches (RNEA with every closure force, the cutting edge's curve
+    reaction included) equals the one from Newton's law of the jaw (:func:`scooping_forces`), hence |λ1|."""
+    _, _, mech, sim = runs
+    law = mechanism_loads(mech, ScoopingLoads())
+    expected = scooping_forces(mech, sim, ScoopingLoads())["hinge_horizontal"]
+    hinge = mech.joint_names.index("phi1")
+    for i in range(0, len(sim.t), 25):
+        t, q, v, a, lam = sim.t[i], sim.q[i], sim.v[i], sim.a[i], sim.multipliers[i]
+        wrench = cd.reactions(mech, q, v, a, lam, law(t, q, v)).joints[hinge]
+        assert abs(wrench[0]) == pytest.approx(expected[i], rel=1e-6)
+
+
 def test_scooping_plot(runs):
     _, _, mech, sim = runs
     figure = plot_scooping(mech, sim)

@@ -31,8 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..kinematics.loops import loop_solver
-from ..model.closures import Pin
-from ..model.loads import Load, Loads, as_loads
+from ..model.loads import Loads, as_loads
 from ..model.mechanism import Mechanism
 from ..report.result import Result
 from .integrate import rk4_step, time_steps
@@ -143,23 +142,25 @@ class Reactions:
 
 def reactions(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, lam: ArrayLike,
               loads: Loads = None) -> Reactions:
-    """Pin forces (N) from the multipliers λ and every tree joint's wrench (N, N·m; an RNEA pass with the closure
-    forces and ``loads`` as external forces): the reactions in the pairs, [Egorov, 5.1–5.2]."""
+    """Closure forces from the multipliers λ and every tree joint's wrench (N, N·m): an RNEA pass with the closure
+    forces and ``loads`` as external forces gives the reactions in the pairs, [Egorov, 5.1–5.2].
+
+    A closure's generalized force Jᵀλ acts on the bodies it joins as the forces of
+    :meth:`~mechatron.model.closures.Closure.loads` (a pin's λ and −λ at the common point, a curve's normal
+    reaction, a slider's normal force and its moment on the line's body).
+    """
     q, v, a, lam = (np.asarray(x, dtype=float) for x in (q, v, a, lam))
     pins: dict[str, np.ndarray] = {}
     applied = list(as_loads(loads))
     row = 0
-    for closure in loop_solver(mech).system.closures if mech.closures else ():
+    system = loop_solver(mech).system if mech.closures else None
+    if system is not None:
+        system.evaluate(q)  # the closures' frames at q
+    for closure in system.closures if system is not None else ():
         rows = lam[row:row + closure.nrows]
         row += closure.nrows
-        if isinstance(closure, Pin):
-            force = np.zeros(3)
-            force[:closure.nrows] = rows
-            pins[closure.name] = rows.copy()
-            applied += [Load(closure.a, force), Load(closure.b, -force)]
-        else:
-            # other closures: their generalized force Jᵀλ acts through the frames they use
-            pins[closure.name] = rows.copy()
+        pins[closure.name] = rows.copy()
+        applied += closure.loads(system.states, rows)
     return Reactions(pins, transmitted_wrenches(mech, q, v, a, applied))
 
 

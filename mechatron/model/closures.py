@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
+from .loads import Load
+
 LWA = pin.LOCAL_WORLD_ALIGNED
 
 
@@ -112,6 +114,11 @@ class Closure(ABC):
     @abstractmethod
     def drift(self, s: FrameStates) -> np.ndarray: ...
 
+    @abstractmethod
+    def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
+        """The closure's generalized force Jᵀλ for its ``multipliers`` λ (its rows of the KKT solution) as forces
+        (N) and moments (N·m, world axes) on the bodies it joins, at the frames of :meth:`~FrameStates.update`."""
+
     def describe(self) -> str:
         return self.name
 
@@ -140,6 +147,12 @@ class Pin(Closure):
     def drift(self, s: FrameStates) -> np.ndarray:
         ka, kb = self._k
         return (s.acceleration0[ka] - s.acceleration0[kb])[self._rows]
+
+    def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
+        """λ on the body of ``a``, −λ on the body of ``b``: the pin force (N) that ``a`` receives from ``b``."""
+        force = np.zeros(3)
+        force[:self.nrows] = multipliers
+        return [Load(self.a, force), Load(self.b, -force)]
 
     def describe(self) -> str:
         return f"pin {self.a} = {self.b}"
@@ -199,6 +212,18 @@ class Slider(Closure):
             rows.append(s.acceleration0[kp][5] - s.acceleration0[kl][5])
         return np.array(rows)
 
+    def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
+        """λ₁·n (N) on the body of ``point`` at the point, −λ₁·n on the line's body at the same point (a force at
+        the line frame's origin o with the moment −λ₁ d·(p − o) about z); with the angle locked, the moments λ₂ and
+        −λ₂ (N·m) about z."""
+        _, _, d, n, r = self._geometry(s)
+        normal = multipliers[0] * np.array([n[0], n[1], 0.0])
+        out = [Load(self.point, normal), Load(self.line, -normal, (0.0, 0.0, -multipliers[0] * float(d @ r)))]
+        if self.lock_angle:
+            out += [Load(self.point, np.zeros(3), (0.0, 0.0, multipliers[1])),
+                    Load(self.line, np.zeros(3), (0.0, 0.0, -multipliers[1]))]
+        return out
+
     def describe(self) -> str:
         return f"slider {self.point} on {self.line}" + (" (angle locked)" if self.lock_angle else "")
 
@@ -238,6 +263,11 @@ class OnCurve(Closure):
         a = s.acceleration0[k]
         return np.array([a[1] - self.df(x) * a[0] - self.d2f(x) * xdot**2])
 
+    def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
+        """The curve's reaction λ·(−f′(x), 1) (N) at the point: normal to the curve."""
+        x = s.position[self._k[0]][0]
+        return [Load(self.point, multipliers[0] * np.array([-self.df(x), 1.0, 0.0]))]
+
     def describe(self) -> str:
         return f"{self.point} on {self.label}"
 
@@ -272,6 +302,11 @@ class Gear(Closure):
 
     def drift(self, s: FrameStates) -> np.ndarray:
         return np.zeros(1)
+
+    def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
+        """None: a gear's Jᵀλ is the joint torques −u·λ and λ on the two coordinates, which the joints' transmitted
+        moments carry like an actuator's torque."""
+        return []
 
     def describe(self) -> str:
         return f"gear {self.b} = {self.ratio:g}·{self.a}"
