@@ -73,3 +73,29 @@ def test_joint_reactions_do_not_depend_on_how_the_loop_is_closed():
         for kind in ("curve", "slider"):
             assert wrenches[kind][0] == pytest.approx(wrenches["pin"][0], rel=1e-9, abs=1e-9)
             np.testing.assert_allclose(wrenches[kind][1], wrenches["pin"][1], rtol=1e-9, atol=1e-8)
+
+
+def test_errors_carry_the_inputs_the_residual_and_the_worst_closure():
+    """An input outside the loop's reach raises an error that says where: the inputs asked for, the residual left
+    and the closure row that would not close; a singular position gives the inputs and the velocity ratio."""
+    import mechatron
+    from mechatron.errors import SingularityError, UnreachableError
+    from mechatron.kinematics.loops import loop_solver
+
+    mech = mechatron.load("crank_slider")
+    solver = loop_solver(mech)
+    q = np.array(mech.reference_q, dtype=float)
+    q[solver.dep] += 5.0  # far from any solution: Newton's method stalls
+    q[solver.act] = 1.0
+    with pytest.raises(UnreachableError) as caught:
+        solver.newton(q, max_iterations=2)
+    error = caught.value
+    assert error.inputs == {"q1": 1.0}
+    assert error.residual > 1e-10 and error.closure in solver.system.row_labels()
+    rocker = mechatron.load("crank_slider", l1=0.1, l2=0.4)
+    at_dead_centre = assemble(rocker, {"q1": 0.0})
+    # the slider as input: at the dead centre the crank angle is not determined
+    slider_driven = rocker.with_actuated(["xC"])
+    with pytest.raises(SingularityError) as caught:
+        joint_velocity(slider_driven, at_dead_centre, {"xC": 1.0})
+    assert caught.value.inputs == {"xC": pytest.approx(0.5)} and caught.value.ratio > 1e8

@@ -92,6 +92,9 @@ class LoopSolver:
                 pass
         return np.linalg.lstsq(A, b, rcond=None)[0]
 
+    def _input_values(self, q: Vector) -> dict[str, float]:
+        return {n: float(q[self.index[n]]) for n in self.mech.actuated}
+
     def _describe_inputs(self, q: Vector) -> str:
         return ", ".join(f"{n} = {q[self.index[n]]:.6g}" for n in self.mech.actuated)
 
@@ -117,7 +120,7 @@ class LoopSolver:
             if not self.lower[i] - 1e-12 <= value <= self.upper[i] + 1e-12:
                 name = mech.actuated[list(self.act).index(i)]
                 raise UnreachableError(f"{mech.name}: {name} = {value:.6g} is outside its range "
-                                       f"[{self.lower[i]:.6g}, {self.upper[i]:.6g}]")
+                                       f"[{self.lower[i]:.6g}, {self.upper[i]:.6g}]", inputs={name: value})
             target[list(self.act).index(i)] = value
         phi, _ = self.system.evaluate(q)
         if phi.size and np.abs(phi).max() < TOLERANCE:  # an assembled start: continue along the inputs
@@ -132,7 +135,10 @@ class LoopSolver:
             except (UnreachableError, SingularityError) as exc:
                 wanted = ", ".join(f"{n} = {x:.6g}" for n, x in zip(mech.actuated, target))
                 raise UnreachableError(f"{mech.name}: cannot assemble at {wanted} on the branch of the start "
-                                       f"position: {str(exc).removeprefix(mech.name + ': ')}") from None
+                                       f"position: {str(exc).removeprefix(mech.name + ': ')}",
+                                       inputs=dict(zip(mech.actuated, map(float, target))),
+                                       residual=getattr(exc, "residual", None),
+                                       closure=getattr(exc, "closure", None)) from None
         q[self.act] = target
         return self.newton(q, max_iterations, polish=True)[0]
 
@@ -181,7 +187,8 @@ class LoopSolver:
         labels = self.system.row_labels()
         worst = labels[int(np.argmax(np.abs(phi)))]
         raise UnreachableError(f"{self.mech.name}: the loops do not close at {self._describe_inputs(q)} "
-                               f"(closure residual {error:.3g} at {worst} after {max_iterations} Newton iterations)")
+                               f"(closure residual {error:.3g} at {worst} after {max_iterations} Newton iterations)",
+                               inputs=self._input_values(q), residual=float(error), closure=worst)
 
     # ------------------------------------------------------------------------------------ velocity, acceleration
     def dependent_inverse(self, q: Vector, J: Vector) -> Vector:
@@ -193,7 +200,9 @@ class LoopSolver:
             inverse = np.full((Jd.shape[1], Jd.shape[0]), np.inf)
         if not np.abs(inverse).max() <= SINGULAR_RATIO:  # also catches inf and nan
             raise SingularityError(f"{self.mech.name} is at a singular position ({self._describe_inputs(q)}): "
-                                   "the actuated coordinates do not determine the motion")
+                                   "the actuated coordinates do not determine the motion",
+                                   inputs=self._input_values(q), ratio=float(np.nan_to_num(np.abs(inverse).max(),
+                                                                                           posinf=np.inf)))
         return inverse
 
     def analyse(self, q: Vector, J: Vector, rates: Vector, accelerations: Vector
