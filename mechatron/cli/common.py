@@ -27,6 +27,7 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
+
 def _floats(text: str, what: str) -> np.ndarray:
     try:
         values = np.array([float(x) for x in text.replace(" ", "").split(",") if x != ""])
@@ -35,6 +36,7 @@ def _floats(text: str, what: str) -> np.ndarray:
     if not np.all(np.isfinite(values)):
         raise InputError(f"{what} must be finite numbers, got {text!r}")
     return values
+
 
 def parse_assignments(items: Sequence[str] | None) -> dict[str, float]:
     """``["a2=0.5,d3=0.1", ...]`` → {"a2": 0.5, "d3": 0.1} (values in SI units)."""
@@ -50,10 +52,12 @@ def parse_assignments(items: Sequence[str] | None) -> dict[str, float]:
                 raise InputError(f"--set {name.strip()}: value must be a number, got {value!r}") from None
     return out
 
+
 def _load(args: argparse.Namespace) -> Mechanism:
     from ..library import load
 
     return load(args.robot, **parse_assignments(args.set))
+
 
 def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
     """The configuration q (nq,) of ``--q``: one coordinate per joint (rad, m; degrees with ``--deg``), a
@@ -74,11 +78,44 @@ def _revolute_mask(mech: Mechanism) -> np.ndarray:
     """Which joint coordinates (velocity indices) are angles."""
     return mech.angular_coordinates()
 
+
 def _print_json(obj: Any) -> None:
     print(json.dumps(obj, indent=2, allow_nan=False))
 
 
+def _robot_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("robot", help="robot name (see 'mechatron list') or a .toml/.urdf file")
+    parser.add_argument("--set", action="append", metavar="NAME=VALUE,...",
+                        help="override geometric parameters (SI units: m, rad), e.g. --set a2=0.45,d4=0.43")
+    parser.add_argument("--json", action="store_true", help="print machine-readable JSON")
+
+
+def _pose_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--q", required=True, metavar="Q1,Q2,...",
+                        help="joint coordinates, one per joint, comma-separated (rad and m; see --deg)")
+    parser.add_argument("--deg", action="store_true", help="revolute joint values of --q are in degrees")
+    parser.add_argument("--frame", help="frame name (default: tool)")
+
+
+def _join_negative_values(argv: Sequence[str]) -> list[str]:
+    """Let ``--q -0.5,1`` mean ``--q=-0.5,1`` (argparse would take -0.5,1 for an option)."""
+    out: list[str] = []
+    items = list(argv)
+    i = 0
+    while i < len(items):
+        token = items[i]
+        if (token.startswith("--") and "=" not in token and i + 1 < len(items)
+                and _NEGATIVE_VALUE.match(items[i + 1])):
+            out.append(f"{token}={items[i + 1]}")
+            i += 2
+            continue
+        out.append(token)
+        i += 1
+    return out
+
+
 # ------------------------------------------------------------------------------------------- result outputs
+
 def add_output_options(parser: argparse.ArgumentParser, *, csv: bool = True, plot: bool = True) -> None:
     """The options every analysis command has: ``--json`` (and ``--csv FILE``, ``--plot FILE``), which are exactly
     the result's ``as_dict``, ``to_frame`` and ``plot``."""
