@@ -31,7 +31,8 @@ def check_result(result: Result) -> dict:
                 f"(axes {ax.get_title()!r})"
         keyed = [a for a in ax.get_lines() + ax.collections if not a.get_label().startswith("_")]
         if keyed:
-            assert ax.get_legend() is not None or figure.legends, f"labelled markers without a key in {ax.get_title()!r}"
+            assert ax.get_legend() is not None or figure.legends, \
+                f"labelled markers without a key in {ax.get_title()!r}"
     from matplotlib.figure import Figure as NewFigure
 
     given = NewFigure().add_subplot()

@@ -28,7 +28,8 @@ def test_a_gear_alone_closes_by_the_coordinates(ratio, offset):
     for angle in (0.4, -1.2, 2.0):
         q = assemble(mech, {"driver_angle": angle})
         assert q[1] == pytest.approx(ratio * angle + offset, abs=1e-12)
-    np.testing.assert_allclose(joint_velocity(mech, q, {"driver_angle": math.pi}), [math.pi, ratio * math.pi], atol=1e-12)
+    np.testing.assert_allclose(joint_velocity(mech, q, {"driver_angle": math.pi}), [math.pi, ratio * math.pi],
+                               atol=1e-12)
 
 
 def crank_slider_variant(kind: str, l1: float = 0.1, l2: float = 0.4, q1: float = 1.0):

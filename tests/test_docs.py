@@ -41,7 +41,7 @@ def embedded_examples() -> list[tuple[str, str, str]]:
     return [(name, m["path"], m["body"]) for name, text in pages().items() for m in EXAMPLE.finditer(text)]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def robot(name: str, **parameters: float) -> mechatron.Mechanism:
     return mechatron.load(name, **parameters)
 

@@ -338,7 +338,8 @@ URDF = """<robot name="{name}">
 def test_continuous_joint_is_sized_like_its_revolute_twin(tmp_path):
     """A URDF turntable on a continuous joint (q = (cos θ, sin θ), nq = 3, nv = 2) carrying a prismatic slide: its
     duties and drives equal those of the same robot with a revolute joint, and the slide's stroke (the screw
-    length) is the slide's travel, whether the trajectory gives configurations (with their coordinates) or one coordinate per joint."""
+    length) is the slide's travel, whether the trajectory gives configurations (with their coordinates) or one
+    coordinate per joint."""
     from mechatron.model.urdf import load_urdf
 
     paths = {}
