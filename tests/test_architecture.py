@@ -64,10 +64,10 @@ def imported(name: str, path: Path) -> set[str]:
             else:
                 target = node.module or ""
             if target.startswith("mechatron"):
-                out.add(target)
-                for alias in node.names:  # "from . import x" names a module
-                    if f"{target}.{alias.name}" in MODULES:
-                        out.add(f"{target}.{alias.name}")
+                submodules = [f"{target}.{a.name}" for a in node.names if f"{target}.{a.name}" in MODULES]
+                out.update(submodules)  # "from . import x" imports the module x
+                if len(submodules) < len(node.names):  # names defined in the package (or module) itself
+                    out.add(target)
         elif isinstance(node, ast.Import):
             out.update(a.name for a in node.names if a.name.startswith("mechatron"))
     return {m for m in out if m in MODULES and m != name}
