@@ -90,9 +90,18 @@ def test_fraction_bounds_and_relations(tmp_path):
     with pytest.raises(InputError, match="must be <= 1") as info:
         read_catalog(path, "gearboxes")
     assert info.value.row == 2 and info.value.field == "efficiency"
-    rod = write(tmp_path, "key,bore_mm,rod_mm,max_stroke_mm,max_pressure_MPa\nC,50,60,500,25\n", "c.csv")
-    with pytest.raises(InputError, match="bore is below rod"):
-        read_catalog(rod, "cylinders")
+    for rod_mm in (60, 50):  # a rod as wide as the bore leaves no annulus: not a cylinder either
+        rod = write(tmp_path, f"key,bore_mm,rod_mm,max_stroke_mm,max_pressure_MPa\nC,50,{rod_mm},500,25\n", "c.csv")
+        with pytest.raises(InputError, match="bore is not above rod"):
+            read_catalog(rod, "cylinders")
+
+
+def test_extra_columns_are_kept_as_text(tmp_path):
+    path = write(tmp_path, "key,bore_mm,rod_mm,max_stroke_mm,max_pressure_MPa,order_code,note\n"
+                           "C,50,28,500,25,HC-50/28,spare\n", "c.csv")
+    table = read_catalog(path, "cylinders")
+    assert table.loc[0, "order_code"] == "HC-50/28" and table.loc[0, "note"] == "spare"
+    assert table.loc[0, "bore"] == pytest.approx(0.05) and table.loc[0, "rod"] == pytest.approx(0.028)
 
 
 def test_unreadable_files(tmp_path):

@@ -133,6 +133,9 @@ def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
     out = {name: _column_values(raw[column], by_name[name], factor, path, column)
            for column, (name, factor) in columns.items()}
     table = pd.DataFrame(out)
+    for column in raw.columns:  # extra columns: kept as text, ignored by the sizing
+        if column not in columns and column not in table:
+            table[column] = raw[column].to_numpy()
     if "key" in table:
         duplicated = table["key"][table["key"].duplicated()]
         if len(duplicated):
@@ -166,15 +169,17 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
 
 
 def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: dict[str, str]) -> None:
-    """Relations between columns: peak ≥ rated, max speed ≥ rated speed, rod < bore…"""
-    rules = {"motors": [("peak_torque", "rated_torque"), ("max_speed", "rated_speed")],
-             "gearboxes": [("peak_torque", "rated_torque"), ("emergency_torque", "peak_torque"),
-                           ("max_input_speed", "rated_input_speed")],
-             "cylinders": [("bore", "rod")], "rotary_tables": [("torque_5min", "torque_30min")]}
-    for high, low in rules.get(kind, []):
-        bad = table.index[table[high] < table[low]]
+    """Relations between columns: peak ≥ rated, max speed ≥ rated speed, rod < bore (strictly: a rod as wide as
+    the bore leaves no annulus to pull with)…"""
+    rules = {"motors": [("peak_torque", "rated_torque", False), ("max_speed", "rated_speed", False)],
+             "gearboxes": [("peak_torque", "rated_torque", False), ("emergency_torque", "peak_torque", False),
+                           ("max_input_speed", "rated_input_speed", False)],
+             "cylinders": [("bore", "rod", True)], "rotary_tables": [("torque_5min", "torque_30min", False)]}
+    for high, low, strict in rules.get(kind, []):
+        bad = table.index[table[high] <= table[low]] if strict else table.index[table[high] < table[low]]
         if len(bad):
-            raise InputError(f"{high} is below {low}", file=path, row=int(bad[0]) + 2, field=column_of[high])
+            relation = "is not above" if strict else "is below"
+            raise InputError(f"{high} {relation} {low}", file=path, row=int(bad[0]) + 2, field=column_of[high])
 
 
 def default_catalog(kind: str) -> pd.DataFrame:
