@@ -73,6 +73,10 @@ def test_cycle_with_dwells_and_csv_round_trip(tmp_path):
     derived = read_trajectory(tmp_path / "positions.csv", mech)
     middle = slice(10, -10)
     np.testing.assert_allclose(derived.v[middle], traj.v[middle], atol=1e-3)
+    # comments (lines starting with #) are read like the other CSV files
+    commented = tmp_path / "commented.csv"
+    commented.write_text("# a planar 2R move, rad\n" + (tmp_path / "positions.csv").read_text())
+    np.testing.assert_array_equal(read_trajectory(commented, mech).q, derived.q)
 
 
 @pytest.mark.parametrize("text,pieces", [

@@ -348,16 +348,11 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
     continuous joint's angle; for a closed-loop mechanism one per actuated coordinate), optional ``qd_<name>``
     (rad/s, m/s) and ``qdd_<name>`` (rad/s², m/s²); missing velocities and accelerations are differentiated
     (second-order central differences, which need increasing times). The configurations are q = neutral ⊕ the
-    coordinates (``mech.configuration``)."""
-    import pandas as pd
+    coordinates (``mech.configuration``). Lines starting with ``#`` are comments."""
+    from ..io.tables import numbers, read_csv
 
     path = Path(path)
-    try:
-        frame = pd.read_csv(path)
-    except FileNotFoundError:
-        raise InputError("no such file", file=path) from None
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"not a readable CSV file: {str(exc).splitlines()[0]}", file=path) from None
+    frame = read_csv(path, allow_empty=True)
     if "t" not in frame.columns:
         raise InputError("missing column", file=path, field="t")
     if mech.closures:  # a closed loop: its inputs
@@ -373,12 +368,7 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
                          field=missing[0])
 
     def numeric(column: str) -> np.ndarray:
-        values = pd.to_numeric(frame[column], errors="coerce").to_numpy(dtype=float)
-        bad = np.flatnonzero(~np.isfinite(values))
-        if len(bad):
-            raise InputError(f"not a finite number: {frame[column].iloc[bad[0]]!r}", file=path,
-                             row=int(bad[0]) + 2, field=column)
-        return values
+        return np.array(numbers(frame, column, file=path))
 
     t = numeric("t")
     if len(t) < 2:
