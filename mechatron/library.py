@@ -7,6 +7,7 @@ on disk, never downloaded). :func:`load` and :func:`available_robots` are ``mech
 from __future__ import annotations
 
 import importlib.metadata
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -57,9 +58,31 @@ def example_robot_data_dir() -> Path | None:
     return folder if folder.is_dir() else None
 
 
+def search_path() -> list[tuple[Path, str]]:
+    """The folders searched for ``NAME.toml``, first found first: ``./robots`` of the working directory, then every
+    folder of the ``MECHATRON_PATH`` environment variable (separated by ``os.pathsep``), then the shipped ones; each
+    with a word saying where it is (``./robots``, ``MECHATRON_PATH``, ``shipped``)."""
+    folders = [(Path.cwd() / "robots", "./robots")]
+    folders += [(Path(part).expanduser(), "MECHATRON_PATH")
+                for part in os.environ.get("MECHATRON_PATH", "").split(os.pathsep) if part]
+    folders.append((data_dir("robots"), "shipped"))
+    return folders
+
+
+def robot_files() -> dict[str, tuple[Path, str]]:
+    """Every robot and mechanism file found by name: name (file stem) → (path, where it was found); the first
+    folder of :func:`search_path` that has a name wins."""
+    out: dict[str, tuple[Path, str]] = {}
+    for folder, origin in search_path():
+        if folder.is_dir():
+            for path in sorted(folder.glob("*.toml")):
+                out.setdefault(path.stem, (path, origin))
+    return out
+
+
 def builtin_robot_files() -> dict[str, Path]:
-    """Robot files shipped in ``robots/`` by name (file stem)."""
-    return {path.stem: path for path in sorted(data_dir("robots").glob("*.toml"))}
+    """Robot and mechanism files found by name (see :func:`robot_files`)."""
+    return {name: path for name, (path, _) in robot_files().items()}
 
 
 def installed_example_robots() -> dict[str, Path]:
@@ -78,12 +101,29 @@ def available_robots() -> list[str]:
     return names + [name for name in installed_example_robots() if name not in names]
 
 
-def _load_path(path: Path) -> Mechanism:
-    if path.suffix.lower() == ".toml":
-        return read_robot_file(path).mechanism()
+def load_file(path: str | Path) -> Mechanism:
+    """A mechanism from a file, told apart by its content: a robot file (a DH table, ``[[links]]``), a mechanism
+    file (a closed-loop linkage, ``[points]`` and ``[[bodies]]``) or a URDF (``.urdf``)."""
+    from .io.toml import read_toml
+    from .model.linkage import build_linkage
+    from .model.linkage_file import is_linkage_file, linkage_spec
+
+    path = Path(path)
     if path.suffix.lower() == ".urdf":
         return load_urdf(path)
-    raise InputError("unknown kind of file: expected a robot file (.toml) or a URDF (.urdf)", file=path)
+    if path.suffix.lower() != ".toml":
+        raise InputError("unknown kind of file: expected a robot or mechanism file (.toml) or a URDF (.urdf)",
+                         file=path)
+    data = read_toml(path)
+    if is_linkage_file(data):
+        return build_linkage(linkage_spec(data, file=path, default_name=path.stem))
+    if "links" in data:
+        return read_robot_file(path).mechanism()
+    if "pairs" in data:
+        raise InputError("a structural description (pairs and loops), not a mechanism: use 'mechatron structure' "
+                         "with it", file=path)
+    raise InputError("neither a robot file (a DH table: [[links]]) nor a mechanism file (a closed-loop linkage: "
+                     "[points] and [[bodies]]); see docs/robot_file.md and docs/mechanism_file.md", file=path)
 
 
 def _build_machine(build: Callable[..., Mechanism], parameters: dict[str, float]) -> Mechanism:
@@ -111,16 +151,16 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
     path = Path(text)
     looks_like_path = isinstance(name_or_path, Path) or path.suffix.lower() in (".toml", ".urdf") or "/" in text
     if looks_like_path:
-        mechanism = _load_path(path)
+        mechanism = load_file(path)
     else:
         from .machines import BUILTINS
 
         builtin = builtin_robot_files()
         examples = installed_example_robots()
-        if text in BUILTINS:
+        if text in BUILTINS and text not in builtin:
             return _build_machine(BUILTINS[text].build, parameters)
         if text in builtin:
-            mechanism = read_robot_file(builtin[text]).mechanism()
+            mechanism = load_file(builtin[text])
         elif text in examples:
             robot = EXAMPLE_ROBOTS[text]
             mechanism = load_urdf(examples[text], text, tool=robot.tool, locked_joints=robot.locked,
