@@ -98,7 +98,7 @@ CASES = [
     ("both units", GOOD.replace("alpha_deg = 90.0", "alpha_deg = 90.0\nalpha = 1.5"),
      ["links[2].alpha", "only one of alpha and alpha_deg"]),
     ("unknown convention", GOOD.replace('"standard"', '"craig"'), ["convention", "standard, modified"]),
-    ("no links", 'name = "x"\n', ["links", "missing required field"]),
+    ("no links", 'name = "x"\n', ["neither a robot file", "[[links]]", "mechanism file"]),
     ("bad vector", GOOD.replace("com = [-0.25, 0.0, 0.0]", "com = [-0.25, 0.0]"), ["links[1].com", "3 numbers"]),
     ("bad drive", GOOD.replace("mass = 0.5", "mass = 0.5\ndrive = { gear_ratio = 0.0 }"),
      ["links[2].drive.gear_ratio", "must not be zero"]),
