@@ -1,10 +1,11 @@
 """Design a backhoe bucket linkage ([Bucket]) for a given bucket volume and required bucket turn, then analyse it
 over the whole cylinder stroke.
 
-    python examples/bucket_linkage.py [--volume 0.8] [--turn 160] [--csv FILE] [--plot FILE]
+    python examples/bucket_linkage.py [--volume 0.8] [--turn 160] [--csv FILE] [--plot FILE] [--file FILE]
 
 Prints the first sizing ([Bucket, 1–4]), the synthesized c and L2 (eight loop equations solved with CasADi), the worst
-transmission angles, and the tooth-tip speed at a constant cylinder speed.
+transmission angles, and the tooth-tip speed at a constant cylinder speed. With --file the synthesis writes its
+mechanism file, which every command reads: ``mechatron linkage bucket.toml``, ``mechatron size bucket.toml``.
 """
 
 from __future__ import annotations
@@ -12,9 +13,11 @@ from __future__ import annotations
 import argparse
 import math
 
+import mechatron
 from mechatron.io.output import save_figure
 from mechatron.kinematics.sweep import sweep
 from mechatron.machines import bucket
+from mechatron.model.linkage import build_linkage
 
 
 def main() -> None:
@@ -24,12 +27,16 @@ def main() -> None:
     parser.add_argument("--speed", type=float, default=0.1, help="cylinder speed (m/s)")
     parser.add_argument("--csv", default="bucket_sweep.csv")
     parser.add_argument("--plot", default="bucket_sweep.png")
+    parser.add_argument("--file", help="write the synthesized mechanism file (TOML) and analyse what it reads")
     args = parser.parse_args()
 
     inputs = bucket.BucketInputs(volume=args.volume, turn_deg=args.turn)
     size = bucket.first_sizing(inputs)
     linkage = bucket.synthesize(inputs)
-    mech = bucket.build(linkage)
+    if args.file:
+        mech = mechatron.load(bucket.write_bucket(linkage, args.file))
+    else:
+        mech = build_linkage(bucket.bucket_spec(linkage))
     print(f"bucket q = {args.volume:g} m³: L_k = {size['Lk']:.3f} m, L3 = L4 = L5 = {size['L5']:.3f} m, "
           f"stroke h = {size['stroke']:.3f} m (from 1.83·L5 = {size['stroke_raw']:.3f}), L1н = {size['L1n']:.3f} m")
     print(f"synthesis for a {args.turn:g}° turn: c = {linkage.c:.4f} m, L2 = {linkage.L2:.4f} m")
@@ -43,7 +50,7 @@ def main() -> None:
             print(f"  worst transmission angle {m['name']}: {math.degrees(m['min']):.1f}°")
     result.write_csv(args.csv)
     save_figure(result.plot(curves=["mu_B", "mu_C", "mu_E"], trace="K"), args.plot)
-    print(f"wrote {args.csv} and {args.plot}")
+    print(f"wrote {', '.join(filter(None, (args.file, args.csv, args.plot)))}")
 
 
 if __name__ == "__main__":

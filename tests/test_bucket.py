@@ -21,6 +21,7 @@ from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble
 from mechatron.kinematics.sweep import sweep
 from mechatron.machines import bucket as bk
+from mechatron.model.linkage import build_linkage
 from validation.bucket import analytic_analysis
 
 DEG = math.pi / 180
@@ -33,7 +34,8 @@ def linkage():
 
 @pytest.fixture(scope="module")
 def mech(linkage):
-    return bk.build(linkage)
+    """The shipped file robots/six_bar_bucket.toml, which the synthesis wrote (tests/test_pipeline.py)."""
+    return mechatron.load("six_bar_bucket")
 
 
 def test_first_sizing():
@@ -102,7 +104,49 @@ def test_infeasible_synthesis_is_reported():
         bk.synthesize(bk.BucketInputs(turn_deg=260.0))
 
 
-def test_load_with_overrides():
-    mech = mechatron.load("six_bar_bucket", turn_deg=150.0)
+def test_assembled_positions_are_the_synthesized_ones_at_both_ends(linkage):
+    """The circle intersections of BucketLinkage.assembled (the file's drawing) on the start's branch give, at the
+    end of the stroke, the pins of the synthesis' final angles (φ1к, φ2к, φ3к, φ4н + Δφ4)."""
+    for L1, phi, phi4 in ((linkage.L1n, linkage.initial, linkage.phi4n),
+                          (linkage.L1n + linkage.stroke, linkage.final, linkage.phi4n + linkage.turn)):
+        pins, expected = linkage.assembled(L1), linkage.pins(L1, phi, phi4)
+        for name in expected:
+            np.testing.assert_allclose(pins[name], expected[name], atol=1e-12, err_msg=name)
+
+
+def test_the_spec_checks_the_turn_of_the_synthesis(linkage):
+    """bucket_spec builds the mechanism and refuses a synthesis whose mechanism does not turn by Δφ4."""
+    from dataclasses import replace
+
+    with pytest.raises(mechatron.InputError, match="turns the bucket by 160°, not 165°"):
+        bk.bucket_spec(replace(linkage, turn=165 * DEG))
+
+
+def test_another_synthesis_through_its_file(tmp_path):
+    """A 150° turn: synthesis → mechanism file → model; the model read back turns the bucket by 150°."""
+    linkage = bk.synthesize(bk.BucketInputs(turn_deg=150.0))
+    mech = mechatron.load(bk.write_bucket(linkage, tmp_path / "bucket_150.toml"))
     result = sweep(mech, samples=50)
     assert result.table["q_phi4"].iloc[-1] - result.table["q_phi4"].iloc[0] == pytest.approx(150 * DEG, abs=1e-9)
+    # the same from the spec without a file
+    direct = build_linkage(bk.bucket_spec(linkage))
+    np.testing.assert_array_equal(direct.reference_q, mech.reference_q)
+
+
+def test_the_file_has_the_synthesized_lengths(linkage, mech):
+    """The named lengths of the file are those of the first sizing and the synthesis; the cylinder eye A = (a, b)."""
+    values = mech.parameter_values()
+    for name, expected in (("c", linkage.c), ("L2", linkage.L2), ("L3", linkage.L3), ("L4", linkage.L4),
+                           ("L5", linkage.L5), ("Lk", linkage.Lk), ("A_x", linkage.a), ("A_y", linkage.b)):
+        assert values[name] == pytest.approx(expected, abs=1e-12), name
+    assert mech.cylinders["L1"].stroke == pytest.approx((1.1, 2.0), abs=1e-12)  # L1н = H_T + h, L1н + h
+    assert mech.input_rates == {"L1": 0.1} and mech.tool_frame == "K"
+
+
+def test_a_longer_length_from_the_command_line_rebuilds_through_the_file():
+    """--set L4=... changes the link CE: the rebuilt model has |CE| = L4 at every position."""
+    from mechatron.kinematics.geometry import distance
+
+    longer = mechatron.load("six_bar_bucket", L4=0.52)
+    for q in sweep(longer, samples=5).q:
+        assert distance(longer, q, "C", "E") == pytest.approx(0.52, abs=1e-9)

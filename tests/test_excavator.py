@@ -30,7 +30,8 @@ def shovel():
 
 @pytest.fixture(scope="module")
 def mech(shovel):
-    return ex.build(shovel)
+    """The shipped file robots/front_shovel.toml, which the synthesis wrote (tests/test_pipeline.py)."""
+    return mechatron.load("front_shovel")
 
 
 def test_joint_ranges_by_hand(shovel):
@@ -94,6 +95,38 @@ def test_lever_synthesis_closes_both_triangles():
     # a 20° sweep from 80° can stretch a cylinder by at most sin 50°/sin 40° = 1.19 (equal levers)
     with pytest.raises(mechatron.InputError, match="no cylinder with λ = 1.5"):
         ex.lever_synthesis(100 * DEG, 80 * DEG, 1.5)
+
+
+def test_the_file_has_the_designed_lengths_and_cylinders(shovel, mech):
+    """The named lengths of the file are the design's links and the synthesized levers [Shovel, 3.8–3.17]; the boom
+    angle is limited to the synthesized θ1 range."""
+    d = shovel.design
+    boom, stick, bucket = shovel.cylinders
+    values = mech.parameter_values()
+    for name, expected in (("boom", d.boom), ("stick", d.stick), ("bucket", d.bucket), ("l5", boom.lever_fixed),
+                           ("l7", boom.lever_driven), ("l8", stick.lever_fixed), ("l9", stick.lever_driven),
+                           ("l10", bucket.lever_fixed), ("l11", bucket.lever_driven), ("C_x", d.boom_foot[0]),
+                           ("C_y", d.boom_foot[1])):
+        assert values[name] == pytest.approx(expected, abs=1e-12), name
+    index = mech.joint_names.index("theta1")
+    assert (mech.model.lowerPositionLimit[index], mech.model.upperPositionLimit[index]) == pytest.approx(
+        shovel.theta1, abs=1e-15)
+    assert {m.name: m.minimum for m in mech.measures if m.kind == "transmission_angle"} == pytest.approx(
+        {"boom_transmission_angle": 30 * DEG, "stick_transmission_angle": 30 * DEG,
+         "bucket_transmission_angle": 30 * DEG})
+    assert mech.input_rates == {"L1": 0.1, "L2": 0.1, "L3": 0.1} and mech.tool_frame == "V"
+    assert mech.total_mass == pytest.approx(d.boom_mass + d.stick_mass + d.bucket_mass)
+
+
+def test_a_longer_boom_from_the_command_line_rebuilds_through_the_file():
+    """--set boom=4.5 moves F to 4.5 m from C (the stick, bucket and levers keep their lengths)."""
+    from mechatron.kinematics.geometry import distance
+
+    longer = mechatron.load("front_shovel", boom=4.5)
+    q = assemble(longer, {"L1": 3.0, "L2": 2.5, "L3": 2.2})
+    assert distance(longer, q, "C", "F") == pytest.approx(4.5, abs=1e-9)
+    assert distance(longer, q, "F", "Q") == pytest.approx(3.3, abs=1e-9)
+    assert distance(longer, q, "Q", "V") == pytest.approx(2.0, abs=1e-9)
 
 
 def test_cylinders_span_the_joint_ranges(shovel, mech):

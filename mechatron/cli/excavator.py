@@ -9,14 +9,19 @@ from .common import _floats, add_output_options, emit
 
 def cmd_excavator(args: argparse.Namespace) -> int:
     """The front-shovel design report [Shovel]: parse, call :func:`~mechatron.machines.excavator.excavator_report`,
-    emit."""
-    from ..machines.excavator import excavator_report, read_design
+    emit. With ``-o FILE``: write the design's mechanism file (:func:`~mechatron.machines.excavator.write_shovel`),
+    and the report only if one of its outputs (--json, --csv, --plot) is asked for."""
+    from ..machines.excavator import excavator_report, read_design, write_shovel
     from ..report.progress import progress_bar
 
     design = read_design(args.design) if args.design else None
     tooth = tuple(_floats(args.tooth_force, "--tooth-force")) if args.tooth_force else (0.0, 0.0)
+    written = [write_shovel(design, args.output)] if args.output else []
+    if written and not (args.json or args.csv or args.plot):
+        print(f"wrote {written[0]}")
+        return 0
     progress = progress_bar("working range", force=False) if not args.json else None
-    emit(excavator_report(design, args.samples, tooth, progress=progress), args)
+    emit(excavator_report(design, args.samples, tooth, progress=progress), args, written)
     return 0
 
 
@@ -25,5 +30,7 @@ def register(sub) -> None:
     p.add_argument("--design", metavar="FILE", help="TOML file overriding fields of the design (see docs)")
     p.add_argument("--samples", type=int, default=31, help="grid points per cylinder stroke (default 31)")
     p.add_argument("--tooth-force", metavar="FX,FY", help="force on the tooth tip for the holding loads (N)")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="write the design's mechanism file (every command reads it) instead of the report")
     add_output_options(p)
     p.set_defaults(func=cmd_excavator)

@@ -17,7 +17,10 @@ backhoe layout.)
   L5 = 0.4 L_k = L4 = L3, stroke h ≈ 1.83 L5 (taken from a standard series), L1н = H_T + h;
 - :func:`synthesize`: c and L2 from L1н, φ4н, h and Δφ4 by solving the eight loop equations at the initial and
   final positions for (φ1н, φ2н, φ3н, φ1к, φ2к, φ3к, c, L2) with CasADi's Newton rootfinder;
-- :func:`build`: the closed-loop :class:`~mechatron.model.Mechanism`, actuated by the cylinder length ``L1``.
+- :func:`bucket_spec`: the mechanism file of the result (a :class:`~mechatron.model.linkage.LinkageSpec`, checked to
+  turn the bucket by Δφ4), actuated by the cylinder length ``L1``; :func:`write_bucket` writes it. The default
+  synthesis ships as ``robots/six_bar_bucket.toml`` (``mechatron.load("six_bar_bucket")``); another design goes
+  through the synthesis: ``build_linkage(bucket_spec(synthesize(BucketInputs(turn_deg=150))))``.
 
 The paper's own closed-form analysis [Bucket, 12–22], the reference this model is checked against, is in the test
 suite's ``validation/bucket.py``.
@@ -28,15 +31,17 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..kinematics.loops import assemble, loop_solver
-from ..model.mechanism import Mechanism, Parameter
-from ..model.planar import GROUND, PlanarBuilder
+from ..model.linkage import BodySpec, ClosureSpec, JointSpec, LengthSpec, LinkageSpec, MeasureSpec, PointSpec
+from ..model.linkage_file import write_linkage_file
+from ..model.mechanism import Mechanism
+from ..model.planar import GROUND
 
 DEG = math.pi / 180
 #: Standard cylinder strokes (mm), an R20-type series (GOST 6540 style), for "a standard stroke from a maker's
@@ -99,6 +104,29 @@ class BucketLinkage:
                 "D": np.zeros(2), "E": F + self.L5 * np.array([math.cos(phi4), math.sin(phi4)]), "F": F,
                 "K": F + self.Lk * np.array([math.cos(phi4 + self.gamma), math.sin(phi4 + self.gamma)])}
 
+    def assembled(self, L1: float) -> dict[str, NDArray[np.float64]]:
+        """Pin positions (m) in the stick frame at the cylinder length L1 (m) on the synthesized assembly branch:
+        B at L2 from D and L1 from A, E at L5 from F and L4 from C (circle intersections), each on the side of DA
+        and of FC where it is at the start."""
+        start = self.pins(self.L1n, self.initial, self.phi4n)
+
+        def apex(p: str, Q: NDArray[np.float64], q: str, to_p: float, to_q: float, name: str) -> NDArray[np.float64]:
+            P, d = start[p], Q - start[p]
+            base = float(np.hypot(*d))
+            along = (to_p**2 - to_q**2 + base**2) / (2 * base)
+            across = math.sqrt(max(0.0, to_p**2 - along**2))
+            u, r = start[q] - P, start[name] - P  # the side of PQ the point is on at the start
+            side = math.copysign(1.0, u[0] * r[1] - u[1] * r[0])
+            return P + (along * d + side * across * np.array([-d[1], d[0]])) / base
+
+        B = apex("D", start["A"], "A", self.L2, L1, "B")
+        phi2 = math.atan2(B[1], B[0])
+        C = self.L3 * np.array([math.cos(phi2 + self.alpha), math.sin(phi2 + self.alpha)])
+        E = apex("F", C, "C", self.L5, self.L4, "E")
+        A, F = start["A"], start["F"]
+        phi1, phi3 = math.atan2(B[1] - A[1], A[0] - B[0]), math.atan2(C[1] - E[1], C[0] - E[0])
+        return self.pins(L1, (phi1, phi2, phi3), math.atan2(E[1] - F[1], E[0] - F[0]))
+
 
 def first_sizing(inputs: BucketInputs) -> dict[str, float]:
     """Empirical first sizing [Bucket, 1–4]: L_k, L5 = L4 = L3, the stroke h and the retracted length L1н (m)."""
@@ -125,8 +153,8 @@ def loop_equations(L1: Any, phi1: Any, phi2: Any, phi3: Any, phi4: Any, *, a: An
 def synthesize(inputs: BucketInputs | None = None) -> BucketLinkage:
     """c and L2 from L1н, φ4н, h and Δφ4: the eight loop equations at the initial and final positions solved for
     (φ1н, φ2н, φ3н, φ1к, φ2к, φ3к, c, L2) by CasADi's Newton rootfinder from a sketch (rocker swinging 35°→145°,
-    L2 = L3, c = 0.8 L5). The root must have c > 0 and L2 > 0; :func:`build` then checks by continuation that the
-    mechanism reaches the final position on one assembly branch. Lengths in m, angles in rad."""
+    L2 = L3, c = 0.8 L5). The root must have c > 0 and L2 > 0; :func:`bucket_spec` then checks by continuation that
+    the mechanism reaches the final position on one assembly branch. Lengths in m, angles in rad."""
     import casadi as ca
 
     inputs = inputs or BucketInputs()
@@ -159,66 +187,111 @@ def synthesize(inputs: BucketInputs | None = None) -> BucketLinkage:
                          float(solution[6]), float(solution[7]), tuple(wrap[:3]), tuple(wrap[3:]))
 
 
-def build(linkage: BucketLinkage | None = None) -> Mechanism:
-    """The closed-loop model, drawn at the initial position (cylinder retracted, bucket open); actuated ``L1``.
+def bucket_spec(linkage: BucketLinkage | None = None) -> LinkageSpec:
+    """The mechanism file of a synthesized linkage (default: :func:`synthesize` with the default inputs), drawn in the
+    stick frame a quarter of the way along the stroke, L1 = L1н + h/4 (:meth:`BucketLinkage.assembled`): inside the
+    stroke, so that every drawn point and length can move either way, and, for the default design, before the link
+    passes 180°, so that the joint coordinates continue those of the retracted start without 2π jumps. Actuated by
+    the cylinder length ``L1``.
 
-    Coordinates: ``L1`` (cylinder length), ``rocker`` (= φ2, the angle of DB), ``link`` and ``bucket`` (= φ4, the
-    bucket angle ∠DFE measured as the angle of FE from +x). Masses are illustrative (bucket 450 kg, rocker 25 kg,
-    link 15 kg, cylinder 40 + 20 kg).
+    Coordinates: ``L1`` (cylinder length, m), ``phi2`` (the angle of DB), ``link_angle`` (of CE relative to the
+    rocker) and ``phi4`` (the bucket angle ∠DFE, the angle of FE from +x), rad. Named lengths (m): c = |DF|,
+    L2 = |DB|, L3 = |DC|, L4 = |CE|, L5 = |FE|, Lk = |FK|; the cylinder eye A is at (a, b) = (A_x, A_y). Masses are
+    illustrative (bucket 450 kg, rocker 25 kg, link 15 kg, cylinder 40 + 20 kg).
+
+    Raises:
+        InputError: if the mechanism it describes does not turn the bucket by Δφ4 over the stroke from the drawn
+            position (the root of :func:`synthesize` lies on another assembly branch).
     """
     lk = linkage or synthesize()
-    pins = lk.pins(lk.L1n, lk.initial, lk.phi4n)
-    bucket_centre = pins["F"] + 0.55 * (pins["K"] - pins["F"]) + 0.15 * (pins["E"] - pins["F"])
-    b = PlanarBuilder("six_bar_bucket")
-    for name in ("A", "D", "F"):
-        b.point(name, GROUND, pins[name])
-    b.point("stick_end", GROUND, (lk.a + 0.3, 0.0), report=False)
-    rocker = b.revolute("rocker", "D", toward=pins["B"], coordinate="phi2", mass=25.0,
-                        com=(pins["B"] + pins["C"]) / 3, inertia=25.0 * lk.L3**2 / 12)
-    b.point("B", rocker, pins["B"])
-    b.point("C", rocker, pins["C"])
-    link = b.revolute("link", "C", toward=pins["E"], coordinate="link_angle", mass=15.0,
-                      com=(pins["C"] + pins["E"]) / 2, inertia=15.0 * lk.L4**2 / 12)
-    b.point("E_link", link, pins["E"], report=False)
-    bucket = b.revolute("bucket", "F", toward=pins["E"], coordinate="phi4", mass=450.0, com=bucket_centre,
-                        inertia=450.0 * (0.45 * lk.Lk) ** 2)
-    b.point("E", bucket, pins["E"])
-    b.point("K", bucket, pins["K"])
-    b.point("S_bucket", bucket, bucket_centre)
-    b.pin("E_link", "E")
-    b.cylinder("L1", "A", "B", stroke=(lk.L1n, lk.L1n + lk.stroke), barrel_mass=40.0, rod_mass=20.0)
-    b.line("stick", "stick_end", "A", "D", "F")
-    b.line("rocker", "D", "B", "C", "D")
-    b.line("link", "C", "E")
-    b.line("bucket", "F", "E", "K", "F")
-    b.transmission_angle("mu_B", "A", "B", "D", "B", minimum_deg=None)
-    b.transmission_angle("mu_C", "D", "C", "C", "E")
-    b.transmission_angle("mu_E", "C", "E", "F", "E")
-    b.lever_arm("cylinder_arm_about_D", "A", "B", "D")
-    params = {name: Parameter(name, float(getattr(lk.inputs, name)), kind, description)
-              for name, kind, description in (("volume", "ratio", "bucket volume q (m³)"),
-                                              ("dead_length", "length", "cylinder dead length H_T"),
-                                              ("offset", "length", "offset b of the cylinder eye from the stick line"),
-                                              ("turn_deg", "ratio", "required bucket rotation Δφ4 (degrees)"))}
+    pins = lk.assembled(lk.L1n + lk.stroke / 4)
+    centre = pins["F"] + 0.55 * (pins["K"] - pins["F"]) + 0.15 * (pins["E"] - pins["F"])
 
-    def rebuild(values: dict[str, float]) -> Mechanism:
-        return build(synthesize(replace(lk.inputs, **values)))
+    def at(*names: str) -> tuple[PointSpec, ...]:
+        return tuple(PointSpec(n, (float(pins[n][0]), float(pins[n][1]))) for n in names)
 
-    mech = b.build(actuated=["L1"], parameters=params, rebuild=rebuild, tool="K",
-                   description=f"six-link bucket mechanism (q = {lk.inputs.volume:g} m³, turn "
-                               f"{lk.turn / DEG:.4g}°, c = {lk.c:.4f} m, L2 = {lk.L2:.4f} m)",
-                   input_rates={"L1": 0.1},
-                   notes=["geometry reconstructed from the loop equations [Bucket, 8]; masses illustrative"])
-    final = assemble(mech, {"L1": lk.L1n + lk.stroke})
-    reached = final[loop_solver(mech).index["phi4"]] - mech.reference_q[loop_solver(mech).index["phi4"]]
-    if abs(reached - lk.turn) > 1e-8:
-        raise InputError(f"six-bar bucket: the synthesized mechanism turns the bucket by {reached / DEG:.4g}°, not "
-                         f"{lk.turn / DEG:.4g}°: the root lies on another assembly branch")
-    return mech
+    def xy(v: NDArray[np.float64]) -> tuple[float, float]:
+        return float(v[0]), float(v[1])
+
+    spec = LinkageSpec(
+        name="six_bar_bucket",
+        description=f"six-link bucket mechanism (q = {lk.inputs.volume:g} m³, turn {lk.turn / DEG:.4g}°, "
+                    f"c = {lk.c:.4f} m, L2 = {lk.L2:.4f} m)",
+        source="[Bucket]",
+        points=(*at("D", "F", "A"),
+                PointSpec("stick_end", between=("D", "F"), fraction=-(lk.a + 0.3) / lk.c, report=False),
+                *at("B", "C", "E", "K")),
+        bodies=(BodySpec(GROUND, ("D", "F", "A", "stick_end"), draw=("stick_end", "A", "D", "F")),
+                BodySpec("rocker", ("D", "B", "C"), mass=25.0, com=xy((pins["B"] + pins["C"]) / 3),
+                         inertia=25.0 * lk.L3**2 / 12, draw=("D", "B", "C", "D")),
+                BodySpec("bucket", ("F", "E", "K"), mass=450.0, com=xy(centre), inertia=450.0 * (0.45 * lk.Lk) ** 2,
+                         draw=("F", "E", "K", "F")),
+                BodySpec("link", ("C", "E"), mass=15.0, com=xy((pins["C"] + pins["E"]) / 2),
+                         inertia=15.0 * lk.L4**2 / 12)),
+        joints=(JointSpec("revolute", body="rocker", at="D", toward="B", coordinate="phi2"),
+                JointSpec("revolute", body="link", at="C", toward="E", coordinate="link_angle"),
+                JointSpec("revolute", body="bucket", at="F", toward="E", coordinate="phi4"),
+                JointSpec("cylinder", name="L1", base="A", eye="B", stroke=(lk.L1n, lk.L1n + lk.stroke),
+                          barrel_mass=40.0, rod_mass=20.0)),
+        actuated=("L1",),
+        closures=(ClosureSpec("pin", point="E", bodies=("link", "bucket")),),
+        measures=(MeasureSpec("transmission_angle", "mu_B", ("A", "B", "D", "B")),
+                  MeasureSpec("transmission_angle", "mu_C", ("D", "C", "C", "E")),
+                  MeasureSpec("transmission_angle", "mu_E", ("C", "E", "F", "E")),
+                  MeasureSpec("lever_arm", "cylinder_arm_about_D", ("A", "B", "D"))),
+        lengths=tuple(LengthSpec(name, points) for name, points in (
+            ("c", ("D", "F")), ("L2", ("D", "B")), ("L3", ("D", "C")), ("L4", ("C", "E")), ("L5", ("F", "E")),
+            ("Lk", ("F", "K")))),
+        tool="K",
+        input_rates={"L1": 0.1},
+        notes=("geometry reconstructed from the loop equations [Bucket, 8]; masses illustrative",),
+    )
+    _check_turn(spec, lk)
+    return spec
 
 
-def six_bar_bucket(**overrides: float) -> Mechanism:
+def _check_turn(spec: LinkageSpec, lk: BucketLinkage) -> None:
+    """The mechanism of ``spec``, assembled from its drawing at both ends of the stroke, turns the bucket by Δφ4."""
+    from ..kinematics.loops import assemble, loop_solver
+    from ..model.linkage import build_linkage
+
+    mech = build_linkage(spec)
+    index = loop_solver(mech).index["phi4"]
+    start, end = (assemble(mech, {"L1": L1})[index] for L1 in (lk.L1n, lk.L1n + lk.stroke))
+    if abs(end - start - lk.turn) > 1e-8:
+        raise InputError(f"six-bar bucket: the synthesized mechanism turns the bucket by {(end - start) / DEG:.4g}°, "
+                         f"not {lk.turn / DEG:.4g}°: the root lies on another assembly branch")
+
+
+def file_header(lk: BucketLinkage) -> str:
+    """The comment heading a written bucket file: the synthesis it comes from, its inputs and results."""
+    i = lk.inputs
+    return "\n".join([
+        "Six-link bucket mechanism [Bucket], written by mechatron.machines.bucket.write_bucket from the synthesis of",
+        "c and L2 by the loop equations [Bucket, 8] at the initial and final positions, for",
+        f"q = {i.volume:g} m³, α = {i.alpha_deg:g}°, β = {i.beta_deg:g}°, γ = {i.gamma_deg:g}°, "
+        f"H_T = {i.dead_length:g} m, b = {lk.b:g} m, a = {lk.a:.6g} m, φ4н = {lk.phi4n / DEG:.6g}°, "
+        f"Δφ4 = {lk.turn / DEG:.6g}°:",
+        f"c = {lk.c:.9f} m, L2 = {lk.L2:.9f} m. Drawn a quarter of the way along the stroke "
+        f"(L1 = {lk.L1n + lk.stroke / 4:.6g} m) in the stick frame:",
+        "origin the rocker pivot D, x along the stick from the bucket pivot F towards the cylinder eye A = (a, b).",
+        "A new design goes through the synthesis (BucketInputs), not through this file."])
+
+
+def write_bucket(linkage: BucketLinkage | None, path: str | Path) -> Path:
+    """Write the mechanism file (:func:`bucket_spec`) of a synthesized linkage (default: the default inputs') to
+    ``path``; the mechanism is named after the file. robots/six_bar_bucket.toml is ``write_bucket(None, ...)``."""
+    lk = linkage or synthesize()
+    return write_linkage_file(replace(bucket_spec(lk), name=Path(path).stem), path, header=file_header(lk))
+
+
+def six_bar_bucket() -> Mechanism:
     """Six-link bucket mechanism [Bucket] (cylinder + rocker + link + bucket), synthesized for Δφ4.
 
-    ``overrides`` are fields of :class:`BucketInputs` (m³, m, degrees as named)."""
-    return build(synthesize(replace(BucketInputs(), **overrides)) if overrides else None)
+    The shipped file robots/six_bar_bucket.toml (what ``load("six_bar_bucket")`` reads); kept only while
+    :data:`mechatron.machines.BUILTINS` still lists it."""
+    from ..io.data import data_dir
+    from ..model.linkage import build_linkage
+    from ..model.linkage_file import read_linkage_file
+
+    return build_linkage(read_linkage_file(data_dir("robots") / "six_bar_bucket.toml"))

@@ -20,16 +20,20 @@ The design follows the report step by step:
    and the lever, folded to [0°, 90°]) checked against 30° [Shovel, 3.18–3.19];
 5. special tooth-tip positions [Shovel, 2.1–2.4] and the working range from sweeping all strokes.
 
-:func:`excavator_report` gathers all of it, with the tool forces of [ISO 6015] and the holding loads, into an
-:class:`ExcavatorReport` (what ``mechatron excavator`` prints). The report's printed numbers are compared with these
-in the test suite's ``validation/excavator.py``.
+:func:`shovel_spec` describes the synthesized device as a mechanism file (a
+:class:`~mechatron.model.linkage.LinkageSpec`) and :func:`write_shovel` writes it (``mechatron excavator --design FILE
+-o my_shovel.toml``); the report's design ships as ``robots/front_shovel.toml`` (``mechatron.load("front_shovel")``),
+and every command reads such files. :func:`excavator_report` gathers all of it, with the tool forces of [ISO 6015]
+and the holding loads, into an :class:`ExcavatorReport` (what ``mechatron excavator`` prints). The report's printed
+numbers are compared with these in the test suite's ``validation/excavator.py``.
 """
 
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -39,8 +43,10 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..kinematics.frames import frame_placement, point_velocity
 from ..kinematics.loops import assemble, joint_velocity
-from ..model.mechanism import Mechanism, Parameter
-from ..model.planar import GROUND, PlanarBuilder
+from ..model.linkage import BodySpec, JointSpec, LengthSpec, LinkageSpec, MeasureSpec, PointSpec, build_linkage
+from ..model.linkage_file import write_linkage_file
+from ..model.mechanism import Mechanism
+from ..model.planar import GROUND
 from ..report.result import Result
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -305,9 +311,19 @@ def special_positions(shovel: FrontShovel) -> dict[str, tuple[float, float, floa
 
 
 # ---------------------------------------------------------------------------------------------- mechanism
-def build(shovel: FrontShovel | None = None, reference: tuple[float, float, float] | None = None) -> Mechanism:
-    """The closed-loop model: boom, stick, bucket and the three cylinders (actuated lengths L1, L2, L3), drawn at
-    ``reference`` joint angles (default: mid-range)."""
+def shovel_spec(shovel: FrontShovel | None = None, reference: tuple[float, float, float] | None = None
+                ) -> LinkageSpec:
+    """The mechanism file of a synthesized front shovel (default: :func:`synthesize` of the report's design): boom,
+    stick and bucket (uniform bars CF, FQ, QV of the design's masses) and the three cylinders (actuated lengths L1
+    (twin: ``boom_cylinders`` side by side), L2, L3, m), drawn at ``reference`` joint angles (θ1, θ2, θ3, rad;
+    default mid-range).
+
+    Coordinates: ``theta1`` (the angle of CF from the horizontal, limited to the synthesized range), ``stick_angle``
+    and ``bucket_angle`` (of FQ relative to CF and of QV relative to FQ), rad. Measures: each cylinder's transmission
+    angle (30° minimum [Shovel, 3.18–3.19]) and lever arm about its joint. Named lengths (m): boom = |CF|,
+    stick = |FQ|, bucket = |QV| and the cylinder levers l5 = |CA|, l7 = |CB|, l8 = |FD|, l9 = |FE|, l10 = |QG|,
+    l11 = |QK| [Shovel, 3.8–3.17].
+    """
     shovel = shovel or synthesize()
     d = shovel.design
     t1, t2, t3 = reference or tuple(sum(r) / 2 for r in (shovel.theta1, shovel.theta2, shovel.theta3))
@@ -325,47 +341,61 @@ def build(shovel: FrontShovel | None = None, reference: tuple[float, float, floa
     alpha5 = d.bucket_lever_angle_deg * DEG
     K = Q + bucket_cyl.lever_driven * _e(t1 + t2 + t3 - alpha5)  # ∠KQV = α5, towards the stick
     G = Q + bucket_cyl.lever_fixed * _e(t1 + t2 + t3 - alpha5 - (t3 + bucket_cyl.offset))  # ∠GQK = θ3 + c
+    pins = {"C": C, "A": A, "F": F, "B": B, "D": D, "Q": Q, "E": E, "G": G, "V": V, "K": K}
+    measures = []
+    for name, (base, eye, pivot) in (("boom", "ABC"), ("stick", "DEF"), ("bucket", "GKQ")):
+        measures += [MeasureSpec("transmission_angle", f"{name}_transmission_angle", (base, eye, pivot, eye),
+                                 minimum=30 * DEG),
+                     MeasureSpec("lever_arm", f"{name}_lever_arm", (base, eye, pivot))]
+    return LinkageSpec(
+        name="front_shovel",
+        description="front-shovel excavator working device (boom, stick, bucket, 3 cylinders)",
+        source="[Shovel]",
+        points=tuple(PointSpec(n, (float(p[0]), float(p[1]))) for n, p in pins.items()),
+        bodies=(BodySpec(GROUND, ("C", "A"), draw=("A", "C")),
+                BodySpec("boom", ("C", "F", "B", "D"), mass=d.boom_mass, shape="bar", draw=("C", "B", "D", "F", "C")),
+                BodySpec("stick", ("F", "Q", "E", "G"), mass=d.stick_mass, shape="bar",
+                         draw=("F", "E", "Q", "G", "F")),
+                BodySpec("bucket", ("Q", "V", "K"), mass=d.bucket_mass, shape="bar", draw=("Q", "K", "V", "Q"))),
+        joints=(JointSpec("revolute", body="boom", at="C", toward="F", coordinate="theta1", limits=shovel.theta1),
+                JointSpec("revolute", body="stick", at="F", toward="Q", coordinate="stick_angle"),
+                JointSpec("revolute", body="bucket", at="Q", toward="V", coordinate="bucket_angle"),
+                JointSpec("cylinder", name="L1", base="A", eye="B", stroke=boom.stroke, count=d.boom_cylinders),
+                JointSpec("cylinder", name="L2", base="D", eye="E", stroke=stick_cyl.stroke),
+                JointSpec("cylinder", name="L3", base="G", eye="K", stroke=bucket_cyl.stroke)),
+        actuated=("L1", "L2", "L3"),
+        measures=tuple(measures),
+        lengths=tuple(LengthSpec(name, (a, b)) for name, (a, b) in (
+            ("boom", "CF"), ("stick", "FQ"), ("bucket", "QV"), ("l5", "CA"), ("l7", "CB"), ("l8", "FD"),
+            ("l9", "FE"), ("l10", "QG"), ("l11", "QK"))),
+        tool="V",
+        input_rates={"L1": 0.1, "L2": 0.1, "L3": 0.1},
+        notes=("designed as in the front-shovel course-design report [Shovel]; masses illustrative",),
+    )
 
-    b = PlanarBuilder("front_shovel")
-    b.point("C", GROUND, C)
-    b.point("A", GROUND, A)
-    b.point("ground_x", GROUND, (C[0] + 1.0, C[1]), report=False)
-    def bar(mass: float, start: np.ndarray, end: np.ndarray) -> dict:
-        return {"mass": mass, "com": (start + end) / 2, "inertia": mass * float(np.sum((end - start) ** 2)) / 12}
 
-    boom_body = b.revolute("boom", "C", toward=F, coordinate="theta1", limits=shovel.theta1,
-                           **bar(d.boom_mass, C, F))
-    for name, point in (("F", F), ("B", B), ("D", D)):
-        b.point(name, boom_body, point)
-    stick_body = b.revolute("stick", "F", toward=Q, coordinate="stick_angle", **bar(d.stick_mass, F, Q))
-    for name, point in (("Q", Q), ("E", E), ("G", G)):
-        b.point(name, stick_body, point)
-    bucket_body = b.revolute("bucket", "Q", toward=V, coordinate="bucket_angle", **bar(d.bucket_mass, Q, V))
-    for name, point in (("V", V), ("K", K)):
-        b.point(name, bucket_body, point)
-    b.cylinder("L1", "A", "B", stroke=boom.stroke, count=d.boom_cylinders)
-    b.cylinder("L2", "D", "E", stroke=stick_cyl.stroke)
-    b.cylinder("L3", "G", "K", stroke=bucket_cyl.stroke)
-    b.line("boom", "C", "B", "D", "F", "C")
-    b.line("stick", "F", "E", "Q", "G", "F")
-    b.line("bucket", "Q", "K", "V", "Q")
-    b.line("turntable", "A", "C", kind="ground")
-    for name, cyl, pivot, lever_end in (("boom", "L1", "C", "B"), ("stick", "L2", "F", "E"),
-                                        ("bucket", "L3", "Q", "K")):
-        base, eye = b.cylinders[cyl].base, b.cylinders[cyl].eye
-        b.transmission_angle(f"{name}_transmission_angle", base, eye, pivot, lever_end, minimum_deg=30.0)
-        b.lever_arm(f"{name}_lever_arm", base, eye, pivot)
-    params = {name: Parameter(name, float(value), "ratio" if name.endswith(("_ratio", "_k", "_mass")) else "length",
-                              f"design input {name}")
-              for name, value in asdict(d).items() if isinstance(value, float) and not name.endswith("_deg")}
+def file_header(shovel: FrontShovel) -> str:
+    """The comment heading a written front-shovel file: the design it comes from and its joint ranges."""
+    changed = {f.name: getattr(shovel.design, f.name) for f in fields(FrontShovelDesign)
+               if getattr(shovel.design, f.name) != f.default}
+    design = ", ".join(f"{k} = {v}" for k, v in changed.items()) if changed else "the report's values"
+    ranges = ", ".join(f"θ{i} {lo / DEG:.3f}…{hi / DEG:.3f}°" for i, (lo, hi) in
+                       enumerate((shovel.theta1, shovel.theta2, shovel.theta3), start=1))
+    return "\n".join([
+        "Front-shovel excavator working device [Shovel], written by mechatron.machines.excavator.write_shovel",
+        "(mechatron excavator --design FILE -o FILE) from the design's synthesis [Shovel, 3.1–3.19]:",
+        *textwrap.wrap(f"design: {design};", 110), f"joint ranges: {ranges}.",
+        "Drawn at mid-range joint angles; world x horizontal, y up (m), the ground at y = 0. A new design goes",
+        "through the synthesis (mechatron excavator --design), not through this file."])
 
-    def rebuild(values: dict[str, float]) -> Mechanism:
-        return build(synthesize(replace(d, **values)), reference)
 
-    return b.build(actuated=["L1", "L2", "L3"], parameters=params, rebuild=rebuild, tool="V",
-                   description="front-shovel excavator working device (boom, stick, bucket, 3 cylinders)",
-                   input_rates={"L1": 0.1, "L2": 0.1, "L3": 0.1},
-                   notes=["designed as in the front-shovel course-design report [Shovel]; masses illustrative"])
+def write_shovel(design: FrontShovelDesign | FrontShovel | None, path: str | Path) -> Path:
+    """Write the mechanism file (:func:`shovel_spec`) of a design (synthesized first; default the report's) or of a
+    synthesized shovel to ``path``; the mechanism is named after the file (``my_shovel.toml``: ``my_shovel``).
+    What ``mechatron excavator --design FILE -o PATH`` does; every command reads the file."""
+    shovel = design if isinstance(design, FrontShovel) else synthesize(design)
+    spec = replace(shovel_spec(shovel), name=Path(path).stem)
+    return write_linkage_file(spec, path, header=file_header(shovel))
 
 
 def joint_angles(mech: Mechanism, q: ArrayLike) -> tuple[float, float, float]:
@@ -379,9 +409,15 @@ def joint_angles(mech: Mechanism, q: ArrayLike) -> tuple[float, float, float]:
     return a_cf, (a_fq - a_fc) % (2 * math.pi), (a_qv - a_qf) % (2 * math.pi)
 
 
-def front_shovel(**overrides: float) -> Mechanism:
-    """Front-shovel excavator working device [Shovel] (boom, stick, bucket; cylinders L1 (twin), L2, L3)."""
-    return build(synthesize(replace(FrontShovelDesign(), **overrides)) if overrides else None)
+def front_shovel() -> Mechanism:
+    """Front-shovel excavator working device [Shovel] (boom, stick, bucket; cylinders L1 (twin), L2, L3).
+
+    The shipped file robots/front_shovel.toml (what ``load("front_shovel")`` reads); kept only while
+    :data:`mechatron.machines.BUILTINS` still lists it."""
+    from ..io.data import data_dir
+    from ..model.linkage_file import read_linkage_file
+
+    return build_linkage(read_linkage_file(data_dir("robots") / "front_shovel.toml"))
 
 
 # ---------------------------------------------------------------------------------------------- working range
@@ -496,8 +532,6 @@ def plot_working_range(mech: Mechanism, working: WorkingRange, shovel: FrontShov
 def read_design(path: str | Path) -> FrontShovelDesign:
     """A front-shovel design from a TOML file with any fields of :class:`FrontShovelDesign` (lengths m, angles in
     degrees as named, masses kg); the fields not given keep the report's values."""
-    from dataclasses import fields
-
     from ..io.schema import FieldReader
     from ..io.toml import read_toml
 
@@ -728,7 +762,7 @@ def excavator_report(design: FrontShovelDesign | None = None, samples: int = 31,
     design = design or FrontShovelDesign()
     specs = cylinders or DEFAULT_CYLINDERS
     shovel = synthesize(design)
-    mech = build(shovel)
+    mech = build_linkage(shovel_spec(shovel))
     deg = 1 / DEG
     special = {}
     for name, angles in special_positions(shovel).items():
