@@ -225,6 +225,13 @@ def test_excavator_command(tmp_path, capsys):
     import pandas as pd
 
     pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "e.csv"), report.to_frame(), check_exact=False, rtol=1e-9)
+    # -o writes the design's mechanism file; with --json the report is printed as well, the file named on stderr
+    assert main(["excavator", "--design", str(design), "--samples", "5", "--json", "-o", str(tmp_path / "d.toml")]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out) == json.loads(report.to_json()) and err == f"wrote {tmp_path / 'd.toml'}\n"
+    low, high = mechatron.load(tmp_path / "d.toml").cylinders["L1"].stroke
+    assert (low, high) == pytest.approx((report.cylinders["L1"]["L_min"], report.cylinders["L1"]["L_max"]))
+    assert high / low == pytest.approx(1.9)  # the design file's boom_ratio
     bad = tmp_path / "bad.toml"
     bad.write_text("boom = -1.0\n")
     assert main(["excavator", "--design", str(bad)]) == 2
