@@ -94,7 +94,8 @@ def test_textbook_crank_slider_example_8_3():
     assert derivatives == pytest.approx([-7.9076e-4, 1.155157, -0.2310314], rel=1e-4)
     errors = np.array([1e-3, 1.5e-3, 1e-3])
     mech = mechatron.load("crank_slider", l1=l1, l2=l2)
-    s = sensitivities(mech, assemble(mech, {"q1": q1}), "C")
+    s = sensitivities(mech, assemble(mech, {"q1": q1}), "C", ["l1", "l2"])  # the book's sources, not the pins' x, y
+    assert s.sources == ("l1", "l2", "q1")
     assert np.allclose(s.matrix[0, 0], derivatives, rtol=1e-8, atol=1e-12)
     assert np.allclose(s.matrix[0, 1:], 0, atol=1e-12)  # C stays on the x axis
     sources = [ErrorSource(n, k, u, t, error=t) for n, k, u, t in
