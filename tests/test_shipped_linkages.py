@@ -80,8 +80,8 @@ def test_crank_slider_file_and_its_lengths():
     assert mech.actuated == ["q1"] and mech.joint_names == ["q1", "phi2", "xC"] and mech.tool_frame == "C"
     assert {k: p.value for k, p in mech.parameters.items() if k in ("l1", "l2")} == {"l1": 0.1, "l2": 0.4}
     assert mech.reference_q[0] == pytest.approx(math.pi / 3, abs=1e-15)  # drawn at q1 = 60°
-    assert frame_placement(mech, mech.reference_q, "C").translation[0] == pytest.approx(slider_x(0.1, 0.4, math.pi / 3)[0],
-                                                                                    abs=1e-15)
+    drawn = frame_placement(mech, mech.reference_q, "C").translation[0]
+    assert drawn == pytest.approx(slider_x(0.1, 0.4, math.pi / 3)[0], abs=1e-15)
     book = mechatron.load("crank_slider", l1=0.2, l2=0.346)  # [Egorov, fig. 8.3]
     for q in (0.0, 1.0, math.pi / 3, 2.5, -2.0):
         right, left = slider_x(0.2, 0.346, q)

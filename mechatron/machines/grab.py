@@ -104,12 +104,12 @@ class GrabGeometry:
 
 
 #: The comment at the top of robots/grab.toml.
-HEADER = """Half of a two-rope rod (clamshell) grab while scooping, after I. V. Mikhailov's motion model [Mikhailov]: written
-by mechatron.machines.grab.write_grab() from GrabGeometry (the paper gives no numbers: a reconstruction for a grab of
-about 1.4 m³); do not edit it by hand, change the reconstruction and write it again. Drawn open (the jaw's tip at
-x = -L/2 on the material surface). The jaw turns on the lower crosshead, which slides on the grab's axis x = 0; the
-two rods join the jaw's ear P3 to the upper crosshead's pin P4; the tip P2 follows the scooping curve
-y = -e + A (x + d)^2, given as a table (a not-a-knot cubic spline through it is the parabola itself)."""
+HEADER = """Half of a two-rope rod (clamshell) grab while scooping, after I. V. Mikhailov's motion model
+[Mikhailov]: written by mechatron.machines.grab.write_grab() from GrabGeometry (the paper gives no numbers: a
+reconstruction for a grab of about 1.4 m³); do not edit it by hand, change the reconstruction and write it again.
+Drawn open (the jaw's tip at x = -L/2 on the material surface). The jaw turns on the lower crosshead, which slides on
+the grab's axis x = 0; the two rods join the jaw's ear P3 to the upper crosshead's pin P4; the tip P2 follows the
+scooping curve y = -e + A (x + d)^2, given as a table (a not-a-knot cubic spline through it is the parabola itself)."""
 
 
 def grab_spec(**overrides: float) -> LinkageSpec:
@@ -157,7 +157,8 @@ def grab_spec(**overrides: float) -> LinkageSpec:
     closures = (ClosureSpec("pin", point="P3", bodies=("rods", "jaw")),
                 ClosureSpec("curve", point="P2", x=tuple(x), y=tuple(float(g.eta(v)) for v in x),
                             label=f"y = -{e:g} + {A:.6g} (x + {d:g})^2"))
-    lengths = (LengthSpec("tip_length", ("P1", "P2"), g.tip_length), LengthSpec("rod_length", ("P4", "P3"), g.rod_length))
+    lengths = (LengthSpec("tip_length", ("P1", "P2"), g.tip_length),
+               LengthSpec("rod_length", ("P4", "P3"), g.rod_length))
     return LinkageSpec(
         name="grab", points=points, bodies=bodies, joints=joints, actuated=("phi1",), closures=closures,
         lengths=lengths, description=f"half of a rod grab (L = {g.opening:g} m opening, scooping depth {g.depth:g} m)",
@@ -276,8 +277,9 @@ def plot_scooping(mech: Mechanism, simulation: Simulation, loads: ScoopingLoads 
                   ax: Axes | None = None) -> Figure:
     """A scooping simulation of the grab (:func:`mechatron.dynamics.constrained.simulate` with
     :func:`mechanism_loads` of ``loads``, default :class:`ScoopingLoads`): the cutting edge's path on the scooping
-    curve (m, from the drawn tip of the open jaw to the axis); the tip speed (m/s) and the jaw's angular speed (rad/s); the pin forces of :func:`scooping_forces`
-    (kN). With ``ax`` only the path is drawn, into it; returns the figure.
+    curve (m, from the drawn tip of the open jaw to the axis); the tip speed (m/s) and the jaw's angular speed
+    (rad/s); the pin forces of :func:`scooping_forces` (kN). With ``ax`` only the path is drawn, into it; returns the
+    figure.
     """
     from ..kinematics.frames import frame_placement, point_velocity
     from ..model.closures import OnCurve

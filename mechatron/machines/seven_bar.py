@@ -101,8 +101,8 @@ def pins(data: SevenBarData, s1: float, s2: float) -> dict[str, NDArray[np.float
 
 
 #: The comment at the top of robots/seven_bar.toml.
-HEADER = """The two-cylinder planar seven-link mechanism of Shi Jinfa and Liang Xichang [ShiLiang], reconstructed from the
-paper's formulas (its figures are missing): written by mechatron.machines.seven_bar.write_seven_bar() from
+HEADER = """The two-cylinder planar seven-link mechanism of Shi Jinfa and Liang Xichang [ShiLiang], reconstructed from
+the paper's formulas (its figures are missing): written by mechatron.machines.seven_bar.write_seven_bar() from
 SevenBarData (the lengths of [ShiLiang, table 1]); do not edit it by hand, change the reconstruction and write it
 again. The masses are illustrative and the strokes 0.2 m (the paper gives neither). Inputs: the cylinder lengths
 s1 = BF and s2 = DE (m), drawn at s1min = 520 mm and s2min = 565 mm."""
