@@ -168,8 +168,9 @@ def grab_spec(**overrides: float) -> LinkageSpec:
 
 
 def grab(**overrides: float) -> Mechanism:
-    """Half of a rod (clamshell) grab scooping along a parabola [Mikhailov]; input: the jaw angle ``phi1``. The
-    mechanism of :func:`grab_spec`, as ``mechatron.load("grab")`` reads it from robots/grab.toml.
+    """Half of a rod (clamshell) grab scooping along a parabola [Mikhailov]; input: the jaw angle ``phi1``.
+
+    The mechanism of :func:`grab_spec`, as ``mechatron.load("grab")`` reads it from robots/grab.toml.
 
     ``overrides`` are fields of :class:`GrabGeometry` (m, kg, kg·m²)."""
     return build_linkage(grab_spec(**overrides))

@@ -146,8 +146,9 @@ def seven_bar_spec(**overrides: float) -> LinkageSpec:
 
 
 def seven_bar(**overrides: float) -> Mechanism:
-    """Two-cylinder seven-link mechanism [ShiLiang] (inputs: cylinder lengths s1 = BF, s2 = DE, m): the mechanism of
-    :func:`seven_bar_spec`, as ``mechatron.load("seven_bar")`` reads it from robots/seven_bar.toml.
+    """Two-cylinder seven-link mechanism [ShiLiang] (inputs: cylinder lengths s1 = BF, s2 = DE, m).
+
+    The mechanism of :func:`seven_bar_spec`, as ``mechatron.load("seven_bar")`` reads it from robots/seven_bar.toml.
 
     ``overrides`` are fields of :class:`SevenBarData` (m, m/s, degrees as named)."""
     return build_linkage(seven_bar_spec(**overrides))
