@@ -33,6 +33,5 @@ def scotch_yoke(**parameters: float) -> Mechanism:
 
 
 def slotted_link(**parameters: float) -> Mechanism:
-    """Slotted-link (coulisse) mechanism, crank l1, pivots d apart (robots/slotted_link.toml) [Egorov, figs. 4.5,
-    4.6]."""
+    """Slotted-link (coulisse) mechanism, crank l1 = AB, pivots d = AC (robots/slotted_link.toml) [Egorov, fig. 4.5]."""
     return shipped("slotted_link", **parameters)
