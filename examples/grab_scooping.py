@@ -1,9 +1,11 @@
 """Simulate a rod grab scooping [Mikhailov]: the closing rope pulls the jaws shut against the material's resistance.
 
-    python examples/grab_scooping.py [--tension 20000] [--resistance 15000] [--plot grab.png]
+    python examples/grab_scooping.py [--tension 20000] [--resistance 15000] [--plot grab.png] [--grab my_grab.toml]
 
-The half grab is a Pinocchio tree closed by a pin and a point-on-curve constraint; the simulation integrates it with
-RK4 on the configuration manifold and keeps the closures. The work of the rope and the resistance equals the change
+The half grab is the mechanism file robots/grab.toml (or your own, written by mechatron.machines.grab.write_grab with
+another geometry): a Pinocchio tree closed by a pin and a point-on-curve constraint. The simulation starts with the
+jaw open (at the lower limit of its angle phi1), integrates with RK4 on the configuration manifold and keeps the
+closures. The work of the rope and the resistance equals the change
 of kinetic plus potential energy (the test suite also checks it against the paper's own 13-unknown formulation).
 """
 
@@ -16,7 +18,7 @@ import numpy as np
 import mechatron
 from mechatron.dynamics import constrained
 from mechatron.kinematics.loops import assemble
-from mechatron.machines.grab import GrabGeometry, ScoopingLoads, mechanism_loads, plot_scooping, scooping_forces
+from mechatron.machines.grab import ScoopingLoads, mechanism_loads, plot_scooping, scooping_forces
 
 
 def main() -> None:
@@ -24,13 +26,14 @@ def main() -> None:
     parser.add_argument("--tension", type=float, default=20e3, help="closing rope tension (N)")
     parser.add_argument("--resistance", type=float, default=15e3, help="cutting resistance on one jaw (N)")
     parser.add_argument("--plot", default="grab_scooping.png")
+    parser.add_argument("--grab", default="grab", help="the grab's mechanism file (default: the shipped one)")
     args = parser.parse_args()
 
-    geometry = GrabGeometry()
     loads = ScoopingLoads(rope_tension=args.tension, resistance=args.resistance)
-    mech = mechatron.load("grab")
+    mech = mechatron.load(args.grab)
     jaw = mech.model.joints[mech.joint_id("phi1")].idx_q
-    sim = constrained.simulate(mech, assemble(mech, {"phi1": geometry.open_angle}), np.zeros(mech.nv), 3.0, 2e-3,
+    opened = mech.model.lowerPositionLimit[jaw]
+    sim = constrained.simulate(mech, assemble(mech, {"phi1": opened}), np.zeros(mech.nv), 3.0, 2e-3,
                                loads_at=mechanism_loads(mech, loads), stop=lambda t, q, v: q[jaw] >= 0.0)
     closed = sim.q[-1, jaw] >= 0
     print(f"jaw {'closed' if closed else 'still open'} after {sim.t[-1]:.3f} s "

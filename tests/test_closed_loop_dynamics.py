@@ -23,7 +23,7 @@ from mechatron.dynamics.kinetostatics import kinetostatics
 from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity, loop_solver
 from mechatron.kinematics.sweep import sweep
 
-SLIDER_LOAD = [("C_slider", [1000.0, 0.0, 0.0])]
+SLIDER_LOAD = [("C@slider", [1000.0, 0.0, 0.0])]
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +37,7 @@ def test_crank_slider_kinetostatics(crank):
     assert k.driving["q1"] == pytest.approx(63.112255, abs=1e-6)  # M_D
     assert k.zhukovsky["q1"] == pytest.approx(63.112255, abs=1e-6)  # Zhukovsky's lever (virtual power)
     # force of the slider on the rod at C, of the crank on the rod at B, of the guide on the slider
-    np.testing.assert_allclose(k.reactions.pins["C=C_slider"], [1009.9501, -120.2979], atol=1e-4)
+    np.testing.assert_allclose(k.reactions.pins["C=C@slider"], [1009.9501, -120.2979], atol=1e-4)
     np.testing.assert_allclose(k.reactions.joints[1, :2], [-1028.5605, 134.9179], atol=1e-4)
     assert k.reactions.joints[2, 1] == pytest.approx(-110.4879, abs=1e-4)
     assert k.reactions.joints[0, 5] == pytest.approx(63.112255, abs=1e-6)  # the crank's moment at A
@@ -55,7 +55,7 @@ def test_crank_slider_kinetostatics(crank):
 def test_forward_dynamics_matches_pinocchio_constraint_dynamics(crank, rng):
     """The KKT solution against Pinocchio's own proximal constrained dynamics with a 3-D point contact."""
     model = crank.model
-    a_frame, b_frame = model.frames[crank.frame_id("C")], model.frames[crank.frame_id("C_slider")]
+    a_frame, b_frame = model.frames[crank.frame_id("C")], model.frames[crank.frame_id("C@slider")]
     contact = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, a_frame.parentJoint, a_frame.placement,
                                        b_frame.parentJoint, b_frame.placement, pin.ReferenceFrame.LOCAL)
     contact_data = contact.createData()
@@ -132,7 +132,7 @@ def motor(t, q, v):
 
 
 def slider_damper(t, q, v):
-    return [("C_slider", [-40.0 * v[2], 0.0, 0.0])]
+    return [("C@slider", [-40.0 * v[2], 0.0, 0.0])]
 
 
 def test_one_mass_model_reproduces_the_full_simulation(crank):
@@ -172,6 +172,6 @@ def test_motion_regimes_and_speed_fluctuation(crank):
     assert steady.omega_end == pytest.approx(steady.omega_start, rel=1e-3)
     # switching the motor off (a light damper left) gives a run-down
     off = cd.simulate(crank, sim.q[-1], sim.v[-1], 2.0, 2e-3,
-                      loads_at=lambda t, q, v: [("C_slider", [-0.3 * v[2], 0.0, 0.0])])
+                      loads_at=lambda t, q, v: [("C@slider", [-0.3 * v[2], 0.0, 0.0])])
     regimes = rd.motion_regimes(off.t, off.q[:, 0], off.v[:, 0]).regimes
     assert len(regimes) >= 2 and set(regimes) == {"run-down"}

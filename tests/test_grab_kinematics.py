@@ -17,7 +17,8 @@ import mechatron
 from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity
 from mechatron.kinematics.sweep import sweep
-from mechatron.machines.grab import GrabGeometry
+from mechatron.machines.grab import GrabGeometry, grab_spec
+from mechatron.model.linkage import build_linkage
 
 
 @pytest.fixture(scope="module")
@@ -72,8 +73,14 @@ def test_velocity_and_acceleration_equal_finite_differences(mech):
 
 
 def test_bad_geometry():
+    """Other curves and jaws go through the reconstruction (the file holds its result)."""
     with pytest.raises(mechatron.InputError, match="cannot open"):
-        mechatron.load("grab", opening=4.0)
+        grab_spec(opening=4.0)
     with pytest.raises(mechatron.InputError, match="scooping curve"):
-        mechatron.load("grab", depth=0.2)
-    assert math.isfinite(mechatron.load("grab", depth=0.8).reference_q.sum())
+        grab_spec(depth=0.2)
+    deeper = build_linkage(grab_spec(depth=0.8))
+    assert math.isfinite(deeper.reference_q.sum())
+    assert not any("closed by moving" in note for note in deeper.notes)  # the reconstruction draws it exactly
+    g = GrabGeometry(depth=0.8)
+    q = assemble(deeper, {"phi1": -0.4})
+    np.testing.assert_allclose(frame_placement(deeper, q, "P2").translation[:2], g.closed_form(-0.4)["tip"], atol=1e-10)

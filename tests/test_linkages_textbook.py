@@ -261,7 +261,7 @@ def test_branch_is_kept_and_chosen_by_guess():
 def test_mobility_and_redundancy_of_a_spatial_pin():
     from mechatron.model.closures import Pin
 
-    mech = mechatron.load("crank_slider").with_closures([Pin("C=C_slider (3 rows)", a="C", b="C_slider",
+    mech = mechatron.load("crank_slider").with_closures([Pin("C=C@slider (3 rows)", a="C", b="C@slider",
                                                               planar=False)])
     assert mech.mobility() == 1 and mech.redundant_closure_equations() == 1  # the z row repeats 0 = 0
 

@@ -1,6 +1,7 @@
 r"""The grab paper's own formulation [Mikhailov, 6–25]: seven absolute coordinates and six Lagrange multipliers
 solved together at each instant, integrated with the same RK4 step as mechatron's simulations. It checks the
-Pinocchio model of :func:`mechatron.machines.grab.grab` (a spanning tree with closures) on the same forces.
+Pinocchio model of robots/grab.toml (:func:`mechatron.machines.grab.grab_spec`, a spanning tree with closures) on the
+same forces.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 r"""The seven-link paper's Table 2 [ShiLiang, table 2] and its own closed forms [ShiLiang, 3–20] against the
-closed-loop model of :mod:`mechatron.machines.seven_bar`.
+closed-loop model of robots/seven_bar.toml (the reconstruction of :mod:`mechatron.machines.seven_bar`).
 
 Only V_C of Table 2 is reproducible. The paper's closed forms, read through the text extraction's digit swaps
 (1↔7, 6↔9, 3↔8: ∠ABF with l10, CE with l2 and l8, (13) with V_C, (17) with l5 = CD, (19) with the sign of its cosine

@@ -19,6 +19,11 @@ For any jaw angle φ the positions follow in closed form (:meth:`GrabGeometry.cl
 (r = hinge–tip length, the tip straight below the hinge when closed), y_hinge = η(x_tip) + r cos φ, and the upper
 crosshead height from |P4 − P3| = rod length. The paper's own formulation (absolute coordinates and Lagrange
 multipliers, [Mikhailov, 8]) is in the test suite's ``validation/grab.py``.
+
+The reconstruction (:class:`GrabGeometry`, :func:`grab_spec`) writes the mechanism file ``robots/grab.toml``
+(:func:`write_grab`), which ``mechatron.load("grab")`` and every command read; its named lengths are ``tip_length``
+and ``rod_length``. The scooping curve is a table in the file (a "curve" closure). Another curve or grab goes through
+the reconstruction: ``write_grab("my_grab.toml", depth=0.8)`` or ``build_linkage(grab_spec(depth=0.8))``.
 """
 
 from __future__ import annotations
@@ -26,15 +31,18 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..model.linkage import BodySpec, ClosureSpec, JointSpec, LengthSpec, LinkageSpec, PointSpec, build_linkage
+from ..model.linkage_file import write_linkage_file
 from ..model.loads import Load
-from ..model.mechanism import Mechanism, Parameter
-from ..model.planar import GROUND, PlanarBuilder
+from ..model.mechanism import Mechanism
+from ..model.planar import GROUND
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -95,54 +103,82 @@ class GrabGeometry:
         return math.asin(ratio)
 
 
-def grab(**overrides: float) -> Mechanism:
-    """Half of a rod (clamshell) grab scooping along a parabola [Mikhailov]; input: the jaw angle ``phi1``.
+#: The comment at the top of robots/grab.toml.
+HEADER = """Half of a two-rope rod (clamshell) grab while scooping, after I. V. Mikhailov's motion model
+[Mikhailov]: written by mechatron.machines.grab.write_grab() from GrabGeometry (the paper gives no numbers: a
+reconstruction for a grab of about 1.4 m³); do not edit it by hand, change the reconstruction and write it again.
+Drawn open (the jaw's tip at x = -L/2 on the material surface). The jaw turns on the lower crosshead, which slides on
+the grab's axis x = 0; the two rods join the jaw's ear P3 to the upper crosshead's pin P4; the tip P2 follows the
+scooping curve y = -e + A (x + d)^2, given as a table (a not-a-knot cubic spline through it is the parabola itself)."""
 
-    ``overrides`` are fields of :class:`GrabGeometry` (m, kg, kg·m²)."""
+
+def grab_spec(**overrides: float) -> LinkageSpec:
+    """The mechanism file of the half grab [Mikhailov] as a :class:`~mechatron.model.linkage.LinkageSpec`, drawn
+    open (φ1 = :attr:`GrabGeometry.open_angle`, from :meth:`GrabGeometry.closed_form`): the massless lower crosshead
+    sliding on the axis (``y_lower``), the jaw turning on it (``phi1``, the input, limits open … 0), the upper
+    crosshead (m3/2, ``y3``) and the two rods (2 m2 as one bar from P4 to P3, ``rods_angle``); closures: the pin P3
+    and the tip P2 on the scooping curve η(x) as a table of 8 points from x = −L/2 to 0 (m). Named lengths
+    ``tip_length`` (P1P2) and ``rod_length`` (P4P3).
+
+    ``overrides`` are fields of :class:`GrabGeometry` (m, kg, kg·m²).
+
+    Raises:
+        InputError: for a curve that is not 0 ≤ d < L/2, e > b > 0, or a jaw that cannot open to L.
+    """
     g = GrabGeometry(**overrides)
     if not (0 <= g.deepest_x < g.opening / 2 and g.depth > g.penetration > 0):
         raise InputError("grab: the scooping curve needs 0 <= d < L/2 and e > b > 0")
     phi_open = g.open_angle
     pose = g.closed_form(phi_open)
     c, s = math.cos(phi_open), math.sin(phi_open)
-    rotate = np.array([[c, -s], [s, c]])
-    hinge, tip, ear, pin4 = pose["hinge"], pose["tip"], pose["ear"], pose["pin4"]
-    crosshead = np.array([0.0, pose["upper_crosshead"]])
+    centre = pose["hinge"] + np.array([[c, -s], [s, c]]) @ np.asarray(g.jaw_centre)
 
-    b = PlanarBuilder("grab")
-    b.point("axis_low", GROUND, (0.0, hinge[1]), report=False)
-    b.point("axis_high", GROUND, crosshead, report=False)
-    lower = b.prismatic("lower_crosshead", "axis_low", (0.0, 1.0), coordinate="y_lower")
-    b.point("P1_lower", lower, hinge, report=False)
-    jaw = b.revolute("jaw", "P1_lower", angle=phi_open, coordinate="phi1", limits=(phi_open, 0.0), mass=g.jaw_mass,
-                     com=hinge + rotate @ np.asarray(g.jaw_centre), inertia=g.jaw_inertia)
-    b.point("P1", jaw, hinge)
-    b.point("P2", jaw, tip)
-    b.point("P3", jaw, ear)
-    b.point("C1", jaw, hinge + rotate @ np.asarray(g.jaw_centre))
-    upper = b.prismatic("upper_crosshead", "axis_high", (0.0, 1.0), coordinate="y3", mass=g.upper_crosshead_mass / 2,
-                        com=crosshead)
-    b.point("C3", upper, crosshead)
-    b.point("P4", upper, pin4)
-    rods = b.revolute("rods", "P4", toward=ear, coordinate="rods_angle", mass=2 * g.rod_mass,
-                      com=(ear + pin4) / 2, inertia=2 * g.rod_mass * g.rod_length**2 / 12)
-    b.point("P3_rods", rods, ear, report=False)
-    b.point("C2", rods, (ear + pin4) / 2)
-    b.pin("P3_rods", "P3")
+    def at(xy: ArrayLike) -> tuple[float, float]:
+        return (float(xy[0]), float(xy[1]))
+
+    crosshead = (0.0, float(pose["upper_crosshead"]))
+    points = (PointSpec("axis_low", (0.0, float(pose["hinge"][1])), report=False),
+              PointSpec("axis_high", crosshead, report=False),
+              PointSpec("P1", at(pose["hinge"])), PointSpec("P2", at(pose["tip"])), PointSpec("P3", at(pose["ear"])),
+              PointSpec("C1", at(centre)), PointSpec("C3", crosshead), PointSpec("P4", at(pose["pin4"])),
+              PointSpec("C2", between=("P3", "P4")))
+    bodies = (BodySpec(GROUND, ("axis_low", "axis_high")),
+              BodySpec("jaw", ("P1", "P2", "P3", "C1"), mass=g.jaw_mass, com="C1", inertia=g.jaw_inertia,
+                       draw=("P1", "P3", "P2", "P1")),
+              BodySpec("lower_crosshead", ("P1",)),
+              BodySpec("upper_crosshead", ("C3", "P4"), mass=g.upper_crosshead_mass / 2, com="C3"),
+              BodySpec("rods", ("P4", "P3", "C2"), mass=2 * g.rod_mass, shape="bar", draw=("P3", "P4")))
+    joints = (JointSpec("prismatic", body="lower_crosshead", at="axis_low", direction=(0.0, 1.0), coordinate="y_lower"),
+              JointSpec("revolute", body="jaw", at="P1", coordinate="phi1", angle=phi_open, limits=(phi_open, 0.0)),
+              JointSpec("prismatic", body="upper_crosshead", at="axis_high", direction=(0.0, 1.0), coordinate="y3"),
+              JointSpec("revolute", body="rods", at="P4", coordinate="rods_angle", toward="P3"))
+    x = [round(float(v), 12) for v in np.linspace(-g.opening / 2, 0.0, 8)]  # round: a readable table
     A, d, e = g.curvature, g.deepest_x, g.depth
-    b.on_curve("P2", lambda x: -e + A * (x + d) ** 2, lambda x: 2 * A * (x + d), lambda x: 2 * A,
-               label=f"y = -{e:g} + {A:.6g} (x + {d:g})^2")
-    b.line("jaw", "P1", "P3", "P2", "P1")
-    b.line("rods", "P3", "P4")
-    b.line("upper crosshead", "C3", "P4")
-    params = {name: Parameter(name, float(value), "length", name)
-              for name, value in (("opening", g.opening), ("penetration", g.penetration), ("depth", g.depth),
-                                  ("deepest_x", g.deepest_x), ("tip_length", g.tip_length),
-                                  ("rod_length", g.rod_length))}
-    return b.build(actuated=["phi1"], parameters=params, tool="P2",
-                   description=f"half of a rod grab (L = {g.opening:g} m opening, scooping depth {g.depth:g} m)",
-                   rebuild=lambda v: grab(**{**overrides, **v}), input_rates={"phi1": 0.5},
-                   notes=["geometry reconstructed (the paper gives no numbers); see mechatron.machines.grab"])
+    closures = (ClosureSpec("pin", point="P3", bodies=("rods", "jaw")),
+                ClosureSpec("curve", point="P2", x=tuple(x), y=tuple(float(g.eta(v)) for v in x),
+                            label=f"y = -{e:g} + {A:.6g} (x + {d:g})^2"))
+    lengths = (LengthSpec("tip_length", ("P1", "P2"), g.tip_length),
+               LengthSpec("rod_length", ("P4", "P3"), g.rod_length))
+    return LinkageSpec(
+        name="grab", points=points, bodies=bodies, joints=joints, actuated=("phi1",), closures=closures,
+        lengths=lengths, description=f"half of a rod grab (L = {g.opening:g} m opening, scooping depth {g.depth:g} m)",
+        source="[Mikhailov]; geometry and masses reconstructed (the paper gives no numbers)", tool="P2",
+        input_rates={"phi1": 0.5},
+        notes=("geometry reconstructed (the paper gives no numbers); see mechatron.machines.grab",))
+
+
+def grab(**overrides: float) -> Mechanism:
+    """Half of a rod (clamshell) grab scooping along a parabola [Mikhailov]; input: the jaw angle ``phi1``.
+
+    The mechanism of :func:`grab_spec`, as ``mechatron.load("grab")`` reads it from robots/grab.toml.
+
+    ``overrides`` are fields of :class:`GrabGeometry` (m, kg, kg·m²)."""
+    return build_linkage(grab_spec(**overrides))
+
+
+def write_grab(path: str | Path, **overrides: float) -> Path:
+    """Write the mechanism file of :func:`grab_spec` to ``path`` (robots/grab.toml is this with the defaults)."""
+    return write_linkage_file(grab_spec(**overrides), path, HEADER)
 
 
 # ------------------------------------------------------------------------------------------------ dynamics
@@ -242,8 +278,9 @@ def plot_scooping(mech: Mechanism, simulation: Simulation, loads: ScoopingLoads 
                   ax: Axes | None = None) -> Figure:
     """A scooping simulation of the grab (:func:`mechatron.dynamics.constrained.simulate` with
     :func:`mechanism_loads` of ``loads``, default :class:`ScoopingLoads`): the cutting edge's path on the scooping
-    curve (m); the tip speed (m/s) and the jaw's angular speed (rad/s); the pin forces of :func:`scooping_forces`
-    (kN). With ``ax`` only the path is drawn, into it; returns the figure.
+    curve (m, from the drawn tip of the open jaw to the axis); the tip speed (m/s) and the jaw's angular speed
+    (rad/s); the pin forces of :func:`scooping_forces` (kN). With ``ax`` only the path is drawn, into it; returns the
+    figure.
     """
     from ..kinematics.frames import frame_placement, point_velocity
     from ..model.closures import OnCurve
@@ -258,8 +295,8 @@ def plot_scooping(mech: Mechanism, simulation: Simulation, loads: ScoopingLoads 
     else:
         fig, ax_path = figure_axes(ax)
         ax_speed = ax_force = None
-    opening = mech.parameters["opening"].value
-    x = np.linspace(-opening / 2, 0.0, 200)
+    open_tip = frame_placement(mech, mech.reference_q, "P2").translation[0]  # the drawing: the jaw open
+    x = np.linspace(min(open_tip, tips[:, 0].min()), max(0.0, tips[:, 0].max()), 200)
     ax_path.plot(x, [curve.f(v) for v in x], color="saddlebrown", lw=3, alpha=0.4, label="scooping curve")
     ax_path.plot(tips[:, 0], tips[:, 1], color="tab:red", label="cutting edge")
     ax_path.set_aspect("equal")

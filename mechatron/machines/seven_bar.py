@@ -17,19 +17,27 @@ e = l7 sin∠ABF [ShiLiang, 3–4]. Its other values (V_D = 18.774, β1 = 13.48�
 β2 = 16.511°) do not follow from the stated data with V2 = 6 mm/s — the paper's own closed forms give the same as
 this model (21.194, 73.555°, 0.038095, 32.315, 8.189°); the comparison is in the test suite's
 ``validation/seven_bar.py``.
+
+The reconstruction (:func:`pins`, :func:`seven_bar_spec`) writes the mechanism file ``robots/seven_bar.toml``
+(:func:`write_seven_bar`), which ``mechatron.load("seven_bar")`` and every command read; the lengths l1 … l11 are its
+named lengths (``--set l7=0.17``). Other table data (``s1_min``, strokes, α0) go through the reconstruction:
+``write_seven_bar("my.toml", s1_min=0.53)``.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..model.mechanism import Mechanism, Parameter
-from ..model.planar import GROUND, PlanarBuilder
+from ..model.linkage import BodySpec, JointSpec, LengthSpec, LinkageSpec, MeasureSpec, PointSpec, build_linkage
+from ..model.linkage_file import write_linkage_file
+from ..model.mechanism import Mechanism
+from ..model.planar import GROUND
 
 MM = 1e-3
 
@@ -92,34 +100,61 @@ def pins(data: SevenBarData, s1: float, s2: float) -> dict[str, NDArray[np.float
     return {"A": A, "B": B, "C": C, "D": D, "E": E, "F": F, "G": G, "H": H, "I": I}
 
 
-def seven_bar(**overrides: float) -> Mechanism:
-    """Two-cylinder seven-link mechanism [ShiLiang] (inputs: cylinder lengths s1 = BF, s2 = DE, m).
+#: The comment at the top of robots/seven_bar.toml.
+HEADER = """The two-cylinder planar seven-link mechanism of Shi Jinfa and Liang Xichang [ShiLiang], reconstructed from
+the paper's formulas (its figures are missing): written by mechatron.machines.seven_bar.write_seven_bar() from
+SevenBarData (the lengths of [ShiLiang, table 1]); do not edit it by hand, change the reconstruction and write it
+again. The masses are illustrative and the strokes 0.2 m (the paper gives neither). Inputs: the cylinder lengths
+s1 = BF and s2 = DE (m), drawn at s1min = 520 mm and s2min = 565 mm."""
+
+
+def seven_bar_spec(**overrides: float) -> LinkageSpec:
+    """The mechanism file of the seven-link mechanism [ShiLiang] as a :class:`~mechatron.model.linkage.LinkageSpec`:
+    the pins of :func:`pins` at s1 = s1min, s2 = s2min (m), the lengths l1 … l11 of [ShiLiang, table 1] as named
+    lengths, the boom ABC (60 kg, I = m l2²/12) and the link CD (15 kg, I = m l3²/12) with their centres at the
+    centroids of ABC and CDH, cylinders s1 = BF and s2 = DE (inputs, strokes s_min … s_min + stroke).
 
     ``overrides`` are fields of :class:`SevenBarData` (m, m/s, degrees as named)."""
     data = SevenBarData(**overrides)
     p = pins(data, data.s1_min, data.s2_min)
-    b = PlanarBuilder("seven_bar")
-    for name in ("A", "E", "F", "G"):
-        b.point(name, GROUND, p[name])
-    boom = b.revolute("ABC", "A", toward=p["C"], coordinate="phi_ABC", mass=60.0, com=(p["A"] + p["B"] + p["C"]) / 3,
-                      inertia=60.0 * data.l2**2 / 12)
-    b.point("B", boom, p["B"])
-    b.point("C", boom, p["C"])
-    link = b.revolute("CD", "C", toward=p["D"], coordinate="phi_CD", mass=15.0, com=(p["C"] + p["D"] + p["H"]) / 3,
-                      inertia=15.0 * data.l3**2 / 12)
-    for name in ("D", "H", "I"):
-        b.point(name, link, p[name])
-    b.cylinder("s1", "F", "B", stroke=(data.s1_min, data.s1_min + data.stroke1))
-    b.cylinder("s2", "E", "D", stroke=(data.s2_min, data.s2_min + data.stroke2))
-    b.line("frame", "G", "F", "A", "E", "G", kind="ground")
-    b.line("ABC", "A", "B", "C", "A")
-    b.line("CD", "C", "D", "I", "H", "C")
-    b.transmission_angle("mu_B", "F", "B", "A", "B")
-    b.transmission_angle("mu_D", "E", "D", "C", "D")
-    params = {name: Parameter(name, float(getattr(data, name)), "length", f"[ShiLiang, table 1] {name}")
-              for name in ("l1", "l2", "l3", "l4", "l5", "l6", "l7", "l8", "l9", "l10", "l11", "s1_min", "s2_min")}
-    return b.build(actuated=["s1", "s2"], parameters=params, tool="H",
-                   description="two-cylinder planar seven-link mechanism (inputs s1 = BF, s2 = DE)",
-                   rebuild=lambda v: seven_bar(**{**overrides, **v}),
-                   input_rates={"s1": data.v1, "s2": data.v2},
-                   notes=["geometry reconstructed from [ShiLiang]; of its table 2 only V_C is reproducible"])
+    names = ("A", "G", "E", "F", "B", "C", "D", "H", "I")
+    points = tuple(PointSpec(n, (float(p[n][0]), float(p[n][1]))) for n in names)
+
+    def centroid(*corners: str) -> tuple[float, float]:
+        return tuple(float(v) for v in sum(p[c] for c in corners) / len(corners))
+
+    bodies = (BodySpec(GROUND, ("A", "G", "E", "F"), draw=("G", "F", "A", "E", "G")),
+              BodySpec("ABC", ("A", "B", "C"), mass=60.0, com=centroid("A", "B", "C"), inertia=60.0 * data.l2**2 / 12,
+                       draw=("A", "B", "C", "A")),
+              BodySpec("CD", ("C", "D", "H", "I"), mass=15.0, com=centroid("C", "D", "H"),
+                       inertia=15.0 * data.l3**2 / 12, draw=("C", "D", "I", "H", "C")))
+    joints = (JointSpec("revolute", body="ABC", at="A", coordinate="phi_ABC", toward="C"),
+              JointSpec("revolute", body="CD", at="C", coordinate="phi_CD", toward="D"),
+              JointSpec("cylinder", name="s1", base="F", eye="B", stroke=(data.s1_min, data.s1_min + data.stroke1)),
+              JointSpec("cylinder", name="s2", base="E", eye="D", stroke=(data.s2_min, data.s2_min + data.stroke2)))
+    measures = (MeasureSpec("transmission_angle", "mu_B", ("F", "B", "A", "B")),
+                MeasureSpec("transmission_angle", "mu_D", ("E", "D", "C", "D")))
+    lengths = tuple(LengthSpec(name, (a, b), float(getattr(data, name))) for name, a, b in (
+        ("l1", "A", "G"), ("l2", "A", "C"), ("l3", "C", "H"), ("l4", "H", "I"), ("l5", "C", "D"), ("l6", "B", "C"),
+        ("l7", "A", "B"), ("l8", "A", "E"), ("l9", "E", "G"), ("l10", "A", "F"), ("l11", "F", "G")))
+    return LinkageSpec(
+        name="seven_bar", points=points, bodies=bodies, joints=joints, actuated=("s1", "s2"), measures=measures,
+        lengths=lengths, description="two-cylinder planar seven-link mechanism (inputs s1 = BF, s2 = DE)",
+        source="[ShiLiang, table 1]; geometry reconstructed, masses and strokes illustrative", tool="H",
+        input_rates={"s1": data.v1, "s2": data.v2},
+        notes=("geometry reconstructed from [ShiLiang]; of its table 2 only V_C is reproducible",))
+
+
+def seven_bar(**overrides: float) -> Mechanism:
+    """Two-cylinder seven-link mechanism [ShiLiang] (inputs: cylinder lengths s1 = BF, s2 = DE, m).
+
+    The mechanism of :func:`seven_bar_spec`, as ``mechatron.load("seven_bar")`` reads it from robots/seven_bar.toml.
+
+    ``overrides`` are fields of :class:`SevenBarData` (m, m/s, degrees as named)."""
+    return build_linkage(seven_bar_spec(**overrides))
+
+
+def write_seven_bar(path: str | Path, **overrides: float) -> Path:
+    """Write the mechanism file of :func:`seven_bar_spec` to ``path`` (robots/seven_bar.toml is this with the
+    defaults)."""
+    return write_linkage_file(seven_bar_spec(**overrides), path, HEADER)

@@ -335,20 +335,22 @@ def constraints(spec: LinkageSpec) -> list[tuple[str, Callable[[Mapping[str, Vec
                 label = f"length {length.name} = |{q}{p}|" if length is not None else f"body {body.name}: |{q}{p}|"
                 out.append((label, distance(q, p, value)))
     ground = [p for p in spec.body(GROUND).points if p in drawn]
-    for p in ground:  # the frame does not move; a declared ground length moves its second point along the frame
-        if p == ground[0]:
+    for k, p in enumerate(ground):  # the frame does not move: its first point stays, the others stay as drawn unless
+        # declared lengths to earlier ground points move them (one: along the line from that point; two: to where
+        # both distances meet)
+        partners = [q for q in ground[:k] if frozenset((q, p)) in declared][:2]
+        if not partners:
             out += [(f"ground point {p}", lambda P, p=p: float(P[p][0] - drawn[p][0])),
                     (f"ground point {p}", lambda P, p=p: float(P[p][1] - drawn[p][1]))]
             continue
-        length = declared.get(frozenset((ground[0], p)))
-        if length is None:
-            out += [(f"ground point {p}", lambda P, p=p: float(P[p][0] - drawn[p][0])),
-                    (f"ground point {p}", lambda P, p=p: float(P[p][1] - drawn[p][1]))]
-        else:
-            a = drawn[p] - drawn[ground[0]]
+        for q in partners:
+            length = declared[frozenset((q, p))]
+            out.append((f"length {length.name} = |{q}{p}|", distance(q, p, length.value)))
+        if len(partners) == 1:
+            q = partners[0]
+            a = drawn[p] - drawn[q]
             normal = np.array([-a[1], a[0]]) / np.linalg.norm(a)
-            out += [(f"length {length.name} = |{ground[0]}{p}|", distance(ground[0], p, length.value)),
-                    (f"ground point {p}", lambda P, p=p, n=normal: float(n @ (P[p] - drawn[ground[0]])))]
+            out.append((f"ground point {p}", lambda P, p=p, q=q, n=normal: float(n @ (P[p] - P[q]))))
     tree = {j.body: j for j in spec.joints if j.kind != "cylinder"}
     for j in spec.joints:
         if j.kind == "prismatic":
