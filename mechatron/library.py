@@ -1,14 +1,13 @@
-"""Finding and loading mechanisms by name: robot files shipped in ``robots/``, the built-in mechanisms of
-:mod:`mechatron.machines`, files given by path, and the arms of the installed ``example-robot-data`` package (found
-on disk, never downloaded). :func:`load` and :func:`available_robots` are ``mechatron.load`` and
-``mechatron.available_robots``.
+"""Finding and loading mechanisms: robot files (DH arms) and mechanism files (closed-loop linkages) by name — in
+``./robots``, the folders of ``MECHATRON_PATH``, then the shipped ``robots/`` — or by path, URDF files, and the arms
+of the installed ``example-robot-data`` package (found on disk, never downloaded). :func:`load` and
+:func:`available_robots` are ``mechatron.load`` and ``mechatron.available_robots``.
 """
 
 from __future__ import annotations
 
 import importlib.metadata
 import os
-from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -94,10 +93,9 @@ def installed_example_robots() -> dict[str, Path]:
 
 
 def available_robots() -> list[str]:
-    """Names :func:`load` accepts: built-in robot files, built-in mechanisms, installed example-robot-data arms."""
-    from .machines import BUILTINS
-
-    names = list(builtin_robot_files()) + list(BUILTINS)
+    """Names :func:`load` accepts: robot and mechanism files found by name (:func:`robot_files`), then the installed
+    example-robot-data arms."""
+    names = list(builtin_robot_files())
     return names + [name for name in installed_example_robots() if name not in names]
 
 
@@ -126,20 +124,16 @@ def load_file(path: str | Path) -> Mechanism:
                      "[points] and [[bodies]]); see docs/robot_file.md and docs/mechanism_file.md", file=path)
 
 
-def _build_machine(build: Callable[..., Mechanism], parameters: dict[str, float]) -> Mechanism:
-    """A built-in mechanism with its defaults, then rebuilt with the overrides (checked against its parameters)."""
-    mechanism = build()
-    return mechanism.with_parameters(parameters) if parameters else mechanism
-
-
 def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
     """Load a mechanism by name or path, with some geometric parameters overridden.
 
     Args:
-        name_or_path: A name from :func:`available_robots` (a file of ``robots/``, a built-in mechanism such as
-            ``front_shovel`` or ``seven_bar``, or an example-robot-data arm such as ``ur5`` or ``panda``), or the
-            path of a robot file (``.toml``) or a URDF (``.urdf``).
-        **parameters: New values (SI: metres, radians) of named geometric parameters, e.g. ``a2=0.5``.
+        name_or_path: A name from :func:`available_robots` (``NAME.toml`` in ``./robots``, a ``MECHATRON_PATH``
+            folder or the shipped ``robots/`` — a DH arm such as ``puma560`` or a linkage such as ``front_shovel``
+            — or an example-robot-data arm such as ``ur5``), or the path of a robot or mechanism file (``.toml``,
+            told apart by content) or a URDF (``.urdf``).
+        **parameters: New values (SI: metres, radians) of named geometric parameters, e.g. ``a2=0.5`` of a DH arm,
+            a named length ``l1=0.12`` or a point's coordinate ``B_x=0.05`` of a linkage.
 
     Returns:
         The :class:`Mechanism`. Its ``model`` is the ``pinocchio.Model`` and ``data`` its ``Data``.
@@ -153,12 +147,8 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
     if looks_like_path:
         mechanism = load_file(path)
     else:
-        from .machines import BUILTINS
-
         builtin = builtin_robot_files()
         examples = installed_example_robots()
-        if text in BUILTINS and text not in builtin:
-            return _build_machine(BUILTINS[text].build, parameters)
         if text in builtin:
             mechanism = load_file(builtin[text])
         elif text in examples:

@@ -78,7 +78,7 @@ def motor(t, q, v):
 
 
 def slider_damper(t, q, v):
-    return [mechatron.Load("C_slider", [-40.0 * v[2], 0.0, 0.0])]
+    return [mechatron.Load("C@slider", [-40.0 * v[2], 0.0, 0.0])]
 
 
 def test_simulation_balances_energy_and_work(crank):
@@ -141,11 +141,11 @@ def test_motion_regimes_of_closed_form_motions():
 def test_kinetostatics_reports_the_hand_computed_forces(crank):
     """The crank-slider case of test_closed_loop_dynamics: M_D = 63.112255 N·m, slider on rod 1009.9501, −120.2979 N."""
     k = kinetostatics(crank, assemble(crank, {"q1": math.radians(30)}), {"q1": 10.0},
-                      loads=[mechatron.Load("C_slider", [1000.0, 0.0, 0.0])])
+                      loads=[mechatron.Load("C@slider", [1000.0, 0.0, 0.0])])
     data = check_result(k)
     assert data["driving"]["q1"] == pytest.approx(63.112255, abs=1e-6)
     assert data["zhukovsky"]["q1"] == pytest.approx(63.112255, abs=1e-6) and data["units"]["q1"] == "N·m"
-    np.testing.assert_allclose(data["pins"]["C=C_slider"], [1009.9501, -120.2979], atol=1e-4)
+    np.testing.assert_allclose(data["pins"]["C=C@slider"], [1009.9501, -120.2979], atol=1e-4)
     frame = k.to_frame()
     pin_row = frame[frame["kind"] == "pin"].iloc[0]
     assert (pin_row["force_x"], pin_row["force_y"]) == (pytest.approx(1009.9501, abs=1e-4),

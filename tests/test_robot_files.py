@@ -53,7 +53,7 @@ def test_every_shipped_file_loads():
     assert {"planar_2r", "cylindrical_rpp", "articulated_rrr", "planar_3r", "scara", "puma560"} <= set(files)
     for name in files:
         mech = mechatron.load(name)
-        assert mech.model.existFrame("tool")
+        assert mech.model.existFrame(mech.tool_frame)
         assert mech.source.endswith(f"{name}.toml")
 
 

@@ -40,7 +40,6 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..model.linkage import BodySpec, ClosureSpec, JointSpec, LengthSpec, LinkageSpec, MeasureSpec, PointSpec
 from ..model.linkage_file import write_linkage_file
-from ..model.mechanism import Mechanism
 from ..model.planar import GROUND
 
 DEG = math.pi / 180
@@ -283,15 +282,3 @@ def write_bucket(linkage: BucketLinkage | None, path: str | Path) -> Path:
     ``path``; the mechanism is named after the file. robots/six_bar_bucket.toml is ``write_bucket(None, ...)``."""
     lk = linkage or synthesize()
     return write_linkage_file(replace(bucket_spec(lk), name=Path(path).stem), path, header=file_header(lk))
-
-
-def six_bar_bucket() -> Mechanism:
-    """Six-link bucket mechanism [Bucket] (cylinder + rocker + link + bucket), synthesized for Δφ4.
-
-    The shipped file robots/six_bar_bucket.toml (what ``load("six_bar_bucket")`` reads); kept only while
-    :data:`mechatron.machines.BUILTINS` still lists it."""
-    from ..io.data import data_dir
-    from ..model.linkage import build_linkage
-    from ..model.linkage_file import read_linkage_file
-
-    return build_linkage(read_linkage_file(data_dir("robots") / "six_bar_bucket.toml"))

@@ -409,17 +409,6 @@ def joint_angles(mech: Mechanism, q: ArrayLike) -> tuple[float, float, float]:
     return a_cf, (a_fq - a_fc) % (2 * math.pi), (a_qv - a_qf) % (2 * math.pi)
 
 
-def front_shovel() -> Mechanism:
-    """Front-shovel excavator working device [Shovel] (boom, stick, bucket; cylinders L1 (twin), L2, L3).
-
-    The shipped file robots/front_shovel.toml (what ``load("front_shovel")`` reads); kept only while
-    :data:`mechatron.machines.BUILTINS` still lists it."""
-    from ..io.data import data_dir
-    from ..model.linkage_file import read_linkage_file
-
-    return build_linkage(read_linkage_file(data_dir("robots") / "front_shovel.toml"))
-
-
 # ---------------------------------------------------------------------------------------------- working range
 @dataclass
 class WorkingRange:

@@ -153,6 +153,9 @@ class LinkageSpec:
     notes: tuple[str, ...] = ()
     tolerance: float | None = None
     file: str | None = None
+    #: Values (m, rad) at which to hold actuated inputs while closing the drawing instead of their drawn ones: a
+    #: rebuild keeps the nominal drawing's inputs when it moves points (not part of a file).
+    held_inputs: Mapping[str, float] = field(default_factory=dict)
 
     # ----------------------------------------------------------------------------------------- look-ups
     def point(self, name: str) -> PointSpec:
@@ -351,12 +354,11 @@ def constraints(spec: LinkageSpec) -> list[tuple[str, Callable[[Mapping[str, Vec
             a = drawn[p] - drawn[q]
             normal = np.array([-a[1], a[0]]) / np.linalg.norm(a)
             out.append((f"ground point {p}", lambda P, p=p, q=q, n=normal: float(n @ (P[p] - P[q]))))
-    tree = {j.body: j for j in spec.joints if j.kind != "cylinder"}
     for j in spec.joints:
         if j.kind == "prismatic":
             out += _prismatic(spec, j, drawn)
     for name in spec.actuated:
-        out += _input(spec, name, tree, drawn)
+        out += _input(spec, name, drawn)
     for c in spec.closures:
         if c.kind == "slider":
             out += _slider(spec, c, drawn)
@@ -402,34 +404,54 @@ def _prismatic(spec: LinkageSpec, j: JointSpec, drawn: Mapping[str, Vector]) -> 
             *_relative_angle(spec, j.body, parent, drawn, f"prismatic guide of {j.body} (angle)")]
 
 
-def _input(spec: LinkageSpec, name: str, tree: Mapping[str, JointSpec], drawn: Mapping[str, Vector]) -> list:
-    """The actuated coordinate ``name`` held at its drawn value."""
+def input_measure(spec: LinkageSpec, name: str, drawn: Mapping[str, Vector]) -> tuple[Callable, bool] | None:
+    """The function of the point positions that gives the actuated coordinate ``name`` (up to a constant): a
+    cylinder's length, a revolute input's angle to its parent, a prismatic input's travel; and whether it is an
+    angle. ``None`` for a revolute input whose body carries no direction."""
     for j in spec.joints:
         if j.kind == "cylinder" and j.name == name:
-            value = float(np.linalg.norm(drawn[j.eye] - drawn[j.base]))
-            return [(f"input {name}", lambda P: float(np.linalg.norm(P[j.eye] - P[j.base]) - value))]
+            return (lambda P: float(np.linalg.norm(P[j.eye] - P[j.base]))), False
         if j.kind != "cylinder" and joint_coordinate(j) == name:
             parent = joint_parent(spec, j)
+            parent_angle = _orientation(spec, parent)
             if j.kind == "revolute":
                 if j.toward is not None and j.toward in drawn:
-                    parent_angle = _orientation(spec, parent)
-
-                    def angle(P, j=j, parent_angle=parent_angle):
+                    def angle(P, j=j):
                         r = P[j.toward] - P[j.at]
                         return math.atan2(r[1], r[0]) - _angle_of(parent_angle, P)
 
-                    value = angle(drawn)
-                    return [(f"input {name}", lambda P: math.remainder(angle(P) - value, 2 * math.pi))]
-                return _relative_angle(spec, j.body, parent, drawn, f"input {name}")
+                    return angle, True
+                child_angle = _orientation(spec, j.body)
+                if child_angle is None:
+                    return None
+                return (lambda P: child_angle(P) - _angle_of(parent_angle, P)), True
             first = next(p for p in spec.body(j.body).points if p in drawn)
             direction = _direction(spec, parent, np.asarray(j.direction, dtype=float), drawn)
-
-            def travel(P, first=first, j=j):
-                return float(direction(P) @ (P[first] - P[j.at]))
-
-            value = travel(drawn)
-            return [(f"input {name}", lambda P: travel(P) - value)]
+            return (lambda P: float(direction(P) @ (P[first] - P[j.at]))), False
     raise spec.error(f"actuated coordinate {name!r} is not a joint coordinate or a cylinder", "actuated")
+
+
+def input_values(spec: LinkageSpec) -> dict[str, float]:
+    """The actuated coordinates' measures (:func:`input_measure`) in the drawing."""
+    drawn = spec.drawing()
+    out = {}
+    for name in spec.actuated:
+        found = input_measure(spec, name, drawn)
+        if found is not None:
+            out[name] = found[0](drawn)
+    return out
+
+
+def _input(spec: LinkageSpec, name: str, drawn: Mapping[str, Vector]) -> list:
+    """The actuated coordinate ``name`` held at its drawn value (or the value ``spec.held_inputs`` gives)."""
+    found = input_measure(spec, name, drawn)
+    if found is None:
+        return []
+    measure, angular = found
+    value = spec.held_inputs.get(name, measure(drawn))
+    if angular:
+        return [(f"input {name}", lambda P: math.remainder(measure(P) - value, 2 * math.pi))]
+    return [(f"input {name}", lambda P: measure(P) - value)]
 
 
 def _slider(spec: LinkageSpec, c: ClosureSpec, drawn: Mapping[str, Vector]) -> list:
@@ -821,4 +843,5 @@ def rebuild(spec: LinkageSpec, values: Mapping[str, float]) -> Mechanism:
         point, _, axis = name.rpartition("_")
         moved[point] = moved[point].copy()
         moved[point]["xy".index(axis)] = float(value)
-    return build_linkage(replace(spec.with_positions(moved), lengths=tuple(new_lengths)), check_tolerance=False)
+    changed = replace(spec.with_positions(moved), lengths=tuple(new_lengths), held_inputs=input_values(spec))
+    return build_linkage(changed, check_tolerance=False)

@@ -1,0 +1,188 @@
+r"""Spatial closed loops from a mechanism file with ``planar = false``: 3D points, joint axes, loops closed by point
+constraints (three equations each: the two points coincide).
+
+The tree is drawn in one assembled position with every body frame parallel to the world: a body's frame sits at the
+point of its joint, a revolute joint turns about its ``axis`` (world, the drawing), a universal joint about two
+(``axes``: the first on the parent, the second on the intermediate cross), a translation joint moves the body along
+x, y and z (three coordinates ``<body>_x/_y/_z``). Joint coordinates are zero in the drawing. Universal and
+translation joints are chains of one-coordinate joints through massless bodies (``<body>_cross``, ``<body>_tx``,
+``<body>_ty``), so that every coordinate has a name and a joint of its own.
+
+A drawing read off paper is closed in joint space: q ← q − J⁺ Φ(q) (minimum-norm Newton steps from q = 0, the
+actuated coordinates held at zero), and the loader reports how far every point moved; beyond the tolerance it
+refuses, naming the closure. Gravity acts along −z.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import pinocchio as pin
+from numpy.typing import NDArray
+
+from ..errors import InputError
+from .closures import Pin
+from .mechanism import Measure, Mechanism, Parameter, SketchLine
+
+GROUND = "ground"
+Vector = NDArray[np.float64]
+
+
+def bar_inertia(mass: float, start: Vector, end: Vector) -> Vector:
+    """The 3×3 inertia (kg·m²) of a slender uniform bar about its centre: m L²/12 across, nothing along."""
+    axis = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
+    length = float(np.linalg.norm(axis))
+    if length == 0:
+        return np.zeros((3, 3))
+    u = axis / length
+    return mass * length**2 / 12 * (np.eye(3) - np.outer(u, u))
+
+
+class SpatialBuilder:
+    """Bodies, joints, points and point closures of a spatial linkage drawn in one assembled position."""
+
+    def __init__(self, name: str, gravity: float = 9.81) -> None:
+        self.name = name
+        self.model = pin.Model()
+        self.model.name = name
+        self.model.gravity = pin.Motion(np.array([0.0, 0.0, -gravity]), np.zeros(3))
+        frame = self.model.addFrame(pin.Frame(GROUND, 0, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
+        self.bodies: dict[str, tuple[int, Vector, int]] = {GROUND: (0, np.zeros(3), frame)}  # joint, origin, frame
+        self.points: dict[str, tuple[str, Vector, bool]] = {}
+        self.closures: list[Pin] = []
+        self.sketch: list[SketchLine] = []
+        self.measures: list[Measure] = []
+
+    def point(self, name: str, body: str, at: Sequence[float], *, report: bool = True) -> str:
+        """A named point (an operational frame) fixed to ``body`` at the world position ``at`` (m) of the drawing."""
+        if name in self.points or self.model.existFrame(name):
+            raise InputError(f"{self.name}: point {name!r} defined twice")
+        joint, origin, parent_frame = self._body(body)
+        at = np.asarray(at, dtype=float)
+        self.model.addFrame(pin.Frame(name, joint, parent_frame, pin.SE3(np.eye(3), at - origin),
+                                      pin.FrameType.OP_FRAME))
+        self.points[name] = (body, at, report)
+        return name
+
+    def _body(self, name: str) -> tuple[int, Vector, int]:
+        if name not in self.bodies:
+            raise InputError(f"{self.name}: unknown body {name!r}")
+        return self.bodies[name]
+
+    def _joint(self, body: str, parent: str, model: pin.JointModel, at: Vector, coordinate: str,
+               limits: tuple[float, float], mass: float = 0.0, com: Vector | None = None,
+               inertia: Vector | None = None) -> None:
+        if body in self.bodies:
+            raise InputError(f"{self.name}: body {body!r} defined twice")
+        parent_joint, parent_origin, _ = self._body(parent)
+        joint = self.model.addJoint(parent_joint, model, pin.SE3(np.eye(3), at - parent_origin), coordinate,
+                                    np.array([np.inf]), np.array([np.inf]), np.array([limits[0]]),
+                                    np.array([limits[1]]))
+        frame = self.model.addFrame(pin.Frame(body, joint, self.model.nframes - 1, pin.SE3.Identity(),
+                                              pin.FrameType.BODY))
+        self.bodies[body] = (joint, at.copy(), frame)
+        if mass < 0:
+            raise InputError(f"{self.name}: body {body}: mass must be >= 0")
+        if mass > 0:
+            centre = (at if com is None else np.asarray(com, dtype=float)) - at
+            tensor = np.zeros((3, 3)) if inertia is None else np.asarray(inertia, dtype=float)
+            self.model.appendBodyToJoint(joint, pin.Inertia(mass, centre, tensor), pin.SE3.Identity())
+
+    def revolute(self, body: str, at: str, axis: Sequence[float], *, coordinate: str | None = None,
+                 limits: tuple[float, float] = (-np.inf, np.inf), mass: float = 0.0, com: Vector | None = None,
+                 inertia: Vector | None = None) -> str:
+        """``body`` turning about the world ``axis`` through the point ``at`` of its parent (coordinate 0 as drawn)."""
+        parent, position, _ = self.points[at] if at in self.points else self._unknown(at)
+        self._joint(body, parent, pin.JointModelRevoluteUnaligned(_unit(axis)), position,
+                    coordinate or f"{body}_angle", limits, mass, com, inertia)
+        return body
+
+    def universal(self, body: str, at: str, axes: Sequence[Sequence[float]], *,
+                  coordinates: Sequence[str] | None = None, mass: float = 0.0, com: Vector | None = None,
+                  inertia: Vector | None = None) -> str:
+        """``body`` on a universal joint at ``at``: the first axis on the parent, the second on a massless cross."""
+        parent, position, _ = self.points[at] if at in self.points else self._unknown(at)
+        names = list(coordinates or (f"{body}_angle1", f"{body}_angle2"))
+        cross = f"{body}_cross"
+        limits = (-np.inf, np.inf)
+        self._joint(cross, parent, pin.JointModelRevoluteUnaligned(_unit(axes[0])), position, names[0], limits)
+        self._joint(body, cross, pin.JointModelRevoluteUnaligned(_unit(axes[1])), position, names[1], limits, mass,
+                    com, inertia)
+        return body
+
+    def translation(self, body: str, at: str, *, coordinates: Sequence[str] | None = None, mass: float = 0.0,
+                    com: Vector | None = None, inertia: Vector | None = None) -> str:
+        """``body`` moving along x, y and z (no rotation) from the point ``at`` of its parent (a Delta's
+        platform)."""
+        parent, position, _ = self.points[at] if at in self.points else self._unknown(at)
+        names = list(coordinates or (f"{body}_x", f"{body}_y", f"{body}_z"))
+        limits = (-np.inf, np.inf)
+        self._joint(f"{body}_tx", parent, pin.JointModelPX(), position, names[0], limits)
+        self._joint(f"{body}_ty", f"{body}_tx", pin.JointModelPY(), position, names[1], limits)
+        self._joint(body, f"{body}_ty", pin.JointModelPZ(), position, names[2], limits, mass, com, inertia)
+        return body
+
+    def _unknown(self, point: str):
+        raise InputError(f"{self.name}: unknown point {point!r}")
+
+    def pin(self, a: str, b: str) -> None:
+        """Close a loop: the points ``a`` and ``b`` coincide (three equations)."""
+        for p in (a, b):
+            if p not in self.points:
+                self._unknown(p)
+        self.closures.append(Pin(f"{a}={b}", a=a, b=b, planar=False))
+
+    def line(self, name: str, *points: str, kind: str = "link") -> None:
+        self.sketch.append(SketchLine(name, tuple(points), kind))
+
+    def build(self, *, actuated: Sequence[str], description: str = "", parameters: dict[str, Parameter] | None = None,
+              tool: str | None = None, input_rates: Mapping[str, float] | None = None,
+              notes: Sequence[str] = ()) -> Mechanism:
+        return Mechanism(name=self.name, model=self.model, parameters=dict(parameters or {}),
+                         description=description, closures=list(self.closures), actuated=list(actuated),
+                         tool_frame=tool or GROUND, reference_q=np.zeros(self.model.nq),
+                         points=[n for n, (_, _, report) in self.points.items() if report], sketch=list(self.sketch),
+                         notes=list(notes), measures=list(self.measures), input_rates=dict(input_rates or {}))
+
+
+def _unit(axis: Sequence[float]) -> Vector:
+    a = np.asarray(axis, dtype=float)
+    norm = float(np.linalg.norm(a))
+    if a.shape != (3,) or not norm > 0:
+        raise InputError(f"a joint axis must be 3 numbers, not all zero, got {axis!r}")
+    return a / norm
+
+
+def close_in_joint_space(mech: Mechanism, tolerance: float, max_iterations: int = 50
+                         ) -> tuple[Vector, dict[str, float]]:
+    """The assembled configuration nearest to the drawing (q = 0): minimum-norm Newton steps on the non-actuated
+    coordinates; returns q and how far every point moved (m).
+
+    Raises:
+        InputError: if the loops do not close, or close only by moving a point farther than ``tolerance`` (m).
+    """
+    system = mech.closure_system()
+    index = {n: mech.model.joints[mech.joint_id(n)].idx_q for n in mech.joint_names}
+    free = [k for k in range(mech.nq) if k not in {index[a] for a in mech.actuated}]
+    q = np.zeros(mech.nq)
+    phi, J = system.evaluate(q)
+    worst = system.row_labels()[int(np.argmax(np.abs(phi)))] if phi.size else ""
+    first = float(np.abs(phi).max(initial=0.0))
+    for _ in range(max_iterations):
+        if np.abs(phi).max(initial=0.0) < 1e-13:
+            break
+        q[free] -= np.linalg.lstsq(J[:, free], phi, rcond=None)[0]
+        phi, J = system.evaluate(q)
+    if np.abs(phi).max(initial=0.0) > 1e-9:
+        raise InputError(f"{mech.name}: the loops do not close near the drawing ({worst} is off by {first:.3g} m)")
+    model, data = mech.model, mech.model.createData()
+    pin.framesForwardKinematics(model, data, np.zeros(mech.nq))
+    drawn = {n: data.oMf[model.getFrameId(n)].translation.copy() for n in mech.points}
+    pin.framesForwardKinematics(model, data, q)
+    moves = {n: float(np.linalg.norm(data.oMf[model.getFrameId(n)].translation - drawn[n])) for n in drawn}
+    far = max(moves.items(), key=lambda item: item[1], default=("", 0.0))
+    if far[1] > tolerance:
+        raise InputError(f"{mech.name}: the loops do not close within {tolerance * 1e3:.4g} mm: closing {worst} (off "
+                         f"by {first * 1e3:.4g} mm in the drawing) moves {far[0]} by {far[1] * 1e3:.4g} mm")
+    return q, moves
