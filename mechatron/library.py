@@ -1,6 +1,7 @@
-"""Finding and loading mechanisms by name: robot files shipped in ``robots/``, the built-in mechanisms of
-:mod:`mechatron.machines`, files given by path, and the arms of the installed ``example-robot-data`` package (found
-on disk, never downloaded). :func:`load` and :func:`available_robots` are ``mechatron.load`` and
+"""Finding and loading mechanisms by name: robot and mechanism files in ``./robots``, in the ``MECHATRON_PATH``
+folders and shipped in ``robots/``, the built-in mechanisms of :mod:`mechatron.machines`, files given by path, and
+the arms of the installed ``example-robot-data`` package (found on disk, never downloaded); :func:`robot_origins`
+says where each name comes from. :func:`load` and :func:`available_robots` are ``mechatron.load`` and
 ``mechatron.available_robots``.
 """
 
@@ -93,12 +94,29 @@ def installed_example_robots() -> dict[str, Path]:
     return {name: folder / robot.urdf for name, robot in EXAMPLE_ROBOTS.items() if (folder / robot.urdf).is_file()}
 
 
-def available_robots() -> list[str]:
-    """Names :func:`load` accepts: built-in robot files, built-in mechanisms, installed example-robot-data arms."""
+#: Where a name comes from (:func:`robot_origins`), in the order :func:`load` looks.
+ORIGINS = ("./robots", "MECHATRON_PATH", "shipped", "built-in", "example-robot-data")
+
+
+def robot_origins() -> dict[str, tuple[str, Path | None]]:
+    """Every name :func:`load` accepts → (where it comes from, the file it loads or ``None`` for a built-in Python
+    mechanism): the files of :func:`search_path` (``./robots``, ``MECHATRON_PATH``, ``shipped``), then the
+    ``built-in`` mechanisms of :mod:`mechatron.machines` and the arms of ``example-robot-data`` that no file
+    replaces. A name is listed once, with what :func:`load` uses."""
     from .machines import BUILTINS
 
-    names = list(builtin_robot_files()) + list(BUILTINS)
-    return names + [name for name in installed_example_robots() if name not in names]
+    out: dict[str, tuple[str, Path | None]] = {name: (origin, path) for name, (path, origin) in robot_files().items()}
+    for name in BUILTINS:
+        out.setdefault(name, ("built-in", None))
+    for name, path in installed_example_robots().items():
+        out.setdefault(name, ("example-robot-data", path))
+    return out
+
+
+def available_robots() -> list[str]:
+    """Names :func:`load` accepts: robot and mechanism files (./robots, MECHATRON_PATH, shipped), built-in
+    mechanisms, installed example-robot-data arms; each once (see :func:`robot_origins`)."""
+    return list(robot_origins())
 
 
 def load_file(path: str | Path) -> Mechanism:
@@ -136,9 +154,10 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
     """Load a mechanism by name or path, with some geometric parameters overridden.
 
     Args:
-        name_or_path: A name from :func:`available_robots` (a file of ``robots/``, a built-in mechanism such as
-            ``front_shovel`` or ``seven_bar``, or an example-robot-data arm such as ``ur5`` or ``panda``), or the
-            path of a robot file (``.toml``) or a URDF (``.urdf``).
+        name_or_path: A name from :func:`available_robots` (a robot or mechanism file ``NAME.toml`` of
+            ``./robots``, of a ``MECHATRON_PATH`` folder or shipped, the first found; a built-in mechanism such as
+            ``front_shovel`` or ``seven_bar``; or an example-robot-data arm such as ``ur5`` or ``panda``), or the
+            path of a robot or mechanism file (``.toml``) or a URDF (``.urdf``).
         **parameters: New values (SI: metres, radians) of named geometric parameters, e.g. ``a2=0.5``.
 
     Returns:
