@@ -683,7 +683,8 @@ def _assemble_model(spec: LinkageSpec, actuated: Sequence[str] | None = None) ->
         ready = [j for j in pending if joint_parent(spec, j) in placed][:1]
         if not ready:
             orphans = ", ".join(sorted(j.body for j in pending))
-            raise spec.error(f"bodies {orphans} are not connected to the ground by the tree joints", "joints")
+            raise spec.error(f"bodies {orphans} are not connected to the ground by the tree joints",
+                             f"joints[{spec.joints.index(pending[0]) + 1}]")
         for j in ready:
             parent = joint_parent(spec, j)
             body = spec.body(j.body)
