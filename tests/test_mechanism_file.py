@@ -30,6 +30,7 @@ import json
 import math
 import os
 import re
+import shlex
 import shutil
 from dataclasses import replace
 from pathlib import Path
@@ -137,6 +138,28 @@ def test_crossed_branch_follows_the_other_root(four_bar):
     check_sweep(table, LENGTHS, sigma=+1)
 
 
+def test_masses_of_the_file_give_the_reduced_model_of_the_kinetic_energy(four_bar):
+    """The file's masses as the page says (a bar: centre in the middle, I = m L²/12; the coupler's centre M,
+    0.009 kg·m² about it): J = Σ (m v_G² + I ω²)/ω2² [Egorov, 6.5] and M = −g Σ m ẏ_G/ω2 (gravity's power over
+    the crank rate) [Egorov, 6.20], with the velocities of the closed form."""
+    from mechatron.dynamics.reduced import reduced_inertia, reduced_moment
+
+    a, b, c, d = LENGTHS.values()
+    for theta2 in np.radians([0, 55, 90, 180, 260, 315]):
+        theta4, first, _, _ = freudenstein(theta2, **LENGTHS)
+        e2, e4 = np.array([-math.sin(theta2), math.cos(theta2)]), np.array([-math.sin(theta4), math.cos(theta4)])
+        B, C = a * np.array([math.cos(theta2), math.sin(theta2)]), output_point(theta2, **LENGTHS)
+        vB, vC = a * e2, c * first * e4  # per unit crank rate
+        theta3 = math.atan2(*(C - B)[::-1])
+        omega3 = (vC - vB) @ np.array([-math.sin(theta3), math.cos(theta3)]) / b
+        vM = (vB + vC) / 2
+        J = 0.5 * a**2 / 3 + 1.2 * vM @ vM + 0.009 * omega3**2 + 0.8 * c**2 / 3 * first**2
+        M = -9.81 * (0.5 * vB[1] / 2 + 1.2 * vM[1] + 0.8 * vC[1] / 2)
+        q = assemble(four_bar, {"q1": theta2}, guess=four_bar.reference_q)
+        assert reduced_inertia(four_bar, q, "q1") == pytest.approx(J, abs=1e-12)
+        assert reduced_moment(four_bar, q, "q1") == pytest.approx(M, abs=1e-11)
+
+
 def test_drawing_given_two_mm_off_closes_to_the_exact_position(four_bar):
     """The file draws B and C about 2 mm off; the closed drawing is the exact position at the drawn crank angle
     (90°), and the note gives each pin's move, computed here from the closed form."""
@@ -176,6 +199,30 @@ def test_tolerance_below_the_move_refuses_the_drawing_naming_the_constraint(tmp_
     bad.write_text(FOUR_BAR.read_text(encoding="utf-8").replace("tolerance_mm = 5 ", "tolerance_mm = 1 "))
     code, err = cli_error(capsys, "show", str(bad))
     assert code == 2 and err.startswith(f"mechatron: error: {bad}: field 'points': the loops do not close within 1 mm")
+
+
+# -------------------------------------------------------------------------------------- the page's commands
+PAGE = (ROOT / "docs" / "mechanism_file.md").read_text(encoding="utf-8")
+COMMANDS = [line for block in re.findall(r"```sh\n(.*?)```", PAGE, re.S) for line in block.splitlines()]
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_command_of_the_page_runs(command, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)  # the files they write
+    program, *argv = shlex.split(command)
+    assert program == "mechatron"
+    code = main([arg.replace("examples/data/", f"{ROOT}/examples/data/") for arg in argv])
+    out, err = capsys.readouterr()
+    assert code == 0 and out, err
+    for written in re.findall(r"--(?:plot|plans|csv) (\S+)", command):
+        assert (tmp_path / written).stat().st_size > 0
+
+
+@pytest.mark.parametrize("block", re.findall(r"```python\n(.*?)```", PAGE, re.S), ids=["design study", "python"])
+def test_the_python_of_the_page_runs(block, monkeypatch, capsys):
+    monkeypatch.chdir(ROOT)
+    exec(compile(block, "mechanism_file.md", "exec"), {})
+    assert capsys.readouterr().out
 
 
 # ------------------------------------------------------------------------------------------------- bad files
