@@ -62,12 +62,13 @@ def example_robot_data_dir() -> Path | None:
 def search_path() -> list[tuple[Path, str]]:
     """The folders searched for ``NAME.toml``, first found first: ``./robots`` of the working directory, then every
     folder of the ``MECHATRON_PATH`` environment variable (separated by ``os.pathsep``), then the shipped ones; each
-    with a word saying where it is (``./robots``, ``MECHATRON_PATH``, ``shipped``)."""
+    with a word saying where it is (``./robots``, ``MECHATRON_PATH``, ``shipped``). The shipped folder is listed once,
+    as ``shipped``, even when it is also ``./robots`` (working in a source checkout) or in ``MECHATRON_PATH``."""
+    shipped = data_dir("robots")
     folders = [(Path.cwd() / "robots", "./robots")]
     folders += [(Path(part).expanduser(), "MECHATRON_PATH")
                 for part in os.environ.get("MECHATRON_PATH", "").split(os.pathsep) if part]
-    folders.append((data_dir("robots"), "shipped"))
-    return folders
+    return [(f, origin) for f, origin in folders if f.resolve() != shipped.resolve()] + [(shipped, "shipped")]
 
 
 def robot_files() -> dict[str, tuple[Path, str]]:

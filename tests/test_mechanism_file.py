@@ -521,3 +521,19 @@ def test_list_says_where_each_name_comes_from(user_folders, capsys):
     assert rows["scara"] == "shipped" and rows["grab"] == "built-in"
     assert f"./robots        {work / 'robots'}  (1 .toml file(s))" in out
     assert f"MECHATRON_PATH  {library.parent / 'missing'}  (not there)" in out
+
+
+def test_the_shipped_folder_stays_shipped_when_it_is_also_the_working_directorys(tmp_path, monkeypatch):
+    """Working in a source checkout, ./robots is the shipped folder: its files are `shipped`, and a MECHATRON_PATH
+    file of the same name still comes first."""
+    from mechatron.io.data import data_dir
+    from mechatron.library import robot_origins
+
+    shipped = data_dir("robots")
+    monkeypatch.chdir(shipped.parent)
+    shutil.copy(FOUR_BAR, tmp_path / "scara.toml")
+    monkeypatch.setenv("MECHATRON_PATH", str(tmp_path))
+    origins = robot_origins()
+    assert origins["puma560"] == ("shipped", shipped / "puma560.toml")
+    assert origins["scara"] == ("MECHATRON_PATH", tmp_path / "scara.toml")
+    assert mechatron.load("scara").joint_names == ["q1", "q2", "q3"]  # the four-bar, not the SCARA
