@@ -171,6 +171,8 @@ def test_drawing_given_two_mm_off_closes_to_the_exact_position(four_bar):
     assert 1.9e-3 < move_B < 2.1e-3 and 1.9e-3 < move_C < 2.1e-3  # the drawing is about 2 mm off
     q = four_bar.reference_q
     assert q[0] == pytest.approx(math.pi / 2, abs=1e-12)  # the input keeps its drawn angle
+    for point in "AD":  # the points that need not move keep their drawn coordinates exactly
+        assert [four_bar.parameters[f"{point}_{axis}"].value for axis in "xy"] == list(drawn[point])
     assert frame_placement(four_bar, q, "B").translation[:2] == pytest.approx(exact_B, abs=1e-12)
     assert frame_placement(four_bar, q, "C").translation[:2] == pytest.approx(exact_C, abs=1e-12)
     assert frame_placement(four_bar, q, "M").translation[:2] == pytest.approx((exact_B + exact_C) / 2, abs=1e-12)
