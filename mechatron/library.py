@@ -60,12 +60,13 @@ def example_robot_data_dir() -> Path | None:
 def search_path() -> list[tuple[Path, str]]:
     """The folders searched for ``NAME.toml``, first found first: ``./robots`` of the working directory, then every
     folder of the ``MECHATRON_PATH`` environment variable (separated by ``os.pathsep``), then the shipped ones; each
-    with a word saying where it is (``./robots``, ``MECHATRON_PATH``, ``shipped``)."""
+    with a word saying where it is (``./robots``, ``MECHATRON_PATH``, ``shipped``). The shipped folder is listed once,
+    as ``shipped``, even when it is also ``./robots`` (working in a source checkout) or in ``MECHATRON_PATH``."""
+    shipped = data_dir("robots")
     folders = [(Path.cwd() / "robots", "./robots")]
     folders += [(Path(part).expanduser(), "MECHATRON_PATH")
                 for part in os.environ.get("MECHATRON_PATH", "").split(os.pathsep) if part]
-    folders.append((data_dir("robots"), "shipped"))
-    return folders
+    return [(f, origin) for f, origin in folders if f.resolve() != shipped.resolve()] + [(shipped, "shipped")]
 
 
 def robot_files() -> dict[str, tuple[Path, str]]:
@@ -92,11 +93,24 @@ def installed_example_robots() -> dict[str, Path]:
     return {name: folder / robot.urdf for name, robot in EXAMPLE_ROBOTS.items() if (folder / robot.urdf).is_file()}
 
 
+#: Where a name comes from (:func:`robot_origins`), in the order :func:`load` looks.
+ORIGINS = ("./robots", "MECHATRON_PATH", "shipped", "example-robot-data")
+
+
+def robot_origins() -> dict[str, tuple[str, Path | None]]:
+    """Every name :func:`load` accepts → (where it comes from, the file it loads): the files of
+    :func:`search_path` (``./robots``, ``MECHATRON_PATH``, ``shipped``), then the arms of ``example-robot-data``
+    that no file replaces. A name is listed once, with what :func:`load` uses."""
+    out: dict[str, tuple[str, Path | None]] = {name: (origin, path) for name, (path, origin) in robot_files().items()}
+    for name, path in installed_example_robots().items():
+        out.setdefault(name, ("example-robot-data", path))
+    return out
+
+
 def available_robots() -> list[str]:
-    """Names :func:`load` accepts: robot and mechanism files found by name (:func:`robot_files`), then the installed
-    example-robot-data arms."""
-    names = list(builtin_robot_files())
-    return names + [name for name in installed_example_robots() if name not in names]
+    """Names :func:`load` accepts: robot and mechanism files (./robots, MECHATRON_PATH, shipped) and the installed
+    example-robot-data arms; each once (see :func:`robot_origins`)."""
+    return list(robot_origins())
 
 
 def load_file(path: str | Path) -> Mechanism:

@@ -23,10 +23,12 @@ def run(capsys, *argv):
 
 def test_list_json(capsys):
     code, out, _ = run(capsys, "list", "--json")
-    names = json.loads(out)
-    assert code == 0 and isinstance(names, list)
+    entries = json.loads(out)
+    assert code == 0 and isinstance(entries, list)
+    origins = {entry["name"]: entry["origin"] for entry in entries}
     assert {"puma560", "planar_2r", "cylindrical_rpp", "articulated_rrr", "planar_3r", "scara", "ur5",
-            "panda"} <= set(names)
+            "panda"} <= set(origins)
+    assert origins["puma560"] == "shipped" and origins["ur5"] == "example-robot-data"
 
 
 def test_list_text(capsys):

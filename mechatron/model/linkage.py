@@ -228,8 +228,14 @@ def check(spec: LinkageSpec) -> None:
             raise spec.error(f"body {b.name}: unknown shape {b.shape!r}; expected bar", f"{where}.shape")
         if b.shape == "bar" and len(b.points) < 2:
             raise spec.error(f"body {b.name}: a bar needs two points", f"{where}.shape")
+    coordinates: dict[str, str] = {}
     for i, j in enumerate(spec.joints, start=1):
         where = f"joints[{i}]"
+        coordinate = joint_coordinate(j)
+        if coordinate in coordinates:
+            raise spec.error(f"coordinate {coordinate!r} is defined twice (also by {coordinates[coordinate]})",
+                             f"{where}.{'name' if j.kind == 'cylinder' else 'coordinate'}")
+        coordinates[coordinate] = where
         if j.kind == "cylinder":
             for role in ("base", "eye"):
                 if getattr(j, role) not in known:
@@ -244,6 +250,8 @@ def check(spec: LinkageSpec) -> None:
             raise spec.error(f"joint of unknown body {j.body!r}", f"{where}.body")
         if j.at not in known:
             raise spec.error(f"joint of {j.body} at unknown point {j.at!r}", f"{where}.at")
+        if j.parent is not None and j.parent not in bodies:
+            raise spec.error(f"joint of {j.body}: unknown parent body {j.parent!r}", f"{where}.parent")
         if j.toward is not None and j.toward not in known:
             raise spec.error(f"joint of {j.body}: unknown point {j.toward!r}", f"{where}.toward")
         if not j.limits[0] < j.limits[1]:
@@ -251,9 +259,19 @@ def check(spec: LinkageSpec) -> None:
                              f"{j.limits[1]:g}", f"{where}.lower")
     for i, c in enumerate(spec.closures, start=1):
         where = f"closures[{i}]"
+        for role in ("bodies", "body", "line_body", "driver", "driven"):
+            named = getattr(c, role)
+            for body in (named,) if isinstance(named, str) else named or ():
+                if body and body not in bodies:
+                    raise spec.error(f"{c.kind} of {c.point or c.driven}: unknown body {body!r}", f"{where}.{role}")
+        if c.kind in ("pin", "slider", "curve") and c.point not in known:
+            raise spec.error(f"{c.kind} of unknown point {c.point!r}", f"{where}.point")
         if c.kind == "pin":
             if len(c.bodies) == 2 and c.bodies[0] == c.bodies[1]:
                 raise spec.error(f"pin {c.point} joins body {c.bodies[0]} to itself", f"{where}.bodies")
+            for body in c.bodies:
+                if c.point not in spec.body(body).points:
+                    raise spec.error(f"pin {c.point}: body {body} does not carry {c.point}", f"{where}.bodies")
         if c.kind == "curve":
             x = np.asarray(c.x, dtype=float)
             if len(x) < 4 or len(c.y) != len(x):
@@ -263,8 +281,7 @@ def check(spec: LinkageSpec) -> None:
                 k = int(np.flatnonzero(np.diff(x) <= 0)[0])
                 raise spec.error(f"curve of {c.point}: x must increase (x[{k + 2}] = {x[k + 1]:g} after "
                                  f"{x[k]:g})", f"{where}.x")
-        if c.kind in ("pin", "slider", "curve") and c.point not in known:
-            raise spec.error(f"{c.kind} of unknown point {c.point!r}", f"{where}.point")
+    _no_duplicates(spec, [m.name for m in spec.measures], "measures", "measure")
     for i, m in enumerate(spec.measures, start=1):
         for p in m.points:
             if p not in known:
@@ -523,7 +540,7 @@ def close_drawing(spec: LinkageSpec, max_iterations: int = 60) -> ClosedDrawing:
         k = int(np.argmax(np.abs(phi)))
         raise spec.error(f"the drawing cannot be closed: {equations[k][0]} is off by {abs(phi[k]):.3g} "
                          "(the lengths, guides and curves do not fit together near the drawing)", "points")
-    P = unpack(x)
+    P = unpack(np.where(np.abs(x - x0) < 1e-12 * scale, x0, x))  # what did not move keeps its drawn value
     moves = {n: float(np.linalg.norm(P[n] - drawn[n])) for n in names}
     return ClosedDrawing({n: P[n].copy() for n in names}, moves, first_residual, worst)
 
@@ -577,7 +594,13 @@ def build_linkage(spec: LinkageSpec, *, check_tolerance: bool = True) -> Mechani
             drawing's size), or actuated inputs that do not match the mobility.
     """
     check(spec)
-    closed = close_drawing(spec)
+    try:
+        closed = close_drawing(spec)
+    except InputError:
+        if spec.actuated:  # too many inputs held at their drawn values? the model names the mobility
+            free = replace(spec, actuated=())
+            _assemble_model(_moved(free, close_drawing(free).positions), actuated=spec.actuated)
+        raise
     tolerance = spec.tolerance if spec.tolerance is not None else 0.02 * drawing_size(spec)
     moved = max(closed.moves.items(), key=lambda item: item[1], default=("", 0.0))
     if check_tolerance and moved[1] > tolerance:
@@ -658,8 +681,8 @@ def _mass_properties(body: BodySpec, positions: Mapping[str, Vector]) -> tuple[f
     return body.mass, centre, float(inertia)
 
 
-def _assemble_model(spec: LinkageSpec) -> Mechanism:
-    """Build the Pinocchio tree of a closed drawing."""
+def _assemble_model(spec: LinkageSpec, actuated: Sequence[str] | None = None) -> Mechanism:
+    """Build the Pinocchio tree of a closed drawing (with ``actuated`` instead of the spec's inputs, if given)."""
     positions = _positions(spec)
     frames = frame_names(spec)
     b = PlanarBuilder(spec.name, gravity=spec.gravity)
@@ -684,7 +707,8 @@ def _assemble_model(spec: LinkageSpec) -> Mechanism:
         ready = [j for j in pending if joint_parent(spec, j) in placed][:1]
         if not ready:
             orphans = ", ".join(sorted(j.body for j in pending))
-            raise spec.error(f"bodies {orphans} are not connected to the ground by the tree joints", "joints")
+            raise spec.error(f"bodies {orphans} are not connected to the ground by the tree joints",
+                             f"joints[{spec.joints.index(pending[0]) + 1}]")
         for j in ready:
             parent = joint_parent(spec, j)
             body = spec.body(j.body)
@@ -709,14 +733,20 @@ def _assemble_model(spec: LinkageSpec) -> Mechanism:
             placed.add(j.body)
             add_points(j.body)
             pending.remove(j)
-    missing = sorted(bodies - placed)
+    missing = [(i, x.name) for i, x in enumerate(spec.bodies, start=1) if x.name not in placed]
     if missing:
-        raise spec.error(f"bodies {', '.join(missing)} have no joint: they are not connected to the tree", "bodies")
-    for j in spec.joints:
+        raise spec.error(f"body {missing[0][1]} has no joint: it is not connected to the tree (give it a revolute "
+                         "or prismatic joint)", f"bodies[{missing[0][0]}]")
+    for i, j in enumerate(spec.joints, start=1):
         if j.kind == "cylinder":
             base_body, eye_body = spec.owners(j.base), spec.owners(j.eye)
             if not base_body or not eye_body:
-                raise spec.error(f"cylinder {j.name}: its base and eye must be points of bodies", "joints")
+                raise spec.error(f"cylinder {j.name}: its base and eye must be points of bodies", f"joints[{i}]")
+            length = float(np.linalg.norm(positions[j.eye] - positions[j.base]))
+            if not j.stroke[0] - 1e-9 <= length <= j.stroke[1] + 1e-9:
+                raise spec.error(f"cylinder {j.name}: its eye {j.eye} is {length * 1e3:.6g} mm from its base "
+                                 f"{j.base} in the drawing, outside its stroke [{j.stroke[0] * 1e3:.6g}, "
+                                 f"{j.stroke[1] * 1e3:.6g}] mm", f"joints[{i}].stroke")
             b.cylinder(j.name, frames[(j.base, base_body[0])], frames[(j.eye, eye_body[0])], stroke=j.stroke,
                        count=j.count, barrel_mass=j.barrel_mass, rod_mass=j.rod_mass)
     _closures(spec, b, frames, positions)
@@ -732,13 +762,15 @@ def _assemble_model(spec: LinkageSpec) -> Mechanism:
         if len(m.points) != MEASURE_POINTS[m.kind]:
             raise spec.error(f"measure {m.name}: a {m.kind} takes {MEASURE_POINTS[m.kind]} points", "measures")
         b.measures.append(Measure(m.name, m.kind, tuple(m.points), m.minimum))
-    mech = b.build(actuated=list(spec.actuated), description=spec.description, parameters=parameters(spec),
+    actuated = list(spec.actuated if actuated is None else actuated)
+    mech = b.build(actuated=actuated, description=spec.description, parameters=parameters(spec),
                    rebuild=lambda values: rebuild(spec, values), tool=spec.tool or spec.points[-1].name,
                    input_rates=dict(spec.input_rates), check=True)
     mobility = mech.mobility()
-    if mobility != len(spec.actuated):
-        raise spec.error(f"{len(spec.actuated)} actuated input(s) ({', '.join(spec.actuated)}) for a mechanism of "
-                         f"mobility {mobility}", "actuated")
+    if mobility != len(actuated):
+        listed = f" ({', '.join(actuated)})" if actuated else ""
+        raise spec.error(f"{len(actuated)} actuated input(s){listed} for a mechanism of mobility {mobility}: give "
+                         f"{mobility}", "actuated")
     mech.source = spec.file or spec.source or None
     mech.branches.update(_branches(spec, mech))
     return mech
@@ -784,8 +816,9 @@ def _coordinate_of(spec: LinkageSpec, body: str) -> str:
 
 
 def _branches(spec: LinkageSpec, mech: Mechanism) -> dict[str, Vector]:
-    """Each named branch: its given coordinates, the other dependent ones closed by minimum-norm Newton steps (the
-    actuated inputs at their reference values)."""
+    """Each named branch: the other dependent coordinates fitted to the given ones (Gauss–Newton steps with the
+    given held), then every dependent one closed by minimum-norm Newton steps from there (the given values are
+    approximate); the actuated inputs at their reference values."""
     out = {}
     system = mech.closure_system()
     index = {name: mech.model.joints[mech.joint_id(name)].idx_q for name in mech.joint_names}
@@ -796,12 +829,14 @@ def _branches(spec: LinkageSpec, mech: Mechanism) -> dict[str, Vector]:
             if name not in index:
                 raise spec.error(f"branch {branch}: unknown coordinate {name!r}", f"branches.{branch}")
             q[index[name]] = value
+        given = {index[name] for name in values}
         free = [k for k in range(mech.nq) if k not in actuated]
-        for _ in range(50):
-            phi, J = system.evaluate(q)
-            if np.abs(phi).max(initial=0.0) < 1e-13:
-                break
-            q[free] -= np.linalg.lstsq(J[:, free], phi, rcond=None)[0]
+        for iterations, moving in ((20, [k for k in free if k not in given]), (50, free)):
+            for _ in range(iterations if moving else 0):
+                phi, J = system.evaluate(q)
+                if np.abs(phi).max(initial=0.0) < 1e-13:
+                    break
+                q[moving] -= np.linalg.lstsq(J[:, moving], phi, rcond=None)[0]
         if np.abs(system.evaluate(q)[0]).max(initial=0.0) > 1e-9:
             raise spec.error(f"branch {branch}: the loops do not close near the given coordinates",
                              f"branches.{branch}")

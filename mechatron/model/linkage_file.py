@@ -101,9 +101,9 @@ def _points(top: FieldReader) -> tuple[PointSpec, ...]:
             if not isinstance(value, Mapping):
                 raise InputError("expected [x, y] or a table {at = [x, y], …}", file=top.file, field=where)
             item = FieldReader(value, file=top.file, path=where)
-            at = item.lengths("at", 2, None)  # at_mm in millimetres; at in the table's unit
+            at = item.lengths("at", 2, None)  # at in the table's unit; at_mm, at_cm, … in theirs
             if at is not None:
-                at = tuple(float(v) * (1.0 if item.has("at_mm") else scale) for v in at)
+                at = tuple(float(v) * (scale if item.has("at") else 1.0) for v in at)
             between = item.raw("between", None)
             if between is not None and (not isinstance(between, list) or len(between) != 2
                                         or not all(isinstance(v, str) for v in between)):
