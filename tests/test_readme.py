@@ -40,12 +40,14 @@ def blocks() -> list[tuple[str, int, str]]:
     return out
 
 
-def commands() -> list[tuple[int, str]]:
-    """(line number, command) of every shell command, without comments and set-up steps."""
+def command_blocks() -> list[list[tuple[int, str]]]:
+    """The shell blocks, each a list of (line number, command) without comments and set-up steps; a block's commands
+    run in order (a later one may read what an earlier one wrote)."""
     out = []
     for language, start, text in blocks():
         if language not in ("sh", "bash", "console"):
             continue
+        block = []
         for offset, line in enumerate(text.splitlines()):
             command = re.sub(r"\s+#.*$", "", line).strip()
             if not command or command.startswith("#"):
@@ -53,8 +55,15 @@ def commands() -> list[tuple[int, str]]:
             steps = [s.strip() for s in command.split("&&")]
             kept = [s for s in steps if not SETUP.match(s)]
             if kept:
-                out.append((start + offset, " && ".join(kept)))
+                block.append((start + offset, " && ".join(kept)))
+        if block:
+            out.append(block)
     return out
+
+
+def commands() -> list[tuple[int, str]]:
+    """(line number, command) of every shell command."""
+    return [command for block in command_blocks() for command in block]
 
 
 def python_blocks() -> list[tuple[int, str]]:
@@ -87,9 +96,11 @@ def test_the_readme_has_commands_and_python_blocks():
 
 
 def test_every_command_runs(scratch):
-    todo = commands()
+    def run_block(block: list[tuple[int, str]]) -> list:
+        return [(item, _run(["bash", "-c", item[1]], scratch)) for item in block]
+
     with ThreadPoolExecutor(max_workers=2) as pool:
-        results = list(pool.map(lambda item: (item, _run(["bash", "-c", item[1]], scratch)), todo))
+        results = [result for block in pool.map(run_block, command_blocks()) for result in block]
     failed = [f"README line {line}: {command}\n  exit {r.returncode}: {(r.stderr or r.stdout).strip()[-400:]}"
               for (line, command), r in results if r.returncode != 0]
     assert not failed, "\n".join(failed)
