@@ -117,8 +117,8 @@ def load_file(path: str | Path) -> Mechanism:
     """A mechanism from a file, told apart by its content: a robot file (a DH table, ``[[links]]``), a mechanism
     file (a closed-loop linkage, ``[points]`` and ``[[bodies]]``) or a URDF (``.urdf``)."""
     from .io.toml import read_toml
-    from .model.linkage import build_linkage
     from .model.linkage_file import is_linkage_file, linkage_spec
+    from .model.spatial import build_mechanism
 
     path = Path(path)
     if path.suffix.lower() == ".urdf":
@@ -128,7 +128,7 @@ def load_file(path: str | Path) -> Mechanism:
                          file=path)
     data = read_toml(path)
     if is_linkage_file(data):
-        return build_linkage(linkage_spec(data, file=path, default_name=path.stem))
+        return build_mechanism(linkage_spec(data, file=path, default_name=path.stem))
     if "links" in data:
         return read_robot_file(path).mechanism()
     if "pairs" in data:

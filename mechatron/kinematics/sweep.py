@@ -474,13 +474,18 @@ def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: 
     for i, joint in enumerate(mech.joint_names):
         columns[f"q_{joint}"], columns[f"v_{joint}"], columns[f"a_{joint}"] = Q[:, i], V[:, i], A[:, i]
     position = H[:, :, :2, 3]
+    spatial = any(not getattr(c, "planar", True) for c in mech.closures)  # a spatial loop: z too
+    axes = "xyz" if spatial else "xy"
     for p in points:
         j = index[p]
-        columns[f"{p}_x"], columns[f"{p}_y"] = position[:, j, 0], position[:, j, 1]
-        columns[f"{p}_vx"], columns[f"{p}_vy"] = twist[:, j, 0], twist[:, j, 1]
-        columns[f"{p}_v"] = np.hypot(twist[:, j, 0], twist[:, j, 1])
-        columns[f"{p}_ax"], columns[f"{p}_ay"] = accel[:, j, 0], accel[:, j, 1]
-        columns[f"{p}_a"] = np.hypot(accel[:, j, 0], accel[:, j, 1])
+        for k, axis in enumerate(axes):
+            columns[f"{p}_{axis}"] = H[:, j, k, 3]
+        for k, axis in enumerate(axes):
+            columns[f"{p}_v{axis}"] = twist[:, j, k]
+        columns[f"{p}_v"] = np.linalg.norm(twist[:, j, :len(axes)], axis=1)
+        for k, axis in enumerate(axes):
+            columns[f"{p}_a{axis}"] = accel[:, j, k]
+        columns[f"{p}_a"] = np.linalg.norm(accel[:, j, :len(axes)], axis=1)
     for link in links:
         j = index[link]
         columns[f"{link}_angle"] = np.unwrap(np.arctan2(H[:, j, 1, 0], H[:, j, 0, 0]))

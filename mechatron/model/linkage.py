@@ -40,7 +40,7 @@ class PointSpec:
     ``direction``: the x axis of the point's frame in the drawing (a slider's line); ``report``: listed in sweeps."""
 
     name: str
-    at: tuple[float, float] | None = None
+    at: tuple[float, ...] | None = None  # (x, y), or (x, y, z) in a spatial mechanism
     between: tuple[str, str] | None = None
     fraction: float = 0.5
     direction: tuple[float, float] | None = None
@@ -56,8 +56,8 @@ class BodySpec:
     name: str
     points: tuple[str, ...]
     mass: float = 0.0
-    com: str | tuple[float, float] | None = None
-    inertia: float | None = None
+    com: str | tuple[float, ...] | None = None
+    inertia: float | tuple[float, ...] | None = None  # I_zz; spatial: (Ixx, Iyy, Izz[, Ixy, Ixz, Iyz])
     shape: str | None = None
     draw: tuple[str, ...] | None = None
     draw_kind: str = "link"
@@ -86,6 +86,8 @@ class JointSpec:
     count: int = 1
     barrel_mass: float = 0.0
     rod_mass: float = 0.0
+    axis: tuple[float, float, float] | None = None  # spatial revolute: the world axis in the drawing
+    axes: tuple[tuple[float, float, float], ...] | None = None  # spatial universal: parent's axis, cross's axis
 
 
 @dataclass(frozen=True)
@@ -153,6 +155,8 @@ class LinkageSpec:
     notes: tuple[str, ...] = ()
     tolerance: float | None = None
     file: str | None = None
+    #: False for a spatial mechanism (3D points, joint axes, point closures; :mod:`mechatron.model.spatial`).
+    planar: bool = True
     #: Values (m, rad) at which to hold actuated inputs while closing the drawing instead of their drawn ones: a
     #: rebuild keeps the nominal drawing's inputs when it moves points (not part of a file).
     held_inputs: Mapping[str, float] = field(default_factory=dict)
@@ -195,7 +199,11 @@ def check(spec: LinkageSpec) -> None:
     _no_duplicates(spec, names, "points", "point")
     _no_duplicates(spec, [b.name for b in spec.bodies], "bodies", "body")
     known = set(names)
+    size = 2 if spec.planar else 3
     for p in spec.points:
+        if p.at is not None and len(p.at) != size:
+            raise spec.error(f"point {p.name}: give {size} coordinates in a {'planar' if spec.planar else 'spatial'} "
+                             f"mechanism, got {len(p.at)}", f"points.{p.name}")
         if p.between is not None:
             for other in p.between:
                 if other not in known or other == p.name:
@@ -217,10 +225,10 @@ def check(spec: LinkageSpec) -> None:
             raise spec.error(f"body {b.name} lists a point twice", f"{where}.points")
         if b.mass < 0:
             raise spec.error(f"body {b.name}: mass must be >= 0 kg, got {b.mass:g}", f"{where}.mass")
-        if b.inertia is not None and b.inertia < 0:
-            raise spec.error(f"body {b.name}: inertia must be >= 0 kg·m², got {b.inertia:g}", f"{where}.inertia")
-        if b.inertia and b.mass == 0:
-            raise spec.error(f"body {b.name}: an inertia of {b.inertia:g} kg·m² without mass is not a body's",
+        if b.inertia is not None and np.any(np.asarray(b.inertia, dtype=float) < 0):
+            raise spec.error(f"body {b.name}: inertia must be >= 0 kg·m², got {b.inertia}", f"{where}.inertia")
+        if b.inertia is not None and np.any(np.asarray(b.inertia, dtype=float) != 0) and b.mass == 0:
+            raise spec.error(f"body {b.name}: an inertia of {b.inertia} kg·m² without mass is not a body's",
                              f"{where}.inertia")
         if isinstance(b.com, str) and b.com not in b.points:
             raise spec.error(f"body {b.name}: its centre of mass {b.com!r} is not one of its points", f"{where}.com")
@@ -593,6 +601,9 @@ def build_linkage(spec: LinkageSpec, *, check_tolerance: bool = True) -> Mechani
         InputError: for a structural problem, a drawing that does not close within the tolerance (default 2 % of the
             drawing's size), or actuated inputs that do not match the mobility.
     """
+    if not spec.planar:
+        raise spec.error("a spatial mechanism (planar = false): build it with mechatron.model.spatial.build_spatial "
+                         "or build_mechanism", "planar")
     check(spec)
     try:
         closed = close_drawing(spec)

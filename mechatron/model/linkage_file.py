@@ -1,4 +1,5 @@
-"""Mechanism files: closed-loop planar mechanisms as TOML (the format is in docs/mechanism_file.md).
+"""Mechanism files: closed-loop mechanisms as TOML, planar or (``planar = false``) spatial (the format is in
+docs/mechanism_file.md).
 
 :func:`read_linkage_file` reads and checks a file into a :class:`~mechatron.model.linkage.LinkageSpec`;
 :func:`linkage_toml` writes a spec back as a file (what the syntheses of :mod:`mechatron.machines` do);
@@ -27,7 +28,7 @@ from .linkage import (
     check,
 )
 
-JOINT_TYPES = ("revolute", "prismatic", "cylinder")
+JOINT_TYPES = ("revolute", "prismatic", "cylinder", "universal", "translation")
 CLOSURE_TYPES = ("pin", "slider", "curve", "gear")
 MEASURE_TYPES = ("transmission_angle", "lever_arm", "distance")
 
@@ -48,6 +49,8 @@ def linkage_spec(data: Mapping[str, Any], *, file: str | Path | None = None, def
     """A spec from parsed TOML (see :func:`read_linkage_file`)."""
     top = FieldReader(data, file=file)
     name, description, source = top.header(default_name)
+    planar = top.boolean("planar", True)
+    dim = 2 if planar else 3
     gravity = top.number("gravity", 9.81, minimum=0.0)
     tolerance = top.length("tolerance", None, positive=True)
     tool = top.string("tool", None)
@@ -59,9 +62,9 @@ def linkage_spec(data: Mapping[str, Any], *, file: str | Path | None = None, def
             input_rates[key] = rates.number(key, positive=True)
         rates.finish()
     notes = tuple(_strings(top, "notes", required=False))
-    points = _points(top)
-    bodies = tuple(_body(b) for b in top.tables("bodies"))
-    joints = tuple(_joint(j) for j in top.tables("joints"))
+    points = _points(top, dim)
+    bodies = tuple(_body(b, dim) for b in top.tables("bodies"))
+    joints = tuple(_joint(j, planar) for j in top.tables("joints"))
     closures = tuple(_closure(c) for c in top.tables("closures")) if top.has("closures") else ()
     measures = tuple(_measure(m) for m in top.tables("measures")) if top.has("measures") else ()
     lengths = _lengths(top)
@@ -70,7 +73,7 @@ def linkage_spec(data: Mapping[str, Any], *, file: str | Path | None = None, def
     spec = LinkageSpec(name=name, points=points, bodies=bodies, joints=joints, actuated=tuple(actuated),
                        closures=closures, measures=measures, lengths=lengths, branches=branches,
                        description=description, source=source, gravity=gravity, tool=tool, input_rates=input_rates,
-                       notes=notes, tolerance=tolerance, file=str(file) if file is not None else None)
+                       notes=notes, tolerance=tolerance, file=str(file) if file is not None else None, planar=planar)
     if tool is not None and tool not in {p.name for p in points}:
         raise InputError(f"unknown point {tool!r}", file=file, field="tool")
     check(spec)
@@ -86,7 +89,7 @@ def _strings(reader: FieldReader, key: str, required: bool = True) -> list[str]:
     return list(value)
 
 
-def _points(top: FieldReader) -> tuple[PointSpec, ...]:
+def _points(top: FieldReader, dim: int) -> tuple[PointSpec, ...]:
     out = []
     for key, scale in (("points", 1.0), ("points_mm", 1e-3)):
         table = top.table(key, None)
@@ -96,12 +99,13 @@ def _points(top: FieldReader) -> tuple[PointSpec, ...]:
             value = table.raw(name)
             where = table.field(name)
             if isinstance(value, list):
-                out.append(PointSpec(name, _pair(table, name, value, scale)))
+                out.append(PointSpec(name, _pair(table, name, value, scale, dim)))
                 continue
             if not isinstance(value, Mapping):
-                raise InputError("expected [x, y] or a table {at = [x, y], …}", file=top.file, field=where)
+                raise InputError(f"expected [{', '.join('xyz'[:dim])}] or a table {{at = [...], …}}", file=top.file,
+                                 field=where)
             item = FieldReader(value, file=top.file, path=where)
-            at = item.lengths("at", 2, None)  # at in the table's unit; at_mm, at_cm, … in theirs
+            at = item.lengths("at", dim, None)  # at in the table's unit; at_mm, at_cm, … in theirs
             if at is not None:
                 at = tuple(float(v) * (scale if item.has("at") else 1.0) for v in at)
             between = item.raw("between", None)
@@ -122,13 +126,13 @@ def _points(top: FieldReader) -> tuple[PointSpec, ...]:
     return tuple(out)
 
 
-def _pair(table: FieldReader, name: str, value: list, scale: float) -> tuple[float, float]:
-    if len(value) != 2:
-        raise table.error(name, f"expected [x, y], got {len(value)} numbers")
+def _pair(table: FieldReader, name: str, value: list, scale: float, dim: int = 2) -> tuple[float, ...]:
+    if len(value) != dim:
+        raise table.error(name, f"expected [{', '.join('xyz'[:dim])}], got {len(value)} numbers")
     return tuple(table.to_float(f"{name}[{i}]", v) * scale for i, v in enumerate(value))
 
 
-def _body(reader: FieldReader) -> BodySpec:
+def _body(reader: FieldReader, dim: int = 2) -> BodySpec:
     name = reader.string("name")
     points = tuple(_strings(reader, "points"))
     mass = reader.number("mass", 0.0)
@@ -137,8 +141,15 @@ def _body(reader: FieldReader) -> BodySpec:
     if isinstance(com_raw, str):
         com = com_raw
     elif reader.has("com") or reader.has("com_mm"):
-        com = tuple(float(v) for v in reader.lengths("com", 2))
-    inertia = reader.number("inertia", None)
+        com = tuple(float(v) for v in reader.lengths("com", dim))
+    if dim == 3 and isinstance(reader.data.get("inertia"), list):
+        values = reader.raw("inertia")
+        if len(values) not in (3, 6):
+            raise reader.error("inertia", "a spatial inertia is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] "
+                                          "(kg·m²)")
+        inertia = tuple(reader.to_float(f"inertia[{i}]", v) for i, v in enumerate(values))
+    else:
+        inertia = reader.number("inertia", None)
     shape = reader.string("shape", None)
     draw = reader.raw("draw", None)
     if draw is not None and (not isinstance(draw, list) or not all(isinstance(v, str) for v in draw)):
@@ -148,8 +159,20 @@ def _body(reader: FieldReader) -> BodySpec:
     return BodySpec(name, points, mass, com, inertia, shape, tuple(draw) if draw is not None else None, kind)
 
 
-def _joint(reader: FieldReader) -> JointSpec:
+def _joint(reader: FieldReader, planar: bool = True) -> JointSpec:
     kind = reader.string("type", choices=JOINT_TYPES)
+    if kind in ("universal", "translation") and planar:
+        raise reader.error("type", f"a {kind} joint is spatial: set planar = false")
+    if not planar and kind in ("prismatic", "cylinder"):
+        raise reader.error("type", f"a spatial mechanism takes revolute, universal and translation joints, not {kind}")
+    if not planar:
+        joint = JointSpec(kind, body=reader.string("body"), at=reader.string("at"),
+                          parent=reader.string("parent", None), coordinate=reader.string("coordinate", None),
+                          limits=(float(reader.angle("lower", -math.inf)), float(reader.angle("upper", math.inf))),
+                          axis=tuple(float(v) for v in reader.vector("axis", 3)) if kind == "revolute" else None,
+                          axes=_axes(reader) if kind == "universal" else None)
+        reader.finish()
+        return joint
     if kind == "cylinder":
         stroke = reader.lengths("stroke", 2)
         count = reader.number("count", 1.0)
@@ -180,6 +203,13 @@ def _joint(reader: FieldReader) -> JointSpec:
         raise reader.error("angle", "give toward or angle, not both")
     reader.finish()
     return joint
+
+
+def _axes(reader: FieldReader) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    value = reader.raw("axes")
+    if not isinstance(value, list) or len(value) != 2 or not all(isinstance(a, list) and len(a) == 3 for a in value):
+        raise reader.error("axes", "expected two axes [[x, y, z], [x, y, z]]: the parent's, then the cross's")
+    return tuple(tuple(reader.to_float(f"axes[{i}][{k}]", v) for k, v in enumerate(a)) for i, a in enumerate(value))
 
 
 def _closure(reader: FieldReader) -> ClosureSpec:
@@ -298,6 +328,8 @@ def linkage_toml(spec: LinkageSpec, header: str = "") -> str:
         top["description"] = spec.description
     if spec.source:
         top["source"] = spec.source
+    if not spec.planar:
+        top["planar"] = False
     top["gravity"] = float(spec.gravity)
     if spec.tolerance is not None:
         top["tolerance"] = float(spec.tolerance)
@@ -309,7 +341,8 @@ def linkage_toml(spec: LinkageSpec, header: str = "") -> str:
     if spec.notes:
         top["notes"] = list(spec.notes)
     lines += [f"{_key(k)} = {_value(v)}" for k, v in top.items()]
-    lines += ["", "[points]  # one assembled position, world x, y (m)"]
+    lines += ["", "[points]  # one assembled position, world x, y (m)" if spec.planar else
+              "[points]  # one assembled position, world x, y, z (m)"]
     for p in spec.points:
         if p.between is None and p.direction is None and p.report:
             lines.append(f"{_key(p.name)} = {_value([float(v) for v in p.at])}")
@@ -332,7 +365,8 @@ def linkage_toml(spec: LinkageSpec, header: str = "") -> str:
         if body.com is not None:
             item["com"] = body.com if isinstance(body.com, str) else [float(v) for v in body.com]
         if body.inertia is not None:
-            item["inertia"] = float(body.inertia)
+            item["inertia"] = float(body.inertia) if isinstance(body.inertia, (int, float)) else \
+                [float(v) for v in body.inertia]
         if body.shape:
             item["shape"] = body.shape
         if body.draw is not None:
@@ -359,6 +393,10 @@ def linkage_toml(spec: LinkageSpec, header: str = "") -> str:
                 item["angle"] = float(j.angle)
             if j.direction is not None:
                 item["direction"] = [float(v) for v in j.direction]
+            if j.axis is not None:
+                item["axis"] = [float(v) for v in j.axis]
+            if j.axes is not None:
+                item["axes"] = [[float(v) for v in a] for a in j.axes]
             if math.isfinite(j.limits[0]):
                 item["lower"] = float(j.limits[0])
             if math.isfinite(j.limits[1]):

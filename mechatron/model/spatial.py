@@ -186,3 +186,146 @@ def close_in_joint_space(mech: Mechanism, tolerance: float, max_iterations: int 
         raise InputError(f"{mech.name}: the loops do not close within {tolerance * 1e3:.4g} mm: closing {worst} (off "
                          f"by {first * 1e3:.4g} mm in the drawing) moves {far[0]} by {far[1] * 1e3:.4g} mm")
     return q, moves
+
+
+# ------------------------------------------------------------------------------------------------ from a file
+def _inertia_tensor(body, positions: Mapping[str, Vector]) -> tuple[Vector | None, Vector]:
+    """(centre, 3×3 inertia about it) of a spatial body: a bar between its first two points, or the given centre
+    and inertia ((Ixx, Iyy, Izz) or (Ixx, Iyy, Izz, Ixy, Ixz, Iyz), world axes, kg·m²)."""
+    if isinstance(body.com, str):
+        centre = positions[body.com]
+    elif body.com is not None:
+        centre = np.asarray(body.com, dtype=float)
+    elif body.shape == "bar":
+        centre = (positions[body.points[0]] + positions[body.points[1]]) / 2
+    else:
+        centre = None
+    if body.inertia is None:
+        tensor = bar_inertia(body.mass, positions[body.points[0]], positions[body.points[1]]) \
+            if body.shape == "bar" else np.zeros((3, 3))
+    else:
+        values = np.atleast_1d(np.asarray(body.inertia, dtype=float))
+        if values.shape == (3,):
+            tensor = np.diag(values)
+        elif values.shape == (6,):
+            xx, yy, zz, xy, xz, yz = values
+            tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        else:
+            raise InputError(f"body {body.name}: a spatial inertia is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, "
+                             "Iyz] (kg·m²)")
+    return centre, tensor
+
+
+def build_spatial(spec, *, check_tolerance: bool = True) -> Mechanism:
+    """The :class:`~mechatron.model.Mechanism` of a spatial mechanism file (``planar = false``): the tree drawn with
+    :class:`SpatialBuilder`, the loops closed by point constraints and, in joint space, to the assembled position
+    nearest the drawing (:func:`close_in_joint_space`); parameters are the drawn points' ``_x``, ``_y``, ``_z``.
+
+    Raises:
+        InputError: for an unsupported closure (only pins join loops in space), an unknown joint type, a loop that
+            does not close within the tolerance (default 2 % of the drawing's size), or inputs that do not match
+            the mobility.
+    """
+    from .linkage import _positions, check, drawing_size, frame_names, joint_coordinate, joint_parent
+
+    check(spec)
+    positions = _positions(spec)
+    frames = frame_names(spec)
+    b = SpatialBuilder(spec.name, gravity=spec.gravity)
+    bodies = {x.name: x for x in spec.bodies}
+
+    def add_points(body: str) -> None:
+        for p in bodies[body].points:
+            name = frames[(p, body)]
+            b.point(name, body, positions[p], report=spec.point(p).report and name == p)
+
+    add_points(GROUND)
+    pending = [j for j in spec.joints]
+    placed = {GROUND}
+    while pending:
+        ready = [j for j in pending if joint_parent(spec, j) in placed][:1]
+        if not ready:
+            raise spec.error(f"bodies {', '.join(sorted(j.body for j in pending))} are not connected to the ground "
+                             "by the tree joints", "joints")
+        j = ready[0]
+        parent = joint_parent(spec, j)
+        body = bodies[j.body]
+        centre, tensor = _inertia_tensor(body, positions)
+        at = frames[(j.at, parent)]
+        if j.kind == "revolute":
+            if j.axis is None:
+                raise spec.error(f"joint of {j.body}: a spatial revolute joint needs its axis", "joints")
+            b.revolute(j.body, at, j.axis, coordinate=joint_coordinate(j), limits=j.limits, mass=body.mass,
+                       com=centre, inertia=tensor)
+        elif j.kind == "universal":
+            if j.axes is None or len(j.axes) != 2:
+                raise spec.error(f"joint of {j.body}: a universal joint needs two axes", "joints")
+            b.universal(j.body, at, j.axes, mass=body.mass, com=centre, inertia=tensor)
+        elif j.kind == "translation":
+            b.translation(j.body, at, mass=body.mass, com=centre, inertia=tensor)
+        else:
+            raise spec.error(f"joint of {j.body}: a spatial mechanism takes revolute, universal and translation "
+                             f"joints, not {j.kind}", "joints")
+        placed.add(j.body)
+        add_points(j.body)
+        pending.remove(j)
+    missing = sorted(set(bodies) - placed)
+    if missing:
+        raise spec.error(f"bodies {', '.join(missing)} have no joint: they are not connected to the tree", "bodies")
+    for c in spec.closures:
+        if c.kind != "pin":
+            raise spec.error(f"a spatial mechanism closes its loops with pins (point constraints), not {c.kind}",
+                             "closures")
+        owners = list(c.bodies) or spec.owners(c.point)
+        if len(owners) != 2:
+            raise spec.error(f"pin {c.point}: name the two bodies it joins", "closures")
+        b.pin(frames[(c.point, owners[0])], frames[(c.point, owners[1])])
+    for body in spec.bodies:
+        draw = body.draw if body.draw is not None else body.points
+        if len(draw) >= 2:
+            b.line(body.name, *(frames.get((p, body.name), p) for p in draw),
+                   kind="ground" if body.name == GROUND else body.draw_kind)
+    for m in spec.measures:
+        b.measures.append(Measure(m.name, m.kind, tuple(m.points), m.minimum))
+    parameters = {}
+    for p in spec.points:
+        if p.at is not None:
+            for axis, value in zip("xyz", positions[p.name]):
+                parameters[f"{p.name}_{axis}"] = Parameter(f"{p.name}_{axis}", float(value), "length",
+                                                           f"{axis} of point {p.name} in the drawing")
+    mech = b.build(actuated=list(spec.actuated), description=spec.description, parameters=parameters,
+                   tool=spec.tool or spec.points[-1].name, input_rates=spec.input_rates, notes=spec.notes)
+    unknown = [a for a in spec.actuated if a not in mech.joint_names]
+    if unknown:
+        raise spec.error(f"actuated coordinate {unknown[0]!r} is not a joint coordinate", "actuated")
+    tolerance = spec.tolerance if spec.tolerance is not None else 0.02 * drawing_size(spec)
+    q, moves = close_in_joint_space(mech, tolerance if check_tolerance else np.inf)
+    mech.reference_q = q
+    mech.branches["reference"] = q
+    shifted = {n: d for n, d in moves.items() if d > 1e-9}
+    if shifted:
+        mech.notes.append("the drawing was closed by moving " + ", ".join(
+            f"{n} by {d * 1e3:.3g} mm" for n, d in sorted(shifted.items(), key=lambda item: -item[1])))
+    mobility = mech.mobility()
+    if mobility != len(spec.actuated):
+        raise spec.error(f"{len(spec.actuated)} actuated input(s) ({', '.join(spec.actuated)}) for a mechanism of "
+                         f"mobility {mobility}", "actuated")
+    mech.source = spec.file or spec.source or None
+
+    def rebuild(values: Mapping[str, float]) -> Mechanism:
+        moved = {p.name: np.array([values.get(f"{p.name}_{a}", v) for a, v in zip("xyz", positions[p.name])])
+                 for p in spec.points if p.at is not None}
+        return build_spatial(spec.with_positions(moved), check_tolerance=False)
+
+    mech.rebuild = rebuild
+    return mech
+
+
+def build_mechanism(spec, *, check_tolerance: bool = True) -> Mechanism:
+    """The mechanism of a mechanism file's spec, planar (:func:`~mechatron.model.linkage.build_linkage`) or spatial
+    (:func:`build_spatial`)."""
+    from .linkage import build_linkage
+
+    if spec.planar:
+        return build_linkage(spec, check_tolerance=check_tolerance)
+    return build_spatial(spec, check_tolerance=check_tolerance)
