@@ -538,3 +538,29 @@ def test_the_shipped_folder_stays_shipped_when_it_is_also_the_working_directorys
     assert origins["puma560"] == ("shipped", shipped / "puma560.toml")
     assert origins["scara"] == ("MECHATRON_PATH", tmp_path / "scara.toml")
     assert mechatron.load("scara").joint_names == ["q1", "q2", "q3"]  # the four-bar, not the SCARA
+
+
+def test_a_plate_body_has_the_centre_and_inertia_of_its_polygon(tmp_path):
+    """shape = "plate": the coupler as a uniform triangle B, C, E: its centre at the centroid (the mean of the
+    corners) and I = m (a² + b² + c²)/36 about it, the closed form of a triangular lamina of sides a, b, c."""
+    text = FOUR_BAR.read_text(encoding="utf-8")
+    assert "[points_mm]" in text
+    plate = text.replace("[points_mm]", "[points_mm]\nE = [150, 320]", 1)
+    start = plate.index('name = "coupler"')
+    end = plate.index("[[bodies]]", start)
+    plate = plate[:start] + 'name = "coupler"\npoints = ["B", "C", "M", "E"]\nmass = 1.2\nshape = "plate"\n' + \
+        'draw = ["B", "C", "E", "B"]\n\n' + plate[end:]
+    path = tmp_path / "plate_four_bar.toml"
+    path.write_text(plate.replace('points = ["B", "C", "M", "E"]', 'points = ["B", "C", "E"]').replace(
+        'M = { between = ["B", "C"], fraction = 0.5 }', ""), encoding="utf-8")
+    mech = mechatron.load(path)
+    q = mech.reference_q
+    corners = np.array([mechatron.frame_placement(mech, q, p).translation[:2] for p in ("B", "C", "E")])
+    joint = mech.model.getJointId("coupler_angle") if mech.model.existJointName("coupler_angle") else \
+        next(j for j in range(1, mech.model.njoints) if mech.link_names[j - 1] == "coupler")
+    inertia = mech.model.inertias[joint]
+    centre = mechatron.frame_placement(mech, q, "coupler").act(inertia.lever)[:2]
+    np.testing.assert_allclose(centre, corners.mean(axis=0), atol=1e-12)
+    sides = [np.linalg.norm(corners[i] - corners[(i + 1) % 3]) for i in range(3)]
+    assert inertia.mass == pytest.approx(1.2)
+    assert inertia.inertia[2, 2] == pytest.approx(1.2 * sum(s * s for s in sides) / 36, rel=1e-12)

@@ -232,10 +232,13 @@ def check(spec: LinkageSpec) -> None:
                              f"{where}.inertia")
         if isinstance(b.com, str) and b.com not in b.points:
             raise spec.error(f"body {b.name}: its centre of mass {b.com!r} is not one of its points", f"{where}.com")
-        if b.shape not in (None, "bar"):
-            raise spec.error(f"body {b.name}: unknown shape {b.shape!r}; expected bar", f"{where}.shape")
+        if b.shape not in (None, "bar", "plate"):
+            raise spec.error(f"body {b.name}: unknown shape {b.shape!r}; expected bar or plate", f"{where}.shape")
         if b.shape == "bar" and len(b.points) < 2:
             raise spec.error(f"body {b.name}: a bar needs two points", f"{where}.shape")
+        if b.shape == "plate" and (len(b.points) < 3 or not spec.planar):
+            raise spec.error(f"body {b.name}: a plate is the polygon of three or more points of a planar mechanism",
+                             f"{where}.shape")
     coordinates: dict[str, str] = {}
     for i, j in enumerate(spec.joints, start=1):
         where = f"joints[{i}]"
@@ -674,18 +677,41 @@ def _positions(spec: LinkageSpec) -> dict[str, Vector]:
     return positions
 
 
+def plate_properties(corners: Sequence[Vector]) -> tuple[float, Vector, float]:
+    """(area A (m²), centroid C (m), polar second moment J_C (m⁴) about C) of a plane polygon given by its corners
+    in order: the shoelace sums A = ½ Σ c_i, C = Σ (p_i + p_{i+1}) c_i / (6A), J_O = Σ (|p_i|² + p_i·p_{i+1} +
+    |p_{i+1}|²) c_i / 12 with c_i = x_i y_{i+1} − x_{i+1} y_i, and J_C = J_O − A |C|²."""
+    p = np.asarray(corners, dtype=float)
+    q = np.roll(p, -1, axis=0)
+    c = p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]
+    area = 0.5 * float(c.sum())
+    if abs(area) < 1e-15:
+        raise InputError("a plate's corners enclose no area")
+    centroid = ((p + q) * c[:, None]).sum(axis=0) / (6 * area)
+    polar = float((((p**2).sum(axis=1) + (p * q).sum(axis=1) + (q**2).sum(axis=1)) * c).sum() / 12)
+    return abs(area), centroid, abs(polar) - abs(area) * float(centroid @ centroid)
+
+
 def _mass_properties(body: BodySpec, positions: Mapping[str, Vector]) -> tuple[float, Vector | None, float]:
+    """(mass, centre, I_zz about the centre) of a planar body: as given, or from its shape — a uniform bar between
+    its first two points (centre in the middle, I = m L²/12) or a uniform plate, the polygon of its points in order
+    (centre at the centroid, I = m J_C / A, :func:`plate_properties`)."""
     com = body.com
+    plate = plate_properties([positions[p] for p in body.points]) if body.shape == "plate" else None
     if isinstance(com, str):
         centre = positions[com]
     elif com is not None:
         centre = np.asarray(com, dtype=float)
     elif body.shape == "bar":
         centre = (positions[body.points[0]] + positions[body.points[1]]) / 2
+    elif plate is not None:
+        centre = plate[1]
     else:
         centre = None
     inertia = body.inertia
-    if inertia is None:
+    if inertia is None and plate is not None:
+        inertia = body.mass * plate[2] / plate[0]
+    elif inertia is None:
         length = float(np.linalg.norm(positions[body.points[1]] - positions[body.points[0]])) \
             if body.shape == "bar" else 0.0
         inertia = body.mass * length**2 / 12
