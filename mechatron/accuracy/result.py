@@ -24,6 +24,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..model.mechanism import Mechanism
+    from ..report.html import Report
+
 #: Colour classes of the error map.
 MAP_CLASSES = 5
 #: Poses the text report lists (the critical one is named when there are more).
@@ -257,6 +260,46 @@ class StudyResult(Result):
             out["monte_carlo"] = self.monte_carlo_chart()
         out["contributions"] = self.contribution_chart()
         return out
+
+    # ---------------------------------------------------------------------------------------- the HTML report
+    def report(self, mechanism: Mechanism | None = None, **context) -> Report:
+        """The HTML report (:mod:`mechatron.report.html`): the tolerances, the method, every pose with its |Δr| by
+        every method (mm; against the limit when one is given), the contributions at the critical pose, the notes,
+        the charts and, given ``mechanism``, the mechanism drawn at the critical pose."""
+        import sys
+
+        import pandas as pd
+
+        from ..kinematics.drawing import configuration_figure
+        from ..report.html import Chart, Method, Report, Section, Table, Text
+        from . import sensitivity, sources
+
+        tolerances = pd.DataFrame([vars(source) for source in self.sources])
+        poses = self.poses[["label", *self.coordinates, "x", "y", "z"]].copy()
+        for method in self.methods:
+            poses[f"|Δr| {method} (mm)"] = self.poses[f"dr_{method}"] * 1e3
+        if self.limit is not None:
+            poses["pass"] = self.poses[f"dr_{self.main_method}"] <= self.limit
+        study = sys.modules.get("mechatron.accuracy.study")  # the module that ran the study (it imports this one)
+        dr = self.poses[f"dr_{self.main_method}"].iloc[self.critical]
+        summary = f"critical pose {self.critical_label}: |Δr| {self.main_method} = {dr * 1e3:.4g} mm" + \
+            ("" if self.limit is None else f" (limit {self.limit * 1e3:g} mm)")
+        sections = [
+            Section("Tolerances", [Table(tolerances, f"error sources (SI; k = {self.k:g})", "tolerances")]),
+            Section("Method", [Method(text) for text in (getattr(study, "__doc__", None), sensitivity.__doc__,
+                                                         sources.ErrorSource.sigma.__doc__) if text]),
+            Section("Poses", [Table(poses, f"every pose: coordinates (rad, m), nominal position of {self.frame} (m), "
+                                           "|Δr| (mm)" + (", PASS when |Δr| ≤ the limit" if self.limit else ""),
+                                    "poses")]),
+            Section("Contributions", [Table(self.contributions, f"at the critical pose {self.critical_label} (%)",
+                                            "contributions")] + [Text(note) for note in self.notes]),
+            Section("Charts", [Chart(figure, name.replace("_", " ")) for name, figure in self.charts().items()])]
+        if mechanism is not None:
+            frame = self.frame if self.frame in mechanism.frame_names else None
+            sections.append(Section("Critical pose", [Text(summary), Chart(configuration_figure(
+                mechanism, self.sensitivities.q[self.critical], frame=frame,
+                title=f"{self.mechanism} at pose {self.critical_label}"))]))
+        return Report(str(self).splitlines()[0], sections, summary)
 
 
 def _colours(count: int) -> list:

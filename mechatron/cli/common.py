@@ -116,26 +116,40 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
 
 # ------------------------------------------------------------------------------------------- result outputs
 
-def add_output_options(parser: argparse.ArgumentParser, *, csv: bool = True, plot: bool = True) -> None:
-    """The options every analysis command has: ``--json`` (and ``--csv FILE``, ``--plot FILE``), which are exactly
-    the result's ``as_dict``, ``to_frame`` and ``plot``."""
+def add_output_options(parser: argparse.ArgumentParser, *, csv: bool = True, plot: bool = True,
+                       report: bool = False) -> None:
+    """The options every analysis command has: ``--json`` (and ``--csv FILE``, ``--plot FILE``, ``--report
+    FILE.html``), which are exactly the result's ``as_dict``, ``to_frame``, ``plot`` and ``write_html``."""
     if not any(action.dest == "json" for action in parser._actions):
         parser.add_argument("--json", action="store_true", help="print the result as JSON")
     if csv:
         parser.add_argument("--csv", metavar="FILE", help="write the result's table (CSV)")
     if plot:
         parser.add_argument("--plot", metavar="FILE", help="write the result's chart (.png, .pdf or .svg)")
+    if report:
+        parser.add_argument("--report", metavar="FILE.html",
+                            help="write the report as one self-contained HTML file (inputs, method, every check, "
+                                 "charts, the mechanism at its critical pose) that works offline")
+        parser.set_defaults(report_parser=parser)
 
 
-def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path] = ()) -> None:
-    """Write ``--csv`` (``result.to_frame()``) and ``--plot`` (``result.plot()``) if asked, then print ``--json``
-    (``result.as_dict()``) or the text report (``str(result)``). The files written are listed after the report, or
-    on stderr with ``--json`` (so that stdout stays one JSON document)."""
+def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path] = (), **context: Any) -> None:
+    """Write ``--csv`` (``result.to_frame()``), ``--plot`` (``result.plot()``) and ``--report``
+    (``result.write_html()`` with the options given, the input files among them, and ``context``: the mechanism
+    and what else the result's report uses) if asked, then print ``--json`` (``result.as_dict()``) or the text
+    report (``str(result)``). The files written are listed after the report, or on stderr with ``--json`` (so that
+    stdout stays one JSON document)."""
     files = [str(path) for path in written]
     if getattr(args, "csv", None):
         files.append(str(result.write_csv(args.csv)))
     if getattr(args, "plot", None):
         files.append(str(result.save_plot(args.plot)))
+    if getattr(args, "report", None):
+        options = _options(args)
+        outputs = {Path(path).resolve() for path in [*files, args.report]}
+        inputs = [value for value in options.values() if isinstance(value, str) and Path(value).is_file()
+                  and Path(value).resolve() not in outputs]
+        files.append(str(result.write_html(args.report, inputs=options, files=inputs, **context)))
     if getattr(args, "json", False):
         print(result.to_json())
         stream = sys.stderr
@@ -145,3 +159,10 @@ def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path]
     for path in files:
         print(f"wrote {path}", file=stream)
 
+
+def _options(args: argparse.Namespace) -> dict[str, Any]:
+    """The value of every option of the command (``--name`` or the positional's name) as given or defaulted."""
+    parser = getattr(args, "report_parser", None)
+    actions = [a for a in parser._actions if not isinstance(a, argparse._HelpAction)] if parser else []
+    return {max(a.option_strings, key=len) if a.option_strings else a.dest: getattr(args, a.dest, None)
+            for a in actions}

@@ -29,7 +29,7 @@ def cmd_linkage(args: argparse.Namespace) -> int:
         q = assemble(mech, parse_assignments(args.at))
         v = joint_velocity(mech, q, {name: mech.input_rates.get(name, 1.0) for name in mech.actuated})
         written.append(plans(mech, q, v, joint_acceleration(mech, q, v)).save_plot(args.plans))
-    emit(result, args, written)
+    emit(result, args, written, mechanism=mech)
     if len(result.failures):
         first = result.failures.iloc[0]
         print(f"mechatron: warning: {len(result.failures)} of {len(result.table) + len(result.failures)} positions "
@@ -41,7 +41,7 @@ def register(sub) -> None:
     p = sub.add_parser("linkage", help="analyse a closed-loop mechanism over the whole stroke of its inputs")
     _robot_arguments(p)
     p.add_argument("--samples", type=int, default=200, help="number of positions (default 200)")
-    add_output_options(p)
+    add_output_options(p, report=True)
     p.add_argument("--plans", metavar="FILE",
                    help="write the velocity and acceleration plans at one position (.png, .pdf or .svg)")
     p.add_argument("--at", action="append", metavar="INPUT=VALUE,...",

@@ -22,7 +22,7 @@ def cmd_size(args: argparse.Namespace) -> int:
                   direct=not args.no_direct, pressure=args.pressure_mpa * 1e6,
                   chain_efficiency=args.chain_efficiency,
                   progress=None if args.json else progress_bar(f"{mech.name}: sizing"))
-    emit(result, args, result.save_plots(args.plots) if args.plots else ())
+    emit(result, args, result.save_plots(args.plots) if args.plots else (), mechanism=mech, task=args.task)
     return 0 if result.feasible else 1
 
 
@@ -47,7 +47,7 @@ def register(sub) -> None:
     p.add_argument("--chain-efficiency", type=float, default=1.0,
                    help="efficiency of the rest of the chain (couplings, bearings, belt), multiplies every "
                         "converter's (default 1)")
-    add_output_options(p)
+    add_output_options(p, report=True)
     p.add_argument("--plots", metavar="DIR", help="write each joint's chart (speed–torque for a motor, force–speed "
                                                   "for a cylinder) as DIR/<robot>_<joint>.png")
     p.set_defaults(func=cmd_size)

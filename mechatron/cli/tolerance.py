@@ -44,7 +44,7 @@ def cmd_tolerance(args: argparse.Namespace) -> int:
         directory = output_directory(args.plots)
         written += [save_figure(figure, directory / f"{result.mechanism}_{name}.png")
                     for name, figure in result.charts().items()]
-    emit(result, args, written)
+    emit(result, args, written, mechanism=mech)
     return 0
 
 
@@ -65,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--k", type=float, default=3.0, help="coverage factor: σ = t/k for normal errors (default 3)")
     p.add_argument("--limit-mm", type=float, help="largest acceptable |Δr| (mm) for the Monte Carlo yield")
     p.add_argument("--frame", help="the frame whose position is studied (default: the tool)")
-    add_output_options(p)
+    add_output_options(p, report=True)
     p.add_argument("--contributions", metavar="FILE", help="write the contributions table (CSV)")
     p.add_argument("--plots", metavar="DIR", help="write the error map, Monte Carlo and contribution charts")
     p.set_defaults(func=cmd_tolerance)

@@ -42,6 +42,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..dynamics.motion import Trajectory
     from ..dynamics.task import Task
+    from ..report.html import Report
 
 OBJECTIVES = ("mass", "cost", "margin", "time")
 
@@ -384,6 +385,60 @@ class SizingResult(Result):
         verdict = "every joint has a feasible drive" if self.feasible else \
             "NOT FEASIBLE: no drive passes every check for " + ", ".join(j.joint for j in self.joints if not j.feasible)
         return "\n".join(lines + ["", verdict])
+
+    def report(self, mechanism: Mechanism | None = None, task: Task | str | Path | None = None, **context) -> Report:
+        """The HTML report (:mod:`mechatron.report.html`): the method, every joint's drive and the check deciding it,
+        per joint every check, the best alternatives (the closest drives when none is feasible) and its chart; given
+        ``mechanism`` (and ``task`` as given to :func:`size`, default its default task) the task and the mechanism
+        at its most loaded pose: the sample where the :meth:`critical` joint carries its largest |τ| (N·m or N)."""
+        import sys
+
+        from ..dynamics.task import Task, default_task, read_task
+        from ..kinematics.drawing import configuration_figure
+        from ..kinematics.loops import assemble
+        from ..report.html import Chart, Code, Method, Report, Section, Table, Text
+        from . import checks, cylinders, duty
+
+        lines = str(self).splitlines()
+        kinds = {j.kind for j in self.joints}
+        texts = [sys.modules[__name__].__doc__, duty.__doc__] + [checks.__doc__] * bool(kinds - {"cylinder"}) \
+            + [cylinders.__doc__] * ("cylinder" in kinds)
+        drives = pd.DataFrame([{"joint": j.joint, "drive": j.headline(), "feasible": j.feasible,
+                                "smallest margin": j.smallest_margin(),
+                                "deciding check": min(j.checks, key=lambda c: c.margin).name} for j in self.joints])
+        sections = [Section("Method", [Method(text) for text in texts]), Section(
+            "Drives", [Text(line) for line in lines[1:lines.index("")]] + [Table(drives, "", "drives")])]
+        for j in self.joints:
+            sections.append(Section(f"Joint {j.joint}", [Text(j.headline()), Table(
+                j.to_frame()[["check", "value", "limit", "unit", "margin", "pass"]], "every check (SI; margin = 1 − "
+                "value/limit)", f"checks {j.joint}"), Table(j.ranking.head(REPORTED) if j.feasible else j.closest,
+                "the best feasible drives" if j.feasible else "the closest drives and the checks they fail",
+                f"alternatives {j.joint}"), Chart(j.plot())]))
+        if mechanism is not None:
+            given, task = task, task if isinstance(task, Task) else default_task(mechanism) if task is None else \
+                read_task(task, mechanism)
+            if task.name != self.task:
+                raise InputError(f"the report of a sizing for the task '{self.task}' needs that task, not "
+                                 f"'{task.name}'")
+            loaded, trajectory = self.critical(), task.trajectory
+            k = int(np.argmax(np.abs(loaded.duty.torque)))
+            if len(trajectory.t) != len(loaded.duty.t):  # resampled: the same fraction of the task
+                k = int(np.argmin(np.abs((trajectory.t - trajectory.t[0]) / trajectory.duration
+                                         - (loaded.duty.t[k] - loaded.duty.t[0]) / loaded.duty.duration)))
+            q = assemble(mechanism, dict(zip(trajectory.names, trajectory.q[k]))) if mechanism.closures else \
+                trajectory.q[k] if trajectory.q.shape[1] == mechanism.nq else \
+                mechanism.configuration(trajectory.coordinates[k])
+            unit = "N" if loaded.kind in ("prismatic", "cylinder") else "N·m"
+            where = f"t = {trajectory.t[k]:.4g} s of the task as given, where {loaded.joint} (the smallest margin) " \
+                f"carries its largest |τ| = {np.abs(loaded.duty.torque).max():.4g} {unit}"
+            frame = mechanism.tool_frame if mechanism.tool_frame in mechanism.frame_names else None
+            sections += [Section("Task", [Text(f"{task.name} ({task.source}): payload {task.payload:g} kg"), Table(
+                pd.DataFrame(trajectory.as_dict()["coordinates"]), f"{trajectory.duration:.4g} s as given (SI)",
+                "task")] + ([Code(Path(task.source).read_text(encoding="utf-8"))]
+                            if given is None and Path(task.source).is_file() else [])),
+                Section("Most loaded pose", [Text(where), Chart(configuration_figure(
+                    mechanism, q, frame=frame, title=f"{mechanism.name} at t = {trajectory.t[k]:.4g} s"))])]
+        return Report(lines[0], sections, lines[-1])
 
 
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,

@@ -28,6 +28,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..report.html import Report
+
 ProgressCallback = Callable[[int, int], None]
 
 #: Units of the per-point and per-link columns of a sweep table, by suffix (angles are charted in degrees).
@@ -243,6 +245,58 @@ class SweepResult(Result):
                 else _QUANTITY.get(unit, "value")
             style_axes(axis, f"{x} ({x_unit})", f"{quantity} ({unit})", legend=True, loc="upper right")
         return figure
+
+    # ---------------------------------------------------------------------------------------- the HTML report
+    def critical_measures(self) -> list[str]:
+        """The measures that decide the critical position: the transmission angles, else the first measure."""
+        return [m.name for m in self.measures if m.kind == "transmission_angle"] or [m.name for m in self.measures][:1]
+
+    def critical_sample(self) -> int | None:
+        """The row of :attr:`table` at the smallest value of the :meth:`critical_measures` (the smallest
+        transmission angle), or None without measures or rows."""
+        names = self.critical_measures()
+        return int(np.argmin(self.table[names].min(axis=1).to_numpy())) if names and len(self.table) else None
+
+    def report(self, mechanism: Mechanism | None = None, **context: Any) -> Report:
+        """The HTML report (:mod:`mechatron.report.html`): the method, every measure's check, the range of every
+        point, every position analysed (the inputs, measures and tool point, angles in degrees) and those that could
+        not be, the chart, and the linkage drawn at its :meth:`critical_sample`."""
+        import sys
+
+        import pandas as pd
+
+        from ..report.html import Chart, Code, Method, Report, Section, Table, Text
+        from . import geometry, loops
+        from .drawing import configuration_figure
+
+        mech, table = self.mechanism, self.table
+        degrees = {m.name: m.kind == "transmission_angle" for m in self.measures}
+        checks = pd.DataFrame([{**row, **{k: math.degrees(row[k]) if degrees[row["name"]] and row[k] is not None
+                                          else row[k] for k in ("min", "max", "required_min")},
+                                "unit": "deg" if degrees[row["name"]] else "m"} for row in self.check_measures()],
+                              columns=["name", "kind", "min", "max", "required_min", "unit", "pass"])
+        tool = [f"{mech.tool_frame}_{axis}" for axis in ("x", "y", "z", "v", "a")]
+        shown = [c for c in ("sample", *mech.actuated, *degrees, *tool) if c in table]
+        positions = pd.DataFrame({c if c == "sample" else f"{c} ({self.column_unit(c)})":
+                                  table[c].to_numpy() if c == "sample" else self._chart_values(c) for c in shown})
+        lines = str(self).splitlines()
+        sections = [Section("Method", [Method(sys.modules[__name__].__doc__), Method(loops.__doc__)]
+                            + [Method(geometry.transmission_angles.__doc__)] * any(degrees.values())),
+                    Section("Results", [Code("\n".join(lines[:2])), Table(checks, "measures and their checks",
+                                                                          "measures"),
+                                        Table(positions, "every position analysed", "positions")]
+                            + [Table(self.failures, "positions not analysed", "failures")] * bool(len(self.failures))),
+                    Section("Chart", [Chart(self.plot())] if len(table) else [Text("no position could be analysed")])]
+        k = self.critical_sample()
+        if k is not None:
+            name = min(self.critical_measures(), key=lambda n: table[n].iloc[k])
+            where = f"position {int(table['sample'].iloc[k])}"
+            text = f"{where}: {name} = {self._chart_values(name)[k]:.4g} {self.column_unit(name)}, its smallest " \
+                   "over the stroke"
+            frame = mech.tool_frame if mech.tool_frame in mech.frame_names else None
+            sections.append(Section("Critical position", [Text(text), Chart(configuration_figure(
+                mech, self.q[k], frame=frame, title=f"{mech.name} at {where}"))]))
+        return Report(lines[0], sections)
 
 
 def default_inputs(mech: Mechanism, samples: int) -> dict[str, NDArray[np.float64]]:

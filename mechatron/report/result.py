@@ -2,8 +2,9 @@
 
 Every analysis returns a :class:`Result`: ``to_frame()`` (a pandas DataFrame), ``as_dict()`` (plain data, ready for
 ``json.dumps(..., allow_nan=False)``), ``plot(ax=None)`` (a matplotlib Figure with labelled axes and units) and
-``str()`` (the text report the command line prints). The command line's ``--csv``, ``--json`` and ``--plot`` are
-exactly :meth:`Result.write_csv`, :meth:`Result.to_json` and :meth:`Result.save_plot`.
+``str()`` (the text report the command line prints). The command line's ``--csv``, ``--json``, ``--plot`` and
+``--report`` are exactly :meth:`Result.write_csv`, :meth:`Result.to_json`, :meth:`Result.save_plot` and
+:meth:`Result.write_html` (whose content is :meth:`Result.report`).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import dataclasses
 import json
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -22,6 +23,9 @@ if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+
+    from ..model.mechanism import Mechanism
+    from .html import Report
 
 
 def json_ready(value: Any) -> Any:
@@ -99,3 +103,25 @@ class Result(ABC):
         from ..io.output import save_figure
 
         return save_figure(self.plot(), path)
+
+    # ------------------------------------------------------------------------------------------- the HTML report
+    def report(self, mechanism: Mechanism | None = None, **context: Any) -> Report:
+        """What the HTML report holds (:mod:`mechatron.report.html`): by default the text report, the table and the
+        chart. An analysis overrides it to add its method, its checks and a drawing of the mechanism; ``mechanism``
+        (the mechanism analysed) and ``context`` (what else the analysis was given, e.g. ``task``) are for those
+        overrides, which ignore what they do not use."""
+        from .html import Chart, Code, Report, Section, Table
+
+        text = str(self)
+        return Report(text.splitlines()[0] if text else type(self).__name__,
+                      [Section("Results", [Code(text), Table(self.to_frame(), "the result's table (SI)", "result")]),
+                       Section("Chart", [Chart(self.plot())])])
+
+    def write_html(self, path: str | Path, *, inputs: Mapping[str, Any] | None = None, files: Sequence[str | Path] = (),
+                   mechanism: Mechanism | None = None, **context: Any) -> Path:
+        """Write the HTML report (:meth:`report` after the ``inputs``, the ``mechanism`` and the input ``files``; the
+        references it cites last) as one self-contained file, whole or not at all
+        (:func:`mechatron.report.html.write_report`)."""
+        from .html import write_report
+
+        return write_report(self, path, inputs=inputs, files=files, mechanism=mechanism, **context)
