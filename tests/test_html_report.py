@@ -246,6 +246,10 @@ def test_linkage_report_draws_the_smallest_transmission_angle_and_escapes_names(
     mu = positions["mu (deg)"].map(number)
     smallest = math.degrees(math.acos((0.3**2 + 0.25**2 - (0.3 - 0.1) ** 2) / (2 * 0.3 * 0.25)))
     assert mu.min() == pytest.approx(smallest, abs=0.05)
+    points = page.table("points").set_index("point")
+    assert points.loc["A", ["x min", "x max", "y min", "y max"]].map(number).tolist() == [0, 0, 0, 0]  # a pivot
+    crank_pin = points.loc["B", ["x min", "x max", "y min", "y max"]].map(number).to_numpy()
+    assert crank_pin == pytest.approx([-0.1, 0.1, -0.1, 0.1], abs=1e-4)  # B turns on the circle |AB| = a
     measures = page.table("measures")
     assert measures.iloc[0].tolist()[:2] == ["mu", "transmission_angle"]
     assert number(measures["min"][0]) == pytest.approx(mu.min(), rel=1e-5) and measures["pass"][0] == "PASS"

@@ -145,10 +145,9 @@ def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path]
     if getattr(args, "plot", None):
         files.append(str(result.save_plot(args.plot)))
     if getattr(args, "report", None):
-        options = _options(args)
+        options, named = _options(args)
         outputs = {Path(path).resolve() for path in [*files, args.report]}
-        inputs = [value for value in options.values() if isinstance(value, str) and Path(value).is_file()
-                  and Path(value).resolve() not in outputs]
+        inputs = [path for path in named if Path(path).is_file() and Path(path).resolve() not in outputs]
         files.append(str(result.write_html(args.report, inputs=options, files=inputs, **context)))
     if getattr(args, "json", False):
         print(result.to_json())
@@ -160,9 +159,13 @@ def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path]
         print(f"wrote {path}", file=stream)
 
 
-def _options(args: argparse.Namespace) -> dict[str, Any]:
-    """The value of every option of the command (``--name`` or the positional's name) as given or defaulted."""
+def _options(args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:
+    """The value of every option of the command (``--name``, or the positional's name) as given or defaulted, and
+    the files named: the values of the robot argument and of the options whose metavar is FILE or CSV."""
     parser = getattr(args, "report_parser", None)
     actions = [a for a in parser._actions if not isinstance(a, argparse._HelpAction)] if parser else []
-    return {max(a.option_strings, key=len) if a.option_strings else a.dest: getattr(args, a.dest, None)
-            for a in actions}
+    options = {max(a.option_strings, key=len) if a.option_strings else a.dest: getattr(args, a.dest, None)
+               for a in actions}
+    named = [getattr(args, a.dest) for a in actions if isinstance(getattr(args, a.dest, None), str)
+             and (a.dest == "robot" or str(a.metavar).startswith(("FILE", "CSV")))]
+    return options, named

@@ -260,7 +260,8 @@ class SweepResult(Result):
     def report(self, mechanism: Mechanism | None = None, **context: Any) -> Report:
         """The HTML report (:mod:`mechatron.report.html`): the method, every measure's check, the range of every
         point, every position analysed (the inputs, measures and tool point, angles in degrees) and those that could
-        not be, the chart, and the linkage drawn at its :meth:`critical_sample`."""
+        not be, the chart, and the linkage drawn at its :meth:`critical_sample` (the mechanism's own
+        ``mechanism`` is used; the argument is for the protocol)."""
         import sys
 
         import pandas as pd
@@ -279,15 +280,23 @@ class SweepResult(Result):
         shown = [c for c in ("sample", *mech.actuated, *degrees, *tool) if c in table]
         positions = pd.DataFrame({c if c == "sample" else f"{c} ({self.column_unit(c)})":
                                   table[c].to_numpy() if c == "sample" else self._chart_values(c) for c in shown})
+        points = pd.DataFrame([{"point": name, "x min": p["x"][0], "x max": p["x"][1], "y min": p["y"][0],
+                                "y max": p["y"][1], "|v| max (m/s)": p["v_max"], "|a| max (m/s²)": p["a_max"]}
+                               for name, p in self.as_dict()["points"].items() if p["x"]])
         lines = str(self).splitlines()
         sections = [Section("Method", [Method(sys.modules[__name__].__doc__), Method(loops.__doc__)]
                             + [Method(geometry.transmission_angles.__doc__)] * any(degrees.values())),
                     Section("Results", [Code("\n".join(lines[:2])), Table(checks, "measures and their checks",
                                                                           "measures"),
+                                        Table(points, "the range of every point (m)", "points"),
                                         Table(positions, "every position analysed", "positions")]
                             + [Table(self.failures, "positions not analysed", "failures")] * bool(len(self.failures))),
                     Section("Chart", [Chart(self.plot())] if len(table) else [Text("no position could be analysed")])]
         k = self.critical_sample()
+        if k is None and len(table):
+            sections[-1].items.append(Text(f"{mech.name} has no transmission angle or other measure to find a "
+                                           "critical position by ([[measures]] of a mechanism file); the chart draws "
+                                           "it at several positions"))
         if k is not None:
             name = min(self.critical_measures(), key=lambda n: table[n].iloc[k])
             where = f"position {int(table['sample'].iloc[k])}"

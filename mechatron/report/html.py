@@ -16,8 +16,10 @@ reference of ``docs/references.md`` (:data:`~mechatron.report.references.REFEREN
 not at all (:func:`mechatron.io.output.write_text`).
 
 Self-contained: charts are PNG images inside the file (``data:`` URLs), the style sheet and the one script are
-inline, and a Content-Security-Policy forbids loading anything else, so the file shows the same without a network.
-Everything that comes from the user (names in files, options, file contents) is escaped. The script only checks,
+inline, and a Content-Security-Policy allows nothing else (``data:`` images, and that style sheet and script by their
+SHA-256), so the file shows the same without a network. Everything that comes from the user (names in files,
+options, file contents) is escaped; were something to slip through, the policy would still keep it from running or
+loading anything. The script only checks,
 once the page has loaded, that every chart decoded: it sets ``data-charts-shown="N of M"`` on ``<body>`` and shows a
 warning when N < M.
 """
@@ -25,6 +27,7 @@ warning when N < M.
 from __future__ import annotations
 
 import base64
+import hashlib
 import html
 import inspect
 import io
@@ -155,8 +158,8 @@ def render(report: Report, inputs: Section | None = None) -> str:
 def inputs_section(inputs: Mapping[str, Any] | None, mechanism: Mechanism | None = None,
                    files: Iterable[str | Path] = ()) -> Section:
     """The inputs of an analysis: the options given (``inputs``: name → value; None shown as "default"), the
-    mechanism (name, description, source, joints and geometric parameters, SI) and the text of each input file
-    that exists (larger ones only named)."""
+    mechanism (name, description, source, joints and geometric parameters, SI) and the text of its source file and
+    of each of ``files`` that exists, once each (larger ones only named)."""
     import pandas as pd
 
     items: list[Item] = []
@@ -176,9 +179,8 @@ def inputs_section(inputs: Mapping[str, Any] | None, mechanism: Mechanism | None
             items.append(Table(pd.DataFrame(
                 [(p.name, p.value, p.unit, p.description) for p in mechanism.parameters.values()],
                 columns=["parameter", "value", "unit", "description"]), "geometric parameters (SI)", "parameters"))
-    for path in dict.fromkeys(Path(p) for p in files):
-        if not path.is_file():
-            continue
+    source = [mechanism.source] if mechanism is not None and mechanism.source else []
+    for path in {Path(p).resolve(): Path(p) for p in [*source, *files] if Path(p).is_file()}.values():
         size = path.stat().st_size
         text = _read(path) if size <= LARGEST_EMBEDDED_FILE else None
         items.append(Code(f"# {path}\n{text}") if text is not None else Text(f"{path}: {size} bytes, not embedded"))
@@ -403,7 +405,6 @@ class _Ids:
         return key
 
 
-_POLICY = "default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src 'unsafe-inline'"
 _STYLE = """
 body{font-family:system-ui,sans-serif;max-width:72rem;margin:0 auto;padding:1rem 1.5rem;color:#1a1a1a;
 line-height:1.45}
@@ -427,3 +428,12 @@ window.addEventListener("load", function () {
   if (shown < images.length) { document.getElementById("charts-warning").hidden = false; }
 });
 """
+
+
+def _digest(text: str) -> str:
+    return "'sha256-" + base64.b64encode(hashlib.sha256(text.encode("utf-8")).digest()).decode("ascii") + "'"
+
+
+#: Nothing but ``data:`` images, the report's own style sheet and its own script (by their hashes): a name in a
+#: file that escaped escaping still could neither run nor load anything.
+_POLICY = f"default-src 'none'; img-src data:; style-src {_digest(_STYLE)}; script-src {_digest(_SCRIPT)}"
