@@ -41,6 +41,7 @@ def write_atomically(path: str | Path, write: Callable[[IO], None], *, binary: b
             write(fh)
             fh.flush()
             os.fsync(fh.fileno())
+        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes the file private; an output gets the usual mode
         os.replace(temporary, path)
     except OSError as exc:
         _remove(temporary)
@@ -49,6 +50,12 @@ def write_atomically(path: str | Path, write: Callable[[IO], None], *, binary: b
         _remove(temporary)
         raise
     return path
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def _remove(path: str) -> None:
