@@ -87,9 +87,13 @@ def test_size_outputs_are_the_results(tmp_path, capsys):
     api.save_plot(tmp_path / "api.png")
     assert (tmp_path / "s.png").read_bytes() == (tmp_path / "api.png").read_bytes()
     charts = sorted(p.name for p in (tmp_path / "charts").iterdir())
-    assert charts == ["planar_2r_q1.png", "planar_2r_q2.png"]
-    assert all((tmp_path / "charts" / c).stat().st_size > 10_000 for c in charts)
-    files = ("s.csv", "s.png", "charts/planar_2r_q1.png", "charts/planar_2r_q2.png")
+    assert charts == ["planar_2r_q1.csv", "planar_2r_q1.png", "planar_2r_q2.csv", "planar_2r_q2.png"]
+    assert all((tmp_path / "charts" / c).stat().st_size > 10_000 for c in charts if c.endswith(".png"))
+    for joint in api.joints:  # each chart's data: the joint's chart_frame
+        data = pd.read_csv(tmp_path / "charts" / f"planar_2r_{joint.joint}.csv")
+        pd.testing.assert_frame_equal(data, joint.chart_frame(), check_exact=False, rtol=1e-12)
+    files = ("s.csv", "s.png", "charts/planar_2r_q1.png", "charts/planar_2r_q1.csv", "charts/planar_2r_q2.png",
+             "charts/planar_2r_q2.csv")
     assert {line.strip() for line in ("wrote " + written).splitlines()} == {f"wrote {tmp_path / f}" for f in files}
 
 
