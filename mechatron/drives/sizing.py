@@ -666,14 +666,24 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
                           direct=direct, time_scale=scale, chain_efficiency=chain_efficiency)
 
+    fastest: dict[tuple, float] = {}
+
+    def fastest_for(d: JointDuty) -> float:
+        """The fastest pace of one coordinate (:func:`fastest_scale`), once per duty: a pass changes only the
+        duties of the coordinates proximal to a drive that changed."""
+        key = (d.name, d.torque.tobytes(), d.static_torque.tobytes(), d.load_inertia)
+        if key not in fastest:
+            fastest[key] = fastest_scale(
+                _cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure) if d.kind == "cylinder" else
+                _motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
+                              inertia_ratio_max))
+        return fastest[key]
+
     def pace(duties: dict[str, JointDuty]) -> float | None:
         """The ``time`` objective's scale: the slowest coordinate's fastest pace sets the whole task's."""
         if objective != "time":
             return None
-        scales = [fastest_scale(_cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure))
-                  if d.kind == "cylinder" else
-                  fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
-                                              inertia_ratio_max)) for d in duties.values()]
+        scales = [fastest_for(d) for d in duties.values()]
         return max(scales) if all(math.isfinite(x) for x in scales) else 1.0
 
     def mounts(chosen: dict[str, DriveSizing]) -> dict[str, DriveMount]:
