@@ -186,6 +186,8 @@ class DriveSizing(Result):
         if getattr(self, "objective", "mass") == "margin":
             return f"less margin: {row['smallest_margin']:.1%} against {best['smallest_margin']:.1%}"
         key, unit = self._keys(row, best)
+        if row[key] == best[key]:
+            return f"as light and as cheap ({row['mass']:.4g} kg, {row['price']:.4g}): a tie, ranked by catalog order"
         return f"{'heavier' if key == 'mass' else 'costlier'}: {row[key]:.4g}{unit} against {best[key]:.4g}{unit}"
 
     def explanation(self) -> dict:

@@ -546,6 +546,9 @@ class SizingResult(Result):
             what = (f"the choice of pass {self.cycle[-1]} repeats that of pass {self.cycle[0]}: it cycles"
                     if self.cycle else f"the choice still changed after {len(self.iterations)} passes")
             head = f"method: fixed point — NOT CONVERGED: {what}"
+        elif not self.mounts:
+            head = ("method: fixed point — no motor to place (the cylinders' masses are the mechanism's own), so one "
+                    "pass is the fixed point")
         elif len(self.iterations) == 1:
             head = ("method: fixed point — every drive sits on a fixed body, so the drives' masses load no joint "
                     "and one pass is the fixed point")
