@@ -49,6 +49,8 @@ def test_size_puma_json_contract(puma_json):
             assert {"name", "value", "limit", "margin", "pass"} <= set(c)
             assert c["pass"] is (c["value"] <= c["limit"] * (1 + 1e-9))
             assert c["margin"] == pytest.approx(1 - c["value"] / c["limit"])
+        assert {"deciding_check", "runner_up", "drive_mass_kg", "mounted_on"} <= set(j)
+    assert {"iterations", "totals", "method", "converged"} <= set(result)
 
 
 def test_size_json_equals_the_api(puma_json):
@@ -87,10 +89,28 @@ def test_size_outputs_are_the_results(tmp_path, capsys):
     api.save_plot(tmp_path / "api.png")
     assert (tmp_path / "s.png").read_bytes() == (tmp_path / "api.png").read_bytes()
     charts = sorted(p.name for p in (tmp_path / "charts").iterdir())
-    assert charts == ["planar_2r_q1.png", "planar_2r_q2.png"]
-    assert all((tmp_path / "charts" / c).stat().st_size > 10_000 for c in charts)
-    files = ("s.csv", "s.png", "charts/planar_2r_q1.png", "charts/planar_2r_q2.png")
+    assert charts == ["planar_2r_q1.csv", "planar_2r_q1.png", "planar_2r_q2.csv", "planar_2r_q2.png"]
+    assert all((tmp_path / "charts" / c).stat().st_size > 10_000 for c in charts if c.endswith(".png"))
+    for joint in api.joints:  # each chart's data: the joint's chart_frame
+        data = pd.read_csv(tmp_path / "charts" / f"planar_2r_{joint.joint}.csv")
+        pd.testing.assert_frame_equal(data, joint.chart_frame(), check_exact=False, rtol=1e-12)
+    files = ("s.csv", "s.png", "charts/planar_2r_q1.png", "charts/planar_2r_q1.csv", "charts/planar_2r_q2.png",
+             "charts/planar_2r_q2.csv")
     assert {line.strip() for line in ("wrote " + written).splitlines()} == {f"wrote {tmp_path / f}" for f in files}
+
+
+def test_single_pass_option(capsys):
+    """--single-pass is the API's single_pass: one pass with weightless drives, and the report says so."""
+    code, out, _ = run(capsys, "size", "planar_2r", "--single-pass", "--json")
+    data = json.loads(out)
+    api = mechatron.size(mechatron.load("planar_2r"), single_pass=True)
+    assert code == 0 and data == json.loads(api.to_json())
+    assert data["method"] == "single pass" and len(data["iterations"]) == 1
+    assert not data["iterations"][0]["drive_masses"]
+    code, out, _ = run(capsys, "size", "planar_2r", "--single-pass")
+    assert "method: single pass" in out
+    code, out, err = run(capsys, "size", "planar_2r", "--max-iterations", "1")
+    assert code == 2 and out == "" and "--max-iterations must be >= 2" in err
 
 
 def test_infeasible_sizing_exits_1_and_names_failed_checks(tmp_path, capsys):

@@ -92,7 +92,10 @@ def puma_task():
 
 @pytest.fixture(scope="module")
 def puma_sizing(puma_task):
-    return size_mechanism(puma_task.mechanism, puma_task.trajectory, loads=puma_task.loads, task=puma_task.name)
+    """The single-pass sizing: each joint alone, the drives weightless (tests/test_system_sizing.py: the drives'
+    masses on the arm)."""
+    return size_mechanism(puma_task.mechanism, puma_task.trajectory, loads=puma_task.loads, task=puma_task.name,
+                          single_pass=True)
 
 
 def test_duty_has_no_drive_inertia(puma_task):
@@ -199,7 +202,7 @@ def test_objectives_trade_off(puma_sizing):
 def test_time_objective_finds_the_fastest_feasible_pace(puma_task):
     motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
     result = size_mechanism(puma_task.mechanism, puma_task.trajectory, motors, gearboxes, objective="time",
-                            loads=puma_task.loads)
+                            loads=puma_task.loads, single_pass=True)
     k = result.time_scale
     assert 0.02 < k < 1  # the catalog allows a faster cycle than the task's
     assert result.feasible and all(j.time_scale == k for j in result.joints)
@@ -215,12 +218,19 @@ def test_time_objective_finds_the_fastest_feasible_pace(puma_task):
 
 
 def test_scaled_duty_equals_the_dynamics_of_the_replayed_trajectory(puma_task):
+    """The moves replayed 0.6 times as long, the dwells (both ends of an interval at rest, every speed zero, at the
+    same place) as long as they were: the scaled duty is the dynamics of that trajectory."""
     mech, tr = puma_task.mechanism, puma_task.trajectory
     k = 0.6
-    faster = Trajectory(tr.t * k, tr.q, tr.v / k, tr.a / k**2, tr.names)
+    rest = np.all(tr.v == 0, axis=1)
+    dwell = rest[:-1] & rest[1:] & np.all(np.diff(tr.q, axis=0) == 0, axis=1)
+    assert dwell.sum() == 6 * 40  # six rests of 0.2 s sampled every 5 ms
+    t = np.concatenate([[0.0], np.cumsum(np.diff(tr.t) * np.where(dwell, 1.0, k))])
+    faster = Trajectory(t, tr.q, tr.v / k, tr.a / k**2, tr.names)
     for scaled, direct in zip((d.scaled(k) for d in joint_duties(mech, tr)), joint_duties(mech, faster)):
         assert np.allclose(scaled.torque, direct.torque, atol=1e-9)
-        assert np.allclose(scaled.t, direct.t) and np.allclose(scaled.speed, direct.speed)
+        assert np.allclose(scaled.t, direct.t, rtol=0, atol=1e-12) and np.allclose(scaled.speed, direct.speed)
+    assert t[-1] == pytest.approx(k * (tr.duration - 6 * 0.2) + 6 * 0.2, rel=1e-12)
 
 
 # ------------------------------------------------------------------------------------- bad input

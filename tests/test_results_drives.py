@@ -92,12 +92,15 @@ def test_text_report_shows_every_check(arm, bucket):
 
 
 def test_time_objective_reports_the_replayed_task_time():
+    """The generic task of the planar arm: out, rest 0.2 s, back, rest 0.2 s. The time objective speeds the two
+    moves up by k and keeps the two rests: k (T − 0.4 s) + 0.4 s."""
     task = default_task(mechatron.load("planar_2r"))
     result = mechatron.size(task.mechanism, task, objective="time")
     k = result.time_scale
     assert k != 1.0
-    assert result.as_dict()["task_time"] == pytest.approx(k * task.duration, rel=1e-12)
-    assert f"({k * task.duration:.3f} s instead of {task.duration:.3f} s)" in str(result)
+    sized = k * (task.duration - 0.4) + 0.4
+    assert result.as_dict()["task_time"] == pytest.approx(sized, rel=1e-12)
+    assert f"({sized:.3f} s instead of {task.duration:.3f} s)" in str(result)
 
 
 # ------------------------------------------------------------------------------------------------ charts
@@ -147,6 +150,48 @@ def test_force_speed_chart_shows_the_pressure_limits(bucket):
     assert np.allclose(points, np.column_stack([joint.duty.speed, joint.duty.torque / joint.count / 1e3]))
 
 
+def test_chart_data_is_the_chart(arm, bucket):
+    """chart_frame() holds the points the chart draws: the operating points (signed; the chart shows magnitudes in
+    rpm), the upper edges of the S1 and intermittent zones and the RMS point; a cylinder's force over speed."""
+    joint = arm.joints[0]
+    data = joint.chart_frame()
+    ax = joint.plot().axes[0]
+    points = data[data["series"] == "operating point"]
+    speed, torque = joint.operating_points()
+    assert np.array_equal(points["t_s"], joint.duty.t) and np.array_equal(points["speed_rad_s"], speed)
+    assert np.array_equal(points["torque_Nm"], torque)
+    for series, label in (("continuous limit (S1)", "continuous zone (S1)"),
+                          ("intermittent limit", "intermittent zone")):
+        edge = data[data["series"] == series]
+        edge = np.column_stack([edge["speed_rad_s"] * RPM, edge["torque_Nm"]])
+        edge = edge[edge[:, 1] > 0]
+        top = np.unique(_zone_top(ax, label), axis=0)
+        assert len(edge) >= 150 and np.allclose(edge, top, rtol=1e-12, atol=0)
+    (rms,) = data[data["series"] == "RMS torque at mean speed"].itertuples()
+    (star,) = [line for line in ax.get_lines() if line.get_label().startswith("RMS torque")]
+    assert rms.torque_Nm == star.get_ydata()[0] and rms.speed_rad_s * RPM == pytest.approx(star.get_xdata()[0])
+    cylinder = bucket.joints[0].chart_frame()
+    assert list(cylinder.columns) == ["series", "t_s", "speed_m_s", "force_N"]
+    assert np.array_equal(cylinder["force_N"], bucket.joints[0].duty.torque)
+
+
+def test_a_cylinder_explains_its_choice(bucket):
+    """The deciding check is the smallest margin; the drive's mass is the catalog's mass + mass per stroke × the
+    stroke, times the cylinders side by side; the runners-up are the next lightest feasible cylinders."""
+    (joint,) = bucket.joints
+    catalog = default_catalog("cylinders").set_index("key")
+    spec = mechatron.load("six_bar_bucket").cylinders[joint.joint]
+    stroke = spec.stroke[1] - spec.stroke[0]
+    row = catalog.loc[joint.cylinder]
+    mass = (row["mass"] + row["mass_per_stroke"] * stroke) * spec.count
+    data = bucket.as_dict()["joints"][0]
+    assert data["drive_mass_kg"] == pytest.approx(mass, rel=1e-12)
+    assert data["deciding_check"]["margin"] == min(c.margin for c in joint.checks)
+    assert data["mounted_on"] is None  # a cylinder's mass is the mechanism file's
+    assert [r["cylinder"] for r in data["runner_up"]] == list(joint.ranking["cylinder"].iloc[1:3])
+    assert all(r["lost_on"] == "objective" and r["reason"].startswith("heavier") for r in data["runner_up"])
+
+
 def test_sizing_plot_has_one_panel_per_joint(arm, tmp_path):
     figure = arm.plot()
     assert [ax.get_title().split(":")[0] for ax in figure.axes] == ["q1", "q2"]
@@ -157,8 +202,9 @@ def test_sizing_plot_has_one_panel_per_joint(arm, tmp_path):
     critical = min(arm.joints, key=lambda j: min(c.margin for c in j.checks))
     assert ax.get_title().startswith(f"{critical.joint}: {critical.motor}")
     written = arm.save_plots(tmp_path / "charts")
-    assert [p.name for p in written] == ["planar_2r_q1.png", "planar_2r_q2.png"]
-    assert all(p.stat().st_size > 10_000 for p in written)
+    assert [p.name for p in written] == ["planar_2r_q1.png", "planar_2r_q1.csv", "planar_2r_q2.png",
+                                         "planar_2r_q2.csv"]
+    assert all(p.stat().st_size > 10_000 for p in written if p.suffix == ".png")
 
 
 # ------------------------------------------------------------------------------------------------ the entry point
@@ -182,8 +228,8 @@ def test_size_adds_loads_to_the_task(tmp_path):
     mech = mechatron.load("planar_2r")
     file = tmp_path / "hold.toml"
     file.write_text('waypoints = [[0, 0], [0.6, -0.9]]\nvmax = 1\namax = 5\n')
-    plain = mechatron.size(mech, file)
-    loaded = mechatron.size(mech, file, loads=[Load("tool", [0.0, -20.0, 0.0])])
+    plain = mechatron.size(mech, file, single_pass=True)  # weightless drives: the duties differ by the load only
+    loaded = mechatron.size(mech, file, loads=[Load("tool", [0.0, -20.0, 0.0])], single_pass=True)
     q = read_task(file, mech).trajectory.q
     outer = 0.4 * np.cos(q[:, 0] + q[:, 1])
     expected = (20 * (0.5 * np.cos(q[:, 0]) + outer), 20 * outer)

@@ -16,11 +16,14 @@ def cmd_size(args: argparse.Namespace) -> int:
 
     if not args.pressure_mpa > 0:
         raise InputError(f"--pressure-mpa must be > 0, got {args.pressure_mpa:g}")
+    if args.max_iterations < 2:
+        raise InputError(f"--max-iterations must be >= 2, got {args.max_iterations}")
     mech = _load(args)
     result = size(mech, args.task, motors=args.motors, gearboxes=args.gearboxes, linear=args.linear,
                   cylinders=args.cylinders, objective=args.objective, inertia_ratio_max=args.inertia_ratio,
                   direct=not args.no_direct, pressure=args.pressure_mpa * 1e6,
-                  chain_efficiency=args.chain_efficiency,
+                  chain_efficiency=args.chain_efficiency, single_pass=args.single_pass,
+                  max_iterations=args.max_iterations,
                   progress=None if args.json else progress_bar(f"{mech.name}: sizing"))
     emit(result, args, result.save_plots(args.plots) if args.plots else (), mechanism=mech, task=args.task)
     return 0 if result.feasible else 1
@@ -47,7 +50,13 @@ def register(sub) -> None:
     p.add_argument("--chain-efficiency", type=float, default=1.0,
                    help="efficiency of the rest of the chain (couplings, bearings, belt), multiplies every "
                         "converter's (default 1)")
+    p.add_argument("--single-pass", action="store_true",
+                   help="size each joint once with weightless drives (default: the chosen drives' masses load the "
+                        "mechanism and the sizing repeats until the choice no longer changes)")
+    p.add_argument("--max-iterations", type=int, default=10, metavar="N",
+                   help="the most sizing passes before reporting that the choice did not settle (default 10)")
     add_output_options(p, report=True)
     p.add_argument("--plots", metavar="DIR", help="write each joint's chart (speed–torque for a motor, force–speed "
-                                                  "for a cylinder) as DIR/<robot>_<joint>.png")
+                                                  "for a cylinder) as DIR/<robot>_<joint>.png and its data as "
+                                                  "DIR/<robot>_<joint>.csv")
     p.set_defaults(func=cmd_size)

@@ -1,9 +1,10 @@
 r"""What each joint of a mechanism must do in a task: its duty (speed, acceleration and torque over time).
 
 The duty comes from the dynamics of the model *without* drive inertia (armature zero): the candidate drives bring
-their own rotor and gearbox inertia, which the sizing adds exactly once. A duty can be replayed k times slower
-(k < 1: faster): t → k t, ω → ω/k, ω̇ → ω̇/k², the dynamic part of the torque × 1/k², the static part (gravity,
-external loads) unchanged.
+their own rotor and gearbox inertia, which the sizing adds exactly once. A duty can be replayed with its moves k
+times slower (k < 1: faster): within a move t → k t, ω → ω/k, ω̇ → ω̇/k², the dynamic part of the torque × 1/k², the
+static part (gravity, external loads) unchanged; the dwells between moves keep their length
+(:func:`~mechatron.dynamics.task.moving_intervals`).
 """
 
 from __future__ import annotations
@@ -36,6 +37,8 @@ class JointDuty:
         static_torque: its part that does not depend on speed or acceleration (gravity, external loads).
         load_inertia: the largest load inertia the joint sees, the diagonal of the mass matrix (kg·m² or kg).
         stroke: range of the joint's position in the task (rad or m).
+        moving: (N − 1,) which intervals between samples belong to a move (the others are dwells, which keep
+            their length when the duty is replayed faster); ``None``: every interval moves.
     """
 
     name: str
@@ -47,18 +50,26 @@ class JointDuty:
     static_torque: NDArray[np.float64]
     load_inertia: float
     stroke: float = 0.0
+    moving: NDArray[np.bool_] | None = None
 
     @property
     def duration(self) -> float:
         return float(self.t[-1] - self.t[0]) if len(self.t) > 1 else 0.0
 
     def scaled(self, k: float) -> JointDuty:
-        """The same motion replayed k times slower (k < 1: faster)."""
+        """The same motion with its moves replayed k times slower (k < 1: faster): every interval of a move lasts
+        k times as long, every dwell as long as before (t_{i+1} − t_i → k (t_{i+1} − t_i) where :attr:`moving`);
+        speeds × 1/k, accelerations and the dynamic torque × 1/k² (zero in a dwell), the static torque kept."""
         if k == 1.0:
             return self
         dynamic = self.torque - self.static_torque
-        return replace(self, t=self.t[0] + (self.t - self.t[0]) * k, speed=self.speed / k,
-                       acceleration=self.acceleration / k**2, torque=dynamic / k**2 + self.static_torque)
+        if self.moving is None or self.moving.all():
+            t = self.t[0] + (self.t - self.t[0]) * k
+        else:
+            step = np.diff(self.t)
+            t = self.t[0] + np.concatenate([[0.0], np.cumsum(np.where(self.moving, step * k, step))])
+        return replace(self, t=t, speed=self.speed / k, acceleration=self.acceleration / k**2,
+                       torque=dynamic / k**2 + self.static_torque)
 
     def time_weights(self) -> NDArray[np.float64]:
         """Trapezoidal-rule weights w_i with Σ w_i f_i / duration = the time mean of f (one sample: weight 1)."""
@@ -120,6 +131,54 @@ class JointDuty:
                                for part in np.array_split(left, max(1, len(left) // 1024))])
 
 
+@dataclass(frozen=True)
+class DriveMount:
+    """A chosen drive as a body of the mechanism: its housing's ``mass`` (kg; the motor's and the converter's
+    catalog masses) as a point mass at ``placement`` in the frame of joint ``parent`` (0: the ground, where it loads
+    no joint), on the body ``carrier`` (:func:`drive_carrier`).
+
+    Its spinning parts — the rotor J_m and the converter's motor side J_c — are not part of the body: they are counted
+    once, as the reflected inertia (J_m + J_c) u² of the joint the drive turns (the sizing's motor torque
+    (J_m + J_c) u ω̇ + τ*/u; Pinocchio's ``armature``). Their turning with the carrying body and the gyroscopic
+    coupling between the two are neglected, as in the reflected-inertia model of the dynamics
+    (:mod:`mechatron.drives.transmission`); catalogs give no housing inertia, hence the point mass."""
+
+    joint: str
+    drive: str
+    mass: float
+    parent: int
+    placement: pin.SE3
+    carrier: str
+
+
+def drive_carrier(mech: Mechanism, joint: str) -> tuple[int, pin.SE3, str]:
+    """Where the drive of ``joint`` sits: (the Pinocchio joint of the carrying body (0: the ground), the drive's
+    placement in that joint's frame, the body's name). By default on the joint's parent body, at the joint's origin
+    (the proximal link at the joint); where the mechanism's :class:`~mechatron.model.dh.Drive` has a ``placement``
+    (a robot file's ``drive.placement``, a mechanism file's ``[[drives]]``), at its ``offset`` (m) in that frame."""
+    drive = mech.drives.get(joint)
+    if drive is not None and drive.placement is not None:
+        try:
+            frame = mech.model.frames[mech.frame_id(drive.placement)]
+        except InputError as exc:
+            raise InputError(f"the drive of {joint} is placed on an unknown body: {exc.message}") from None
+        offset = pin.SE3(np.eye(3), np.asarray(drive.offset, dtype=float))
+        return frame.parentJoint, frame.placement * offset, drive.placement
+    index = mech.joint_id(joint)
+    parent = mech.model.parents[index]
+    return parent, mech.model.jointPlacements[index], mech.link_names[parent - 1] if parent else "the ground"
+
+
+def mount_drives(mech: Mechanism, mounts: list[DriveMount]) -> Mechanism:
+    """A copy of ``mech`` carrying every drive of ``mounts`` as a point mass on its body (Pinocchio's
+    ``appendBodyToJoint``; the ones on the ground change nothing)."""
+    model = pin.Model(mech.model)
+    for m in mounts:
+        if m.parent > 0 and m.mass > 0:
+            model.appendBodyToJoint(m.parent, pin.Inertia(float(m.mass), np.zeros(3), np.zeros((3, 3))), m.placement)
+    return replace(mech, model=model, rebuild=None)
+
+
 def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> list[JointDuty]:
     """The duty of every driven coordinate along a :class:`~mechatron.dynamics.motion.Trajectory` (``loads``:
     external :class:`~mechatron.model.Load` s, N and N·m, as in :func:`mechatron.dynamics.tree.inverse_dynamics`),
@@ -131,7 +190,10 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -
     (cos, sin)). A closed-loop mechanism (the trajectory gives its actuated coordinates): every actuated coordinate,
     forces from the constrained inverse dynamics, load inertia the reduced inertia Sᵀ M S of that coordinate with
     the other inputs held (the reduced moment of inertia [Egorov, 6.8]); its kind is ``"cylinder"`` for a
-    hydraulic cylinder. Joints of more than one coordinate (spherical, free-flyer) cannot be sized."""
+    hydraulic cylinder. Joints of more than one coordinate (spherical, free-flyer) cannot be sized. Every duty knows
+    the trajectory's moves and dwells (:func:`~mechatron.dynamics.task.moving_intervals`)."""
+    from ..dynamics.task import moving_intervals
+
     model = pin.Model(mech.model)
     model.armature[:] = 0.0
     bare = replace(mech, model=model)
@@ -164,8 +226,9 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -
         names = mech.joint_names
         kinds = [mech.joint_kind(n) for n in names]
         columns = [mech.model.joints[mech.joint_id(n)].idx_v for n in names]
+    moving = moving_intervals(trajectory)
     return [JointDuty(name, kind, t, V[:, j], A[:, j], tau[:, j], static[:, j], float(inertia[j]),
-                      float(np.ptp(positions[:, j])))
+                      float(np.ptp(positions[:, j])), moving)
             for name, kind, j in zip(names, kinds, columns)]
 
 

@@ -4,7 +4,12 @@
 
 Both follow the result protocol (:class:`~mechatron.report.result.Result`): ``to_frame()`` is one row per check
 (SI units, the ``unit`` column names the unit of ``value`` and ``limit``), ``str()`` the check table printed by
-``mechatron size`` (speeds in rpm and pressures in MPa there, for people), ``plot()`` the chosen drive's chart.
+``mechatron size`` (speeds in rpm and pressures in MPa there, for people), ``plot()`` the chosen drive's chart and
+``chart_frame()`` that chart's data.
+
+Both explain the choice (:meth:`DriveSizing.explanation`): the deciding check (the smallest margin), the runners-up
+with why they lost — a check they fail, or the objective (heavier, costlier, less margin) — and the drive's mass and
+price.
 """
 
 from __future__ import annotations
@@ -12,6 +17,9 @@ from __future__ import annotations
 import math
 from abc import abstractmethod
 from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
 
 from ..report.result import Result
 from .checks import Check
@@ -27,6 +35,11 @@ RPM = 60 / (2 * math.pi)
 REPORTED = 5
 #: The columns of a sizing table (:meth:`DriveSizing.to_frame`): one row per check.
 COLUMNS = ("joint", "motor", "converter", "ratio", "check", "value", "limit", "unit", "margin", "pass")
+#: Runners-up reported of each kind: the nearest better-ranked candidates that fail a check, the next feasible ones.
+RUNNERS_UP = 2
+#: The columns of a chart's data (:meth:`DriveSizing.chart_frame`) by the kind of coordinate: speed, force.
+CHART_COLUMNS = {"revolute": ("speed_rad_s", "torque_Nm"), "prismatic": ("speed_m_s", "force_N"),
+                 "cylinder": ("speed_m_s", "force_N")}
 
 
 def shown(check: Check) -> tuple[str, str, str]:
@@ -96,7 +109,7 @@ class DriveSizing(Result):
         if not self.feasible:
             lines.append("    closest candidates and the checks they fail (load factor = value/limit):")
             lines += [f"      {self.candidate(row)}: {row['failed']}" for row in self.closest.to_dict(orient="records")]
-        return lines
+        return lines + self.explanation_lines()
 
     def __str__(self) -> str:
         return "\n".join(self.lines())
@@ -104,3 +117,100 @@ class DriveSizing(Result):
     def smallest_margin(self) -> float:
         """The smallest margin over the checks (< 0: a check fails)."""
         return min((c.margin for c in self.checks), default=math.inf)
+
+    # ------------------------------------------------------------------------------------- the explanation
+    def choice(self) -> str:
+        """The drive as one name: ``motor + converter`` (a cylinder: its key)."""
+        columns = self.drive_columns()
+        return " + ".join(str(columns[k]) for k in ("motor", "converter") if columns.get(k) is not None)
+
+    def deciding(self) -> Check | None:
+        """The check with the smallest margin: the one that decided (or, when it fails, rules out) the drive."""
+        return min(self.checks, key=lambda c: c.margin, default=None)
+
+    def drive_mass(self) -> float | None:
+        """The drive's mass (kg): the chosen row of the ranking; ``None`` when unknown."""
+        ranking = getattr(self, "ranking", None)
+        return float(ranking["mass"].iloc[0]) if self.feasible and ranking is not None and len(ranking) else None
+
+    def drive_price(self) -> float | None:
+        """The drive's price (the catalog's currency); ``None`` when unknown."""
+        ranking = getattr(self, "ranking", None)
+        return float(ranking["price"].iloc[0]) if self.feasible and ranking is not None and len(ranking) else None
+
+    def shaft_power(self) -> NDArray[np.float64]:
+        """The power the drive delivers at every sample (W): force × speed of the coordinate (a motor: its shaft,
+        :meth:`~mechatron.drives.sizing.JointSizing.shaft_power`); < 0 when the load drives it back."""
+        return self.duty.torque * self.duty.speed
+
+    def runner_up(self) -> list[dict]:
+        """The candidates that came nearest, and why they lost: the nearest ones ranked before the drive by the
+        objective that fail a check (``lost_on`` ``"check"``), then the next feasible ones (``lost_on``
+        ``"objective"``: heavier, costlier or with less margin); when nothing is feasible, the next closest ones
+        with the checks they fail. Each: candidate, the ranking's columns (motor, converter, ratio or cylinder;
+        mass in kg, price), lost_on, reason."""
+        out = []
+        rivals = getattr(self, "rivals", None)
+        ranking = getattr(self, "ranking", None)
+        if not self.feasible:
+            return [self._runner(row, "check", f"fails {row['failed']}")
+                    for row in self.closest.iloc[1:1 + RUNNERS_UP].to_dict(orient="records")]
+        best = ranking.iloc[0].to_dict() if ranking is not None and len(ranking) else {}
+        if rivals is not None and len(rivals) and best:
+            out += [self._runner(row, "check", f"{self._better(row, best)} but fails {row['failed']}")
+                    for row in rivals.iloc[:RUNNERS_UP].to_dict(orient="records")]
+        if ranking is not None and len(ranking) > 1:
+            out += [self._runner(row, "objective", self._worse(row, best))
+                    for row in ranking.iloc[1:1 + RUNNERS_UP].to_dict(orient="records")]
+        return out
+
+    def _runner(self, row: dict, lost_on: str, reason: str) -> dict:
+        keep = {k: row[k] for k in ("motor", "converter", "kind", "ratio", "cylinder", "mass", "price") if k in row}
+        return {"candidate": self.candidate(row), **keep, "lost_on": lost_on, "reason": reason}
+
+    def _keys(self, row: dict, best: dict) -> tuple[str, str]:
+        """The ranking column that tells ``row`` from ``best`` (the objective's, else the tie-break) and its unit."""
+        first, second = ("price", "mass") if getattr(self, "objective", "mass") == "cost" else ("mass", "price")
+        key = first if row[first] != best[first] else second
+        return key, " kg" if key == "mass" else ""
+
+    def _better(self, row: dict, best: dict) -> str:
+        """What a candidate ranked before the chosen one has for it by the objective."""
+        key, unit = self._keys(row, best)
+        if row[key] == best[key]:
+            return f"as light and as cheap ({row['mass']:.4g} kg, {row['price']:.4g})"
+        return f"{'lighter' if key == 'mass' else 'cheaper'} ({row[key]:.4g}{unit} against {best[key]:.4g}{unit})"
+
+    def _worse(self, row: dict, best: dict) -> str:
+        """How a feasible candidate ranks behind the chosen one by the objective."""
+        if getattr(self, "objective", "mass") == "margin":
+            return f"less margin: {row['smallest_margin']:.1%} against {best['smallest_margin']:.1%}"
+        key, unit = self._keys(row, best)
+        if row[key] == best[key]:
+            return f"as light and as cheap ({row['mass']:.4g} kg, {row['price']:.4g}): a tie, ranked by catalog order"
+        return f"{'heavier' if key == 'mass' else 'costlier'}: {row[key]:.4g}{unit} against {best[key]:.4g}{unit}"
+
+    def explanation(self) -> dict:
+        """deciding_check (the check with the smallest margin, as in ``checks``), runner_up (:meth:`runner_up`),
+        drive_mass_kg and drive_price (``None`` when unknown)."""
+        deciding = self.deciding()
+        return {"deciding_check": deciding.as_dict() if deciding else None, "runner_up": self.runner_up(),
+                "drive_mass_kg": self.drive_mass(), "drive_price": self.drive_price()}
+
+    def explanation_lines(self) -> list[str]:
+        """The deciding check and the runners-up, as text lines."""
+        deciding = self.deciding()
+        lines = [f"    deciding check: {deciding.name}, margin {deciding.margin:.1%}"] if deciding else []
+        lines += [f"    runner-up {row['candidate']}: {row['reason']}" for row in self.runner_up()]
+        return lines
+
+    # ------------------------------------------------------------------------------------ the chart's data
+    def chart_frame(self) -> pd.DataFrame:
+        """The data of :meth:`plot` as a table: one row per point, ``series`` (here ``operating point``), ``t_s``
+        (s) and the coordinate's speed and force in SI (``speed_m_s``, ``force_N`` or ``speed_rad_s``,
+        ``torque_Nm``)."""
+        import pandas as pd
+
+        speed, force = CHART_COLUMNS.get(self.duty.kind, CHART_COLUMNS["revolute"])
+        return pd.DataFrame({"series": "operating point", "t_s": self.duty.t, speed: self.duty.speed,
+                             force: self.duty.torque})

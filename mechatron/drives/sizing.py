@@ -6,12 +6,17 @@ at once (:mod:`~mechatron.drives.checks`), the feasible pairs ranked by an objec
 - ``mass``: the lightest motor + converter (then the cheapest);
 - ``cost``: the cheapest (then the lightest);
 - ``margin``: the largest smallest margin over all checks (the most reserve);
-- ``time``: the shortest execution of the task. The task is replayed k times slower (k < 1: faster; speeds × 1/k,
-  accelerations × 1/k², gravity and external loads unchanged); for each coordinate the smallest k at which some
-  drive passes every check is found by bisection, the slowest coordinate sets k for the whole task, and every
-  coordinate then gets its lightest drive at that pace.
+- ``time``: the shortest execution of the task. The task's moves are replayed k times slower (k < 1: faster;
+  speeds × 1/k, accelerations × 1/k², gravity and external loads unchanged) and its dwells keep their length; for
+  each coordinate the smallest k at which some drive passes every check is found by bisection, the slowest
+  coordinate sets k for the whole task, and every coordinate then gets its lightest drive at that pace.
 
-When no pair passes, the closest pairs (smallest worst load factor) are reported with the checks they fail.
+When no pair passes, the closest pairs (smallest worst load factor) are reported with the checks they fail. Each
+choice is explained: its deciding check (the smallest margin) and the runners-up with why they lost
+(:meth:`~mechatron.drives.report.DriveSizing.explanation`).
+
+The drives load the mechanism (:func:`size_mechanism`): every chosen motor and gearbox is a mass on the body that
+carries it, and the sizing repeats, distal to proximal, until the choice no longer changes.
 """
 
 from __future__ import annotations
@@ -32,7 +37,7 @@ from ..model.mechanism import Cylinder, Mechanism
 from ..report.result import Result, json_ready
 from .checks import CHECKS, PASS_TOLERANCE, Check, Evaluation, evaluate, motor_side
 from .converters import Converters, converters_for
-from .duty import JointDuty, joint_duties
+from .duty import DriveMount, JointDuty, drive_carrier, joint_duties, mount_drives
 from .motor import continuous_torque, peak_torque_limit
 from .report import COLUMNS, REPORTED, RPM, DriveSizing
 
@@ -45,6 +50,11 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..report.html import Report
 
 OBJECTIVES = ("mass", "cost", "margin", "time")
+
+
+def _known(value: object) -> float:
+    """A catalog number, 0 where it is missing (``None`` or NaN)."""
+    return 0.0 if value is None or (isinstance(value, float) and math.isnan(value)) else float(value)
 
 
 @dataclass
@@ -64,7 +74,10 @@ class JointSizing(DriveSizing):
         closest: the pairs with the smallest worst load factor and the checks they fail.
         duty: the joint's duty (:class:`~mechatron.drives.duty.JointDuty`), replayed at ``time_scale``.
         motor_data, converter_data: the chosen pair's catalog data (SI).
-        time_scale: the task was replayed this many times slower (``time`` objective; < 1: faster).
+        time_scale: the task's moves were replayed this many times slower (``time`` objective; < 1: faster), its
+            dwells as they are.
+        rivals: the pairs ranked just before the chosen one by the objective, nearest first, which fail a check
+            (ranking's columns and ``failed``); empty for the ``margin`` objective and when nothing is feasible.
     """
 
     joint: str
@@ -82,6 +95,7 @@ class JointSizing(DriveSizing):
     motor_data: dict = field(default_factory=dict)
     converter_data: dict = field(default_factory=dict)
     time_scale: float = 1.0
+    rivals: pd.DataFrame = field(default_factory=pd.DataFrame)
 
     def operating_points(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Motor speed n = u ω (rad/s) and torque T_m = (J_m + J_c) u ω̇ + τ*/u (N·m) at every sample of the task
@@ -89,6 +103,49 @@ class JointSizing(DriveSizing):
         c = self.converter_data
         n, accel, base = motor_side(self.duty, c["ratio"], c["efficiency"], c["inertia"])
         return n, self.motor_data["rotor_inertia"] * accel + base
+
+    def drive_mass(self) -> float:
+        """Motor + converter mass (kg) from the catalogs (a missing mass counts 0)."""
+        return _known(self.motor_data.get("mass")) + _known(self.converter_data.get("mass"))
+
+    def drive_price(self) -> float:
+        """Motor + converter price (the catalogs' currency; a missing price counts 0)."""
+        return _known(self.motor_data.get("price")) + _known(self.converter_data.get("price"))
+
+    def shaft_power(self) -> NDArray[np.float64]:
+        """The motor's shaft power T_m n (W) at every sample: > 0 motoring, < 0 braking."""
+        n, torque = self.operating_points()
+        return n * torque
+
+    def _zones(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """(speed (rad/s), S1 torque, intermittent torque (N·m)) of the chosen motor from 0 to its top speed."""
+        m = self.motor_data
+        speed = np.linspace(0.0, m["max_speed"], 200)
+        return (speed, continuous_torque(speed, m["rated_torque"], m["rated_speed"], m["max_speed"]),
+                peak_torque_limit(speed, m["peak_torque"], m["rated_torque"], m["rated_speed"], m["max_speed"]))
+
+    def _rms_point(self) -> tuple[float, float]:
+        """(mean speed (rad/s), RMS torque (N·m)): the point of the thermal check."""
+        rms = next(c for c in self.checks if c.name == "RMS torque")
+        mean_speed = next((c.value for c in self.checks if c.name == "transmission mean input speed"),
+                          float(np.mean(np.abs(self.operating_points()[0]))))
+        return mean_speed, rms.value
+
+    def chart_frame(self) -> pd.DataFrame:
+        """The data of :meth:`plot`, one row per point (SI): ``series`` — ``operating point`` (every sample of the
+        task: ``t_s`` (s), motor speed and torque, signed; the chart shows their magnitudes), ``continuous limit
+        (S1)`` and ``intermittent limit`` (the zones' upper edges), ``RMS torque at mean speed`` (the thermal
+        check's point) —, ``speed_rad_s`` (rad/s) and ``torque_Nm`` (N·m)."""
+        n, torque = self.operating_points()
+        speed, s1, peak = self._zones()
+        mean_speed, rms = self._rms_point()
+        parts = [pd.DataFrame({"series": "operating point", "t_s": self.duty.t, "speed_rad_s": n,
+                               "torque_Nm": torque}),
+                 pd.DataFrame({"series": "continuous limit (S1)", "speed_rad_s": speed, "torque_Nm": s1}),
+                 pd.DataFrame({"series": "intermittent limit", "speed_rad_s": speed, "torque_Nm": peak}),
+                 pd.DataFrame({"series": ["RMS torque at mean speed"], "speed_rad_s": [mean_speed],
+                               "torque_Nm": [rms]})]
+        return pd.concat(parts, ignore_index=True)[["series", "t_s", "speed_rad_s", "torque_Nm"]]
 
     def drive_columns(self) -> dict:
         return {"motor": self.motor, "converter": self.converter, "ratio": self.ratio}
@@ -104,36 +161,33 @@ class JointSizing(DriveSizing):
     def as_dict(self) -> dict:
         """joint, kind, feasible, motor, gearbox (the converter's key), converter_kind, ratio, time_scale, checks
         (name, value, limit, unit, margin, pass; SI), alternatives (the best feasible pairs), closest (when none is
-        feasible)."""
+        feasible), and the explanation (:meth:`~mechatron.drives.report.DriveSizing.explanation`): deciding_check,
+        runner_up, drive_mass_kg, drive_price."""
         return json_ready({
             "joint": self.joint, "kind": self.kind, "feasible": self.feasible, "motor": self.motor,
             "gearbox": self.converter, "converter_kind": self.converter_kind, "ratio": self.ratio,
             "time_scale": self.time_scale, "checks": [c.as_dict() for c in self.checks],
             "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
-            "closest": [] if self.feasible else self.closest.to_dict(orient="records")})
+            "closest": [] if self.feasible else self.closest.to_dict(orient="records"), **self.explanation()})
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """The chosen motor's speed–torque chart: its continuous (S1) and intermittent zones
         (:mod:`~mechatron.drives.motor`), the task's operating points (|n|, |T_m|) coloured by time and the RMS
-        torque at the mean speed (the thermal check); speed in rpm, torque in N·m."""
+        torque at the mean speed (the thermal check); speed in rpm, torque in N·m. Its data:
+        :meth:`chart_frame`."""
         from ..report.figures import figure_axes, style_axes
 
         figure, ax = figure_axes(ax, 7.5, 5)
         m = self.motor_data
         n, torque = self.operating_points()
         top = m["max_speed"]
-        speed = np.linspace(0.0, top, 200)
-        ax.fill_between(speed * RPM, 0, peak_torque_limit(speed, m["peak_torque"], m["rated_torque"],
-                                                          m["rated_speed"], top),
-                        color="tab:orange", alpha=0.18, label="intermittent zone")
-        ax.fill_between(speed * RPM, 0, continuous_torque(speed, m["rated_torque"], m["rated_speed"], top),
-                        color="tab:green", alpha=0.3, label="continuous zone (S1)")
+        speed, s1, peak = self._zones()
+        ax.fill_between(speed * RPM, 0, peak, color="tab:orange", alpha=0.18, label="intermittent zone")
+        ax.fill_between(speed * RPM, 0, s1, color="tab:green", alpha=0.3, label="continuous zone (S1)")
         ax.scatter(np.abs(n) * RPM, np.abs(torque), s=6, c=self.duty.t, cmap="viridis",
                    label="operating points (colour: time)")
-        rms = next(c for c in self.checks if c.name == "RMS torque")
-        mean_speed = next((c.value for c in self.checks if c.name == "transmission mean input speed"),
-                          float(np.mean(np.abs(n))))
-        ax.plot([mean_speed * RPM], [rms.value], "r*", ms=14, label=f"RMS torque {rms.value:.3g} N·m at mean speed")
+        mean_speed, rms = self._rms_point()
+        ax.plot([mean_speed * RPM], [rms], "r*", ms=14, label=f"RMS torque {rms:.3g} N·m at mean speed")
         ax.set_xlim(0, top * RPM * 1.05)
         ax.set_ylim(0, max(m["peak_torque"], float(np.abs(torque).max())) * 1.1)
         through = "direct" if self.converter == "direct" else f"{self.converter}, u = {self.ratio:.4g}"
@@ -231,16 +285,17 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
 
     Every pair is checked; the per-sample checks are made exact in the order of the objective until the best
     pairs are certain (:class:`~mechatron.drives.checks.Evaluation`), so the ranking lists the best feasible
-    pairs (at least :data:`~mechatron.drives.report.REPORTED` when there are that many), exact.
+    pairs (at least :data:`~mechatron.drives.report.REPORTED` when there are that many), exact. The pairs ranked
+    just before the chosen one by the objective (all of which fail a check) are kept as its ``rivals``.
 
     Args:
         duty: The joint's duty (:class:`~mechatron.drives.duty.JointDuty`; rad or m, s, N·m or N).
         motors: The motor catalog in SI (:func:`~mechatron.drives.catalogs.read_catalog`, kind ``motors``).
         gearboxes: Gearboxes for a revolute joint (kind ``gearboxes``), or ``None``.
         linear: Ball screws and racks for a prismatic joint (kind ``linear``), or ``None``.
-        objective: ``"mass"``, ``"cost"``, ``"margin"`` or ``"time"``: with ``time`` the duty is first replayed at
-            ``time_scale`` (default: the fastest scale this joint allows, :func:`fastest_scale`) and the lightest
-            feasible pair at that pace is chosen.
+        objective: ``"mass"``, ``"cost"``, ``"margin"`` or ``"time"``: with ``time`` the duty's moves are first
+            replayed at ``time_scale`` (default: the fastest scale this joint allows, :func:`fastest_scale`; the
+            dwells keep their length) and the lightest feasible pair at that pace is chosen.
         inertia_ratio_max: The largest load-to-motor inertia ratio (J_L/u² + J_c)/J_m.
         direct: Whether the motor alone (u = 1) is tried on a revolute joint.
         chain_efficiency: Multiplies every converter's efficiency (η = Π η_i [Egorov, 7.53]).
@@ -262,56 +317,124 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
     mass = motor_mass[:, None] + conv.mass[None, :]
     price = motor_price[:, None] + conv.price[None, :]
+    primary, tie = (price, mass) if objective == "cost" else (mass, price)
     if objective == "margin":
         im, ic = _smallest_worst(evaluation, REPORTED)
         ok = evaluation.worst_of(im, ic) <= 1 + PASS_TOLERANCE
         im, ic = im[ok], ic[ok]
         score = evaluation.worst_of(im, ic)
     else:
-        primary, tie = (price, mass) if objective == "cost" else (mass, price)
         im, ic = _feasible_by_score(evaluation, primary, tie, REPORTED)
         score = primary[im, ic]
-    worst = evaluation.worst_of(im, ic)
-    ranking = pd.DataFrame({
-        "motor": motors["key"].to_numpy()[im], "converter": conv.key[ic], "kind": conv.kind[ic],
-        "ratio": conv.ratio[ic], "mass": mass[im, ic], "price": price[im, ic], "smallest_margin": 1 - worst,
-        "score": score, "_m": im, "_c": ic})
+    table = _Table(motors, conv, mass, price)
+    ranking = table.rows(evaluation, im, ic).assign(score=score, _m=im, _c=ic)
     tie_break = ["price"] if objective in ("mass", "time") else ["mass"]
     ranking = ranking.sort_values(["score", *tie_break], kind="stable").reset_index(drop=True)
     feasible = bool(len(ranking))
-    closest = pd.DataFrame() if feasible else _closest(evaluation, motors, conv)
+    closest = pd.DataFrame() if feasible else _closest(evaluation, table)
     if feasible:
         m, c = int(ranking["_m"].iloc[0]), int(ranking["_c"].iloc[0])
     else:
         m = int(np.flatnonzero(motors["key"].to_numpy() == closest["motor"].iloc[0])[0])
         c = int(np.flatnonzero(conv.key == closest["converter"].iloc[0])[0])
+    rivals = _rivals(evaluation, table, primary, tie, m, c) if feasible and objective != "margin" else \
+        pd.DataFrame()
     return JointSizing(duty.name, duty.kind, objective, feasible, str(motors["key"].iloc[m]),
                        str(conv.key[c]), str(conv.kind[c]), float(conv.ratio[c]), evaluation.checks(m, c),
                        ranking.drop(columns=["_m", "_c"]), closest, duty, motors.iloc[m].to_dict(),
-                       {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale)
+                       {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale, rivals)
 
 
-def _closest(evaluation: Evaluation, motors: pd.DataFrame, conv: Converters) -> pd.DataFrame:
+@dataclass(frozen=True)
+class _Table:
+    """What a report says of a motor × converter pair: names, ratio, mass (kg), price, margin, failed checks."""
+
+    motors: pd.DataFrame
+    conv: Converters
+    mass: np.ndarray
+    price: np.ndarray
+
+    def rows(self, evaluation: Evaluation, m: np.ndarray, c: np.ndarray, failed: bool = False) -> pd.DataFrame:
+        """The pairs (m[i], c[i]): motor, converter, kind, ratio, mass, price, smallest_margin (1 − the worst load
+        factor, exact only where the evaluation is) and, with ``failed``, worst_load_factor and the checks they fail
+        (``name ×load factor``, made exact first)."""
+        if failed:
+            evaluation.refine(m, c)
+        factors = evaluation.load_factors_of(m, c).reshape(len(m), len(CHECKS))
+        out = pd.DataFrame({"motor": self.motors["key"].to_numpy()[m], "converter": self.conv.key[c],
+                            "kind": self.conv.kind[c], "ratio": self.conv.ratio[c], "mass": self.mass[m, c],
+                            "price": self.price[m, c], "smallest_margin": 1 - factors.max(axis=1, initial=0.0)})
+        if failed:
+            out["worst_load_factor"] = factors.max(axis=1, initial=0.0)
+            out["failed"] = ["; ".join(f"{name} ×{f[k]:.2f}" for k, name in enumerate(CHECKS)
+                                       if f[k] > 1 + PASS_TOLERANCE) or "none" for f in factors]
+        return out
+
+
+def _closest(evaluation: Evaluation, table: _Table) -> pd.DataFrame:
     """The pairs with the smallest worst load factor and the checks they fail."""
-    rows = []
-    for m, c in zip(*_smallest_worst(evaluation, REPORTED)):
-        factors = evaluation.load_factors_of(m, c)
-        failed = [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
-        rows.append({"motor": str(motors["key"].iloc[m]), "converter": str(conv.key[c]), "ratio": float(conv.ratio[c]),
-                     "worst_load_factor": float(factors.max()), "failed": "; ".join(failed) or "none"})
-    return pd.DataFrame(rows)
+    m, c = _smallest_worst(evaluation, REPORTED)
+    return table.rows(evaluation, m, c, failed=True).drop(columns=["kind", "smallest_margin"])
+
+
+def _rivals(evaluation: Evaluation, table: _Table, primary: np.ndarray, tie: np.ndarray, m: int, c: int,
+            count: int = 2) -> pd.DataFrame:
+    """The ``count`` pairs ranked just before (m, c) by (primary, tie), nearest first: they fail a check (the
+    chosen pair is the first feasible one in that order), which :meth:`_Table.rows` names."""
+    order = np.lexsort((tie.ravel(), primary.ravel()))
+    position = int(np.flatnonzero(order == np.ravel_multi_index((m, c), primary.shape))[0])
+    im, ic = np.unravel_index(order[max(0, position - count):position][::-1], primary.shape)
+    return table.rows(evaluation, im, ic, failed=True)
+
+
+# ------------------------------------------------------------------------------------------------ the system
+#: The most sizing passes of the fixed point (:func:`size_mechanism`) before it reports that it did not converge.
+MAX_ITERATIONS = 10
+
+
+@dataclass(frozen=True)
+class Iteration:
+    """One pass of the sizing over every driven coordinate (distal to proximal).
+
+    Attributes:
+        number: 1, 2, …
+        weighted: whether the chosen drives' masses loaded the mechanism (pass 1 sizes with weightless drives).
+        time_scale: the pace of the pass's moves (``time`` objective; 1 otherwise).
+        changes: (joint, drive before, drive after) for every coordinate whose drive changed (before ``None`` in
+            pass 1).
+    """
+
+    number: int
+    weighted: bool
+    time_scale: float
+    changes: tuple[tuple[str, str | None, str], ...]
+
+    def as_dict(self) -> dict:
+        return {"iteration": self.number, "drive_masses": self.weighted, "time_scale": self.time_scale,
+                "changes": [{"joint": j, "from": a, "to": b} for j, a, b in self.changes]}
+
+    def line(self) -> str:
+        what = "with the drives' masses on their bodies" if self.weighted else "drives weightless"
+        pace = f", moves ×{self.time_scale:.4g}" if self.time_scale != 1.0 else ""
+        changed = "; ".join(f"{j} {b}" if a is None else f"{j} {a} → {b}" for j, a, b in self.changes)
+        return f"  pass {self.number} ({what}{pace}): {changed or 'no change'}"
 
 
 @dataclass
 class SizingResult(Result):
     """The sizing of every driven coordinate of a mechanism for a task: ``joints`` holds a
     :class:`JointSizing` per motor-driven joint and a :class:`~mechatron.drives.cylinders.CylinderSizing` per
-    hydraulic cylinder; ``time_scale`` < 1 when the ``time`` objective found the task can run faster.
+    hydraulic cylinder; ``time_scale`` < 1 when the ``time`` objective found the task's moves can run faster.
+
+    ``iterations`` are the passes of the sizing (:class:`Iteration`): the first with weightless drives (all of a
+    ``single_pass`` sizing), the next ones with the chosen drives' masses on the bodies that carry them
+    (``mounts``, :class:`~mechatron.drives.duty.DriveMount`) until the choice repeats (``converged``; ``cycle``
+    names the passes whose choice came back when it cycles instead).
 
     ``to_frame()``: one row per joint and check (joint, motor, converter, ratio, check, value, limit, unit, margin,
-    pass; SI units). ``as_dict()``: mechanism, task, objective, feasible, time_scale, task_time (s), joints (each
-    joint's ``as_dict``). ``plot()``: one panel per joint, its drive's chart. ``str()``: the report of
-    ``mechatron size``.
+    pass; SI units). ``as_dict()``: mechanism, task, objective, method, converged, feasible, time_scale, task_time
+    (s), iterations, totals, joints (each joint's ``as_dict`` with its explanation and ``mounted_on``). ``plot()``:
+    one panel per joint, its drive's chart. ``str()``: the report of ``mechatron size``.
     """
 
     mechanism: str
@@ -319,32 +442,69 @@ class SizingResult(Result):
     objective: str
     joints: list[DriveSizing]
     time_scale: float = 1.0
+    iterations: list[Iteration] = field(default_factory=list)
+    single_pass: bool = False
+    converged: bool = True
+    mounts: dict[str, DriveMount] = field(default_factory=dict)
+    cycle: tuple[int, ...] = ()
+    task_duration: float | None = None
 
     @property
     def feasible(self) -> bool:
-        """Whether every joint has a drive that passes every check."""
-        return all(j.feasible for j in self.joints)
+        """Whether every joint has a drive that passes every check, for drives that no longer change."""
+        return all(j.feasible for j in self.joints) and self.converged
 
     @property
     def duration(self) -> float:
-        """The task's duration as sized (s): the given one, times ``time_scale`` for the ``time`` objective."""
+        """The task's duration as sized (s): the given one, with the moves × ``time_scale`` for the ``time``
+        objective."""
         return self.joints[0].duty.duration if self.joints else 0.0
+
+    @property
+    def method(self) -> str:
+        """``"single pass"`` (each coordinate sized alone, weightless drives) or ``"fixed point"``."""
+        return "single pass" if self.single_pass else "fixed point"
 
     def critical(self) -> DriveSizing:
         """The joint whose drive has the smallest margin (an infeasible one first)."""
         return min(self.joints, key=lambda j: j.smallest_margin())
 
+    def totals(self) -> dict:
+        """drive_mass_kg and cost (the sums over the drives; ``None`` if one is unknown), energy_per_cycle_j and
+        peak_power_w — the energy ∫ Σ_j P_j⁺ dt (J, trapezoidal rule) and the largest Σ_j P_j⁺ (W) of the drives'
+        power P_j (a motor's shaft power T_m n, a cylinder's F v; P⁺ = max(P, 0): braking energy is not recovered)
+        —, and cycle_time_s, the task's duration as sized (s)."""
+        masses = [j.drive_mass() for j in self.joints]
+        prices = [j.drive_price() for j in self.joints]
+        t = self.joints[0].duty.t if self.joints else np.zeros(1)
+        power = sum((np.maximum(j.shaft_power(), 0.0) for j in self.joints), np.zeros(len(t)))
+        return {"drive_mass_kg": None if None in masses else float(sum(masses)),
+                "cost": None if None in prices else float(sum(prices)),
+                "energy_per_cycle_j": float(np.trapezoid(power, t)) if len(t) > 1 else 0.0,
+                "peak_power_w": float(power.max(initial=0.0)), "cycle_time_s": self.duration}
+
     def to_frame(self) -> pd.DataFrame:
         """One row per joint and check (:data:`~mechatron.drives.report.COLUMNS`), SI units."""
         return pd.DataFrame([row for j in self.joints for row in j.rows()], columns=list(COLUMNS))
 
+    def _mounted_on(self, joint: str) -> dict | None:
+        mount = self.mounts.get(joint)
+        return None if mount is None else {"body": mount.carrier, "mass_kg": mount.mass,
+                                            "loads_the_mechanism": mount.parent > 0}
+
     def as_dict(self) -> dict:
-        """mechanism, task, objective, feasible, time_scale, task_time (the task's duration as sized, s) and joints
-        (every joint's ``as_dict``), JSON-ready."""
+        """mechanism, task, objective, method (``fixed point`` or ``single pass``), converged, cycle, feasible,
+        time_scale, task_time (the task's duration as sized, s), iterations (every pass: iteration, drive_masses,
+        time_scale, changes: joint, from, to), totals (:meth:`totals`) and joints (every joint's ``as_dict`` with
+        deciding_check, runner_up, drive_mass_kg, drive_price and mounted_on: body, mass_kg, loads_the_mechanism),
+        JSON-ready."""
         return json_ready({"mechanism": self.mechanism, "task": self.task, "objective": self.objective,
+                           "method": self.method, "converged": self.converged, "cycle": list(self.cycle),
                            "feasible": self.feasible, "time_scale": self.time_scale,
                            "task_time": self.duration if self.joints else None,
-                           "joints": [j.as_dict() for j in self.joints]})
+                           "iterations": [i.as_dict() for i in self.iterations], "totals": self.totals(),
+                           "joints": [{**j.as_dict(), **j.explanation(), "mounted_on": self._mounted_on(j.joint)}
+                                      for j in self.joints]})
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """The chart of every joint's drive, one panel each (motors: speed–torque zones and operating points;
@@ -366,24 +526,67 @@ class SizingResult(Result):
         return figure
 
     def save_plots(self, directory: str | Path) -> list[Path]:
-        """Every joint's chart (:meth:`DriveSizing.plot`) as ``<directory>/<mechanism>_<joint>.png``; the directory
-        is created if needed."""
-        from ..io.output import output_directory
+        """Every joint's chart (:meth:`DriveSizing.plot`) as ``<directory>/<mechanism>_<joint>.png`` and its data
+        (:meth:`DriveSizing.chart_frame`) as ``<directory>/<mechanism>_<joint>.csv``; the directory is created if
+        needed. Returns the files written."""
+        from ..io.output import output_directory, write_atomically
 
         directory = output_directory(directory)
-        return [j.save_plot(directory / f"{self.mechanism}_{j.joint}.png") for j in self.joints]
+        written = []
+        for j in self.joints:
+            stem = directory / f"{self.mechanism}_{j.joint}"
+            frame = j.chart_frame()
+            written += [j.save_plot(stem.with_suffix(".png")),
+                        write_atomically(stem.with_suffix(".csv"), lambda fh, f=frame: f.to_csv(fh, index=False))]
+        return written
+
+    def _method_lines(self) -> list[str]:
+        if self.single_pass:
+            return ["method: single pass — each coordinate sized alone, its drive's mass loading no other joint"]
+        if not self.converged:
+            what = (f"the choice of pass {self.cycle[-1]} repeats that of pass {self.cycle[0]}: it cycles"
+                    if self.cycle else f"the choice still changed after {len(self.iterations)} passes")
+            head = f"method: fixed point — NOT CONVERGED: {what}"
+        elif not self.mounts:
+            head = ("method: fixed point — no motor to place (the cylinders' masses are the mechanism's own), so one "
+                    "pass is the fixed point")
+        elif len(self.iterations) == 1:
+            head = ("method: fixed point — every drive sits on a fixed body, so the drives' masses load no joint "
+                    "and one pass is the fixed point")
+        else:
+            head = (f"method: fixed point — every chosen motor and gearbox is a mass on the body that carries it; "
+                    f"sized distal to proximal until the choice repeats: converged in {len(self.iterations)} "
+                    "passes")
+        return [head, *(i.line() for i in self.iterations)]
 
     def __str__(self) -> str:
-        """The chosen drive of every joint with every check, margin and PASS/FAIL, and the verdict."""
+        """The method and its passes, the chosen drive of every joint with every check, margin and PASS/FAIL, why
+        it was chosen, where it sits, the totals and the verdict."""
         duration = self.duration
         lines = [f"{self.mechanism}: drive sizing for '{self.task}' ({duration:.3f} s, objective {self.objective})"]
         if self.objective == "time":
-            lines.append(f"fastest feasible pace: the task replayed ×{self.time_scale:.3f} in time "
-                         f"({duration:.3f} s instead of {duration / self.time_scale:.3f} s)")
+            lines.append(f"fastest feasible pace: the moves replayed ×{self.time_scale:.3f} in time, the dwells kept "
+                         f"({duration:.3f} s instead of {self.task_duration or duration:.3f} s)")
+        lines += self._method_lines()
         for j in self.joints:
             lines += [""] + j.lines()
-        verdict = "every joint has a feasible drive" if self.feasible else \
-            "NOT FEASIBLE: no drive passes every check for " + ", ".join(j.joint for j in self.joints if not j.feasible)
+            mount = self.mounts.get(j.joint)
+            if mount is not None:
+                lines.append(f"    on {mount.carrier}: {mount.mass:.3g} kg" + ("" if mount.parent > 0 else
+                                                                              " (a fixed body: it loads no joint)"))
+        totals = self.totals()
+        mass = "unknown" if totals["drive_mass_kg"] is None else f"{totals['drive_mass_kg']:.4g} kg"
+        cost = "unknown" if totals["cost"] is None else f"{totals['cost']:.6g}"
+        lines += ["", f"totals: drive mass {mass}, cost {cost}, energy per cycle {totals['energy_per_cycle_j']:.4g} J, "
+                      f"peak power {totals['peak_power_w']:.4g} W (the drives' output power; braking energy not "
+                      "recovered)"]
+        if self.feasible:
+            verdict = "every joint has a feasible drive"
+        elif not self.converged:
+            verdict = "NOT FEASIBLE: the choice of drives did not settle (see the method above)"
+        else:
+            verdict = "NOT FEASIBLE: no drive passes every check for " + ", ".join(
+                j.joint for j in self.joints if not j.feasible)
         return "\n".join(lines + ["", verdict])
 
     def report(self, mechanism: Mechanism | None = None, task: Task | str | Path | None = None, **context) -> Report:
@@ -441,17 +644,40 @@ class SizingResult(Result):
         return Report(lines[0], sections, lines[-1])
 
 
+def _distal_first(mech: Mechanism, names: list[str]) -> list[str]:
+    """``names`` ordered distal to proximal: by the depth of their joint in the tree, deepest first (stable)."""
+    def depth(name: str) -> int:
+        joint, count = mech.joint_id(name), 0
+        while joint > 0:
+            joint, count = mech.model.parents[joint], count + 1
+        return count
+
+    return sorted(names, key=lambda n: -depth(n))
+
+
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
                    gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                    loads: Loads = None, task: str = "task", direct: bool = True, pressure: float = 32e6,
-                   chain_efficiency: float = 1.0, progress: Callable[[int, int], None] | None = None) -> SizingResult:
-    """Size every coordinate of ``mech`` that moves or carries load along ``trajectory``.
+                   chain_efficiency: float = 1.0, single_pass: bool = False, max_iterations: int = MAX_ITERATIONS,
+                   progress: Callable[[int, int], None] | None = None) -> SizingResult:
+    """Size every coordinate of ``mech`` that moves or carries load along ``trajectory``, as a system.
 
     The duty of every coordinate comes from the inverse dynamics without drive inertia
     (:func:`~mechatron.drives.duty.joint_duties`); then motors with gearboxes (revolute joints) or linear drives —
     ball screws, racks — (prismatic joints) are checked pair by pair (:func:`size_joint`), catalog cylinders for
     hydraulic cylinders (:func:`~mechatron.drives.cylinders.size_cylinder`).
+
+    The drives load the mechanism. Pass 1 sizes every coordinate with weightless drives (all a ``single_pass``
+    sizing does). Each further pass goes distal to proximal: each coordinate is sized with every drive chosen so
+    far (this pass's, else the last pass's) on the body that carries it (:func:`~mechatron.drives.duty.mount_drives`:
+    its motor's and converter's catalog mass at its placement, by default on the joint's parent body at the joint),
+    until a pass chooses what the one before chose: the fixed point, where every drive was sized with every other
+    final drive's mass in the model. A drive's spinning parts (rotor J_m, the converter's motor side J_c) are counted
+    once, in its own joint's motor torque (J_m + J_c) u ω̇ (Pinocchio's armature (J_m + J_c) u²), never as a body
+    inertia. A choice that comes back after changing is a cycle: the sizing stops and says so, as it does after
+    ``max_iterations`` passes; the result is then not feasible. Hydraulic cylinders are sized in the same passes;
+    their masses are the mechanism file's (``barrel_mass``, ``rod_mass``), not the catalog's.
 
     Args:
         mech: The mechanism, payload included (:func:`mechatron.model.payload.with_payload`).
@@ -467,22 +693,29 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         pressure: The hydraulic system's relief pressure (Pa).
         chain_efficiency: Multiplies every converter's efficiency: the losses of the rest of the chain, the
             series product η = Π η_i [Egorov, 7.53] (:func:`mechatron.mechanics.efficiency.series`).
-        progress: Called with (done, total) after each coordinate.
+        single_pass: Size each coordinate once, with weightless drives (the drives load no joint).
+        max_iterations: The most passes (≥ 2).
+        progress: Called with (done, total) after each coordinate of each pass.
     """
     from .catalogs import default_catalog
     from .cylinders import size_cylinder
 
-    duties = [d for d in joint_duties(mech, trajectory, loads)
-              if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0]
-    if not duties:
+    if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
+        raise InputError(f"the most sizing passes must be a whole number >= 2, got {max_iterations!r}")
+    bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
+            if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
+    if not bare:
         raise InputError(f"no joint of {mech.name} moves or carries load in the task")
-    kinds = {d.kind for d in duties}
+    kinds = {d.kind for d in bare.values()}
     motors = motors if motors is not None or kinds <= {"cylinder"} else default_catalog("motors")
     gearboxes = gearboxes if gearboxes is not None or "revolute" not in kinds else default_catalog("gearboxes")
     linear = linear if linear is not None or "prismatic" not in kinds else default_catalog("linear")
     cylinders = cylinders if cylinders is not None or "cylinder" not in kinds else default_catalog("cylinders")
+    names = list(bare)
+    order = _distal_first(mech, names)
+    carriers = {n: drive_carrier(mech, n) for n in names if bare[n].kind != "cylinder"}
 
-    def size_one(duty: JointDuty, scale: float | None = None) -> DriveSizing:
+    def size_one(duty: JointDuty, scale: float | None) -> DriveSizing:
         if duty.kind == "cylinder":
             spec = mech.cylinders[duty.name]
             if objective == "time":
@@ -491,19 +724,77 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
                           direct=direct, time_scale=scale, chain_efficiency=chain_efficiency)
 
-    scale = None
-    if objective == "time":  # the slowest coordinate sets the pace of the whole task
-        scales = [fastest_scale(_cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure))
-                  if d.kind == "cylinder" else
-                  fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
-                                              inertia_ratio_max)) for d in duties]
-        scale = max(scales) if all(math.isfinite(x) for x in scales) else 1.0
-    out: list[DriveSizing] = []
-    for k, duty in enumerate(duties):
-        out.append(size_one(duty, scale))
-        if progress:
-            progress(k + 1, len(duties))
-    return SizingResult(mech.name, task, objective, out, scale or 1.0)
+    fastest: dict[tuple, float] = {}
+
+    def fastest_for(d: JointDuty) -> float:
+        """The fastest pace of one coordinate (:func:`fastest_scale`), once per duty: a pass changes only the
+        duties of the coordinates proximal to a drive that changed."""
+        key = (d.name, d.torque.tobytes(), d.static_torque.tobytes(), d.load_inertia)
+        if key not in fastest:
+            fastest[key] = fastest_scale(
+                _cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure) if d.kind == "cylinder" else
+                _motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
+                              inertia_ratio_max))
+        return fastest[key]
+
+    def pace(duties: dict[str, JointDuty]) -> float | None:
+        """The ``time`` objective's scale: the slowest coordinate's fastest pace sets the whole task's."""
+        if objective != "time":
+            return None
+        scales = [fastest_for(d) for d in duties.values()]
+        return max(scales) if all(math.isfinite(x) for x in scales) else 1.0
+
+    def mounts(chosen: dict[str, DriveSizing]) -> dict[str, DriveMount]:
+        return {n: DriveMount(n, s.choice(), s.drive_mass() or 0.0, *carriers[n])
+                for n, s in chosen.items() if n in carriers}
+
+    known: dict[tuple, dict[str, JointDuty]] = {}
+
+    def duties_with(chosen: dict[str, DriveSizing]) -> dict[str, JointDuty]:
+        """The duties with the drives of ``chosen`` on their bodies (those on a fixed body change nothing)."""
+        moving = [m for m in mounts(chosen).values() if m.parent > 0 and m.mass > 0]
+        key = tuple(sorted((m.joint, m.drive) for m in moving))
+        if not key:
+            return bare
+        if key not in known:
+            known.clear()
+            loaded = joint_duties(mount_drives(mech, moving), trajectory, loads)
+            known[key] = {d.name: d for d in loaded if d.name in bare}
+        return known[key]
+
+    chosen: dict[str, DriveSizing] = {}
+    iterations: list[Iteration] = []
+
+    def run_pass(weighted: bool) -> tuple:
+        before = dict(chosen)
+        scale = pace(duties_with(chosen) if weighted else bare)
+        for k, name in enumerate(order):
+            chosen[name] = size_one((duties_with(chosen) if weighted else bare)[name], scale)
+            if progress:
+                progress(k + 1, len(order))
+        changes = tuple((n, before[n].choice() if n in before else None, chosen[n].choice()) for n in order
+                        if n not in before or before[n].choice() != chosen[n].choice())
+        iterations.append(Iteration(len(iterations) + 1, weighted, scale or 1.0, changes))
+        return tuple(chosen[n].choice() for n in order), scale
+
+    history = [run_pass(False)]
+    converged, cycle = True, ()
+    if not single_pass and any(m.parent > 0 and m.mass > 0 for m in mounts(chosen).values()):
+        converged = False
+        while len(iterations) < max_iterations:
+            state = run_pass(True)
+            if state == history[-1]:
+                converged = True
+                break
+            if state in history:
+                cycle = (history.index(state) + 1, len(iterations))
+                break
+            history.append(state)
+    scale = iterations[-1].time_scale
+    sized = [chosen[n] for n in names]
+    duration = bare[names[0]].duration
+    return SizingResult(mech.name, task, objective, sized, scale, iterations, single_pass, converged,
+                        mounts(chosen), cycle, duration)
 
 
 def _cylinder_passes(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, pressure: float
@@ -517,11 +808,12 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
          motors: pd.DataFrame | str | Path | None = None, gearboxes: pd.DataFrame | str | Path | None = None,
          linear: pd.DataFrame | str | Path | None = None, cylinders: pd.DataFrame | str | Path | None = None,
          objective: str = "mass", loads: Loads = None, inertia_ratio_max: float = 10.0, direct: bool = True,
-         pressure: float = 32e6, chain_efficiency: float = 1.0,
-         progress: Callable[[int, int], None] | None = None) -> SizingResult:
+         pressure: float = 32e6, chain_efficiency: float = 1.0, single_pass: bool = False,
+         max_iterations: int = MAX_ITERATIONS, progress: Callable[[int, int], None] | None = None) -> SizingResult:
     """Choose the drive of every joint of ``mech`` for a task — motor, gearbox and ratio (revolute joints), motor
     and ball screw or rack (prismatic joints), catalog cylinder (hydraulic cylinders of a closed-loop mechanism) —
-    with every check vendors run (:mod:`~mechatron.drives.checks`, :mod:`~mechatron.drives.cylinders`).
+    with every check vendors run (:mod:`~mechatron.drives.checks`, :mod:`~mechatron.drives.cylinders`), the chosen
+    drives' masses loading the mechanism until the choice no longer changes (:func:`size_mechanism`).
 
     ``mechatron.size(puma)`` sizes the PUMA 560 for its own task with the example catalogs;
     ``mechatron.size(puma, "pick.toml", motors="motors.csv", objective="cost")`` for a task file and a catalog.
@@ -532,8 +824,8 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
 
             - ``None``: its default task (``robots/tasks/<name>.toml`` if there is one, else a generic
               out-and-back move of every coordinate, :func:`~mechatron.dynamics.task.default_task`);
-            - the path of a task file (TOML: waypoints, profile, payload in kg, loads; or a trajectory CSV),
-              read for ``mech`` (:func:`~mechatron.dynamics.task.read_task`);
+            - the path of a task file (TOML: waypoints, profile, payload in kg with its centre and inertia, loads;
+              or a trajectory CSV), read for ``mech`` (:func:`~mechatron.dynamics.task.read_task`);
             - a :class:`~mechatron.dynamics.task.Task` (its mechanism, payload included, is the one sized);
             - a :class:`~mechatron.dynamics.motion.Trajectory` of ``mech``'s joints (rad, m; s), or of its actuated
               coordinates if it has closed loops.
@@ -546,11 +838,13 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
         pressure: The hydraulic system's relief pressure (Pa).
         chain_efficiency: The efficiency of the rest of the chain (couplings, bearings, belts; η = Π η_i
             [Egorov, 7.53]); multiplies every converter's.
-        progress: Called with (done, total) after each coordinate.
+        single_pass: Size each coordinate once with weightless drives instead of to the fixed point.
+        max_iterations: The most passes of the fixed point (≥ 2).
+        progress: Called with (done, total) after each coordinate of each pass.
 
     Returns:
         A :class:`SizingResult`; ``result.feasible`` is false when some joint has no feasible drive (its closest
-        candidates are reported).
+        candidates are reported) or the choice did not settle.
     """
     from ..dynamics.motion import Trajectory
     from ..dynamics.task import Task, default_task, read_task
@@ -569,4 +863,4 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     return size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=objective,
                           inertia_ratio_max=inertia_ratio_max, loads=[*as_loads(task.loads), *as_loads(loads)],
                           task=task.name, direct=direct, pressure=pressure, chain_efficiency=chain_efficiency,
-                          progress=progress)
+                          single_pass=single_pass, max_iterations=max_iterations, progress=progress)

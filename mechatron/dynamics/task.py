@@ -6,6 +6,8 @@ A task file (TOML; every field optional except the motion)::
     name = "pick and place"
     payload = 2.5                     # kg, carried at the tool frame
     payload_com = [0.0, 0.0, 0.05]    # m in the tool frame (or payload_com_mm)
+    payload_inertia = [2e-3, 3e-3, 3e-3]   # kg·m² about the payload's centre, tool axes: Ixx, Iyy, Izz
+                                      # (or six: Ixx, Iyy, Izz, Ixy, Ixz, Iyz); default a point mass
     profile = "trapezoidal"           # triangular, trapezoidal, scurve, quintic
     dwell = 0.25                      # s of rest at every waypoint after the first
     dt = 0.005                        # s, sampling step
@@ -23,6 +25,9 @@ A task file (TOML; every field optional except the motion)::
 With ``_deg`` the values of revolute joints are in degrees and those of prismatic joints in metres. For a
 closed-loop mechanism the waypoints and limits are its actuated coordinates (cylinder lengths in m).
 The default task of a robot is ``robots/tasks/<name>.toml`` if there is one, else :func:`generic_task`.
+
+A task's trajectory knows its moves and its dwells (:func:`moving_intervals`): the ``time`` objective of the drive
+sizing speeds the moves up and keeps every dwell as long as it is.
 """
 
 from __future__ import annotations
@@ -57,6 +62,43 @@ class Task:
     def duration(self) -> float:
         """The trajectory's duration (s)."""
         return self.trajectory.duration
+
+    @property
+    def moving(self) -> np.ndarray:
+        """(N − 1,) whether each interval between samples belongs to a move (True) or a dwell (False)
+        (:func:`moving_intervals`)."""
+        return moving_intervals(self.trajectory)
+
+    @property
+    def dwells(self) -> list[tuple[float, float]]:
+        """The dwells of the task: (start, end) times (s) of every rest between moves (:func:`rests`)."""
+        return rests(self.trajectory.t, self.moving)
+
+
+def moving_intervals(trajectory: Trajectory) -> np.ndarray:
+    """(N − 1,) booleans: which intervals [t_i, t_i+1] of ``trajectory`` belong to a move; the others are dwells.
+
+    An interval is a dwell when at both its ends every coordinate's speed and acceleration are zero and the
+    coordinates do not change (to 1e-12 relative). For a task made of waypoints (:func:`~mechatron.dynamics.motion.
+    cycle`: moves that end at rest, then rests of ``dwell`` seconds) this is exactly its rests; a move never has
+    two consecutive samples at rest at the same place."""
+    still = np.all(trajectory.v == 0, axis=1) & np.all(trajectory.a == 0, axis=1)
+    c = np.atleast_2d(np.asarray(trajectory.coordinates, dtype=float))
+    same = np.all(np.abs(np.diff(c, axis=0)) <= 1e-12 * (1 + np.abs(c[1:])), axis=1)
+    return ~(still[:-1] & still[1:] & same)
+
+
+def rests(t: np.ndarray, moving: np.ndarray) -> list[tuple[float, float]]:
+    """The maximal runs of intervals that are not ``moving``, as (start, end) times (s)."""
+    out: list[tuple[float, float]] = []
+    start = None
+    for i, m in enumerate(np.append(moving, True)):
+        if not m and start is None:
+            start = i
+        elif m and start is not None:
+            out.append((float(t[start]), float(t[i])))
+            start = None
+    return out
 
 
 def _coordinates(mech: Mechanism) -> tuple[list[str], np.ndarray]:
@@ -107,6 +149,23 @@ def _waypoints(reader: FieldReader, angular: np.ndarray) -> list[np.ndarray] | N
     return None
 
 
+def _payload_inertia(reader: FieldReader) -> np.ndarray | None:
+    """``payload_inertia``: 3 numbers (I_xx, I_yy, I_zz) or 6 (and I_xy, I_xz, I_yz), kg·m² about the payload's
+    centre, tool axes, as a symmetric 3×3 tensor; each moment ≥ 0 (the rest is checked with the mass)."""
+    if not reader.has("payload_inertia"):
+        return None
+    raw = reader.raw("payload_inertia")
+    if not isinstance(raw, list) or len(raw) not in (3, 6):
+        raise reader.error("payload_inertia", "give 3 numbers [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] "
+                                              "(kg·m² about the payload's centre, tool axes)")
+    values = [reader.to_float("payload_inertia", v) for v in raw]
+    for name, value in zip(("Ixx", "Iyy", "Izz"), values):
+        if value < 0:
+            raise reader.error("payload_inertia", f"{name} must be >= 0 kg·m², got {value:g}")
+    xx, yy, zz, xy, xz, yz = (*values, 0.0, 0.0, 0.0)[:6]
+    return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+
 def read_task(path: str | Path, mech: Mechanism) -> Task:
     """A task for ``mech`` from a TOML file (the format of the module docstring: SI units, or degrees with
     ``_deg``) or a trajectory CSV (:func:`~mechatron.dynamics.motion.read_trajectory`)."""
@@ -121,13 +180,17 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     names, angular = _coordinates(mech)
     payload = reader.number("payload", 0.0, minimum=0.0)
     com = reader.lengths("payload_com", 3, np.zeros(3))
+    inertia = _payload_inertia(reader)
     if payload and mech.closures:
         raise reader.error("payload", "a payload is carried at the tool of a serial arm; give loads instead")
     loaded = mech
-    if payload:
+    if payload or inertia is not None:
         from ..model.payload import with_payload
 
-        loaded = with_payload(mech, payload, com=com)
+        try:
+            loaded = with_payload(mech, payload, com=com, inertia=inertia)
+        except InputError as exc:
+            raise reader.error("payload_inertia" if exc.field == "inertia" else "payload", exc.message) from None
     loads = []
     for load in reader.tables("loads") if reader.has("loads") else []:
         frame = load.string("frame")

@@ -143,6 +143,10 @@ class Drive:
         efficiency: Transmission efficiency η in (0, 1].
         viscous_friction: Viscous friction B (N·m·s/rad) on the motor shaft.
         coulomb_friction: Coulomb friction torque (N·m) on the motor shaft for positive and for negative speed.
+        placement: The frame (a body's or a point's) of the body that carries the motor and its gearbox, e.g.
+            ``"base"`` or ``"link3"``; ``None``: the proximal body at the joint (the joint's parent), at the joint's
+            origin. The drive sizing puts the chosen motor's and gearbox's mass there.
+        offset: Where on that body (m), in the axes of ``placement`` from its origin.
     """
 
     rotor_inertia: float = 0.0
@@ -150,6 +154,8 @@ class Drive:
     efficiency: float = 1.0
     viscous_friction: float = 0.0
     coulomb_friction: tuple[float, float] = (0.0, 0.0)
+    placement: str | None = None
+    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         if not self.rotor_inertia >= 0:
@@ -160,6 +166,10 @@ class Drive:
             raise InputError(f"efficiency must be in (0, 1], got {self.efficiency:g}", field="efficiency")
         if not self.viscous_friction >= 0:
             raise InputError(f"viscous friction must be >= 0, got {self.viscous_friction:g}", field="viscous_friction")
+        offset = tuple(float(x) for x in np.ravel(self.offset))
+        if len(offset) != 3 or not all(math.isfinite(x) for x in offset):
+            raise InputError(f"a drive's offset is 3 finite numbers (m), got {self.offset!r}", field="offset")
+        object.__setattr__(self, "offset", offset)
 
     @property
     def reflected_inertia(self) -> float:

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from .dh import Drive
 from .mechanism import Measure, Mechanism, Parameter
 from .planar import GROUND, PlanarBuilder
 
@@ -135,6 +136,17 @@ class LengthSpec:
 
 
 @dataclass(frozen=True)
+class DriveSpec:
+    """Where the motor and gearbox of an actuated coordinate sit (a ``[[drives]]`` table): on ``body``, at its point
+    ``at``. The drive sizing puts the chosen drive's mass there; without a table it sits on the coordinate's parent
+    body at the joint."""
+
+    coordinate: str
+    at: str
+    body: str | None = None  # default: the first body carrying ``at`` (the ground first)
+
+
+@dataclass(frozen=True)
 class LinkageSpec:
     """Everything a mechanism file says (SI units). See docs/mechanism_file.md for the file format."""
 
@@ -160,6 +172,8 @@ class LinkageSpec:
     #: Values (m, rad) at which to hold actuated inputs while closing the drawing instead of their drawn ones: a
     #: rebuild keeps the nominal drawing's inputs when it moves points (not part of a file).
     held_inputs: Mapping[str, float] = field(default_factory=dict)
+    #: Where the motors of actuated coordinates sit (``[[drives]]``).
+    drives: tuple[DriveSpec, ...] = ()
 
     # ----------------------------------------------------------------------------------------- look-ups
     def point(self, name: str) -> PointSpec:
@@ -292,6 +306,7 @@ def check(spec: LinkageSpec) -> None:
                 k = int(np.flatnonzero(np.diff(x) <= 0)[0])
                 raise spec.error(f"curve of {c.point}: x must increase (x[{k + 2}] = {x[k + 1]:g} after "
                                  f"{x[k]:g})", f"{where}.x")
+    _check_drives(spec)
     _no_duplicates(spec, [m.name for m in spec.measures], "measures", "measure")
     for i, m in enumerate(spec.measures, start=1):
         for p in m.points:
@@ -304,6 +319,36 @@ def check(spec: LinkageSpec) -> None:
                              f"lengths.{length.name}")
         if length.value is not None and not length.value > 0:
             raise spec.error(f"length {length.name} must be > 0 m, got {length.value:g}", f"lengths.{length.name}")
+
+
+def _check_drives(spec: LinkageSpec) -> None:
+    """Each ``[[drives]]`` table places the motor of one actuated coordinate (not a cylinder) on a known body, at
+    one of its points."""
+    cylinders = {j.name for j in spec.joints if j.kind == "cylinder"}
+    seen: set[str] = set()
+    for i, d in enumerate(spec.drives, start=1):
+        where = f"drives[{i}]"
+        if d.coordinate not in spec.actuated or d.coordinate in cylinders:
+            motors = [c for c in spec.actuated if c not in cylinders]
+            raise spec.error(f"{d.coordinate!r} is not an actuated coordinate driven by a motor (those are: "
+                             f"{', '.join(motors) or 'none'})", f"{where}.coordinate")
+        if d.coordinate in seen:
+            raise spec.error(f"the drive of {d.coordinate} is placed twice", f"{where}.coordinate")
+        seen.add(d.coordinate)
+        if d.body is not None and d.body not in {b.name for b in spec.bodies}:
+            raise spec.error(f"the drive of {d.coordinate}: unknown body {d.body!r} (known: "
+                             f"{', '.join(b.name for b in spec.bodies)})", f"{where}.body")
+        if d.at not in {p.name for p in spec.points}:
+            raise spec.error(f"the drive of {d.coordinate}: unknown point {d.at!r}", f"{where}.at")
+        if d.body is not None and d.at not in spec.body(d.body).points:
+            raise spec.error(f"the drive of {d.coordinate}: {d.at} is not a point of body {d.body}", f"{where}.at")
+
+
+def drive_placements(spec: LinkageSpec) -> dict[str, Drive]:
+    """The :class:`~mechatron.model.dh.Drive` of every coordinate with a ``[[drives]]`` table: its placement is the
+    frame of the point ``at`` on its body (:func:`frame_names`)."""
+    frames = frame_names(spec)
+    return {d.coordinate: Drive(placement=frames[(d.at, d.body or spec.owners(d.at)[0])]) for d in spec.drives}
 
 
 def _no_duplicates(spec: LinkageSpec, names: Sequence[str], where: str, what: str) -> None:
@@ -810,6 +855,7 @@ def _assemble_model(spec: LinkageSpec, actuated: Sequence[str] | None = None) ->
                          f"{mobility}", "actuated")
     mech.source = spec.file or spec.source or None
     mech.branches.update(_branches(spec, mech))
+    mech.drives.update(drive_placements(spec))
     return mech
 
 

@@ -20,6 +20,7 @@ from ..io.toml import read_toml
 from .linkage import (
     BodySpec,
     ClosureSpec,
+    DriveSpec,
     JointSpec,
     LengthSpec,
     LinkageSpec,
@@ -69,11 +70,13 @@ def linkage_spec(data: Mapping[str, Any], *, file: str | Path | None = None, def
     measures = tuple(_measure(m) for m in top.tables("measures")) if top.has("measures") else ()
     lengths = _lengths(top)
     branches = _branches(top)
+    drives = tuple(_drive(d) for d in top.tables("drives")) if top.has("drives") else ()
     top.finish()
     spec = LinkageSpec(name=name, points=points, bodies=bodies, joints=joints, actuated=tuple(actuated),
                        closures=closures, measures=measures, lengths=lengths, branches=branches,
                        description=description, source=source, gravity=gravity, tool=tool, input_rates=input_rates,
-                       notes=notes, tolerance=tolerance, file=str(file) if file is not None else None, planar=planar)
+                       notes=notes, tolerance=tolerance, file=str(file) if file is not None else None, planar=planar,
+                       drives=drives)
     if tool is not None and tool not in {p.name for p in points}:
         raise InputError(f"unknown point {tool!r}", file=file, field="tool")
     check(spec)
@@ -247,6 +250,12 @@ def _measure(reader: FieldReader) -> MeasureSpec:
     minimum = (reader.angle if kind == "transmission_angle" else reader.length)("min", None)
     out = MeasureSpec(kind, reader.string("name"), tuple(_strings(reader, "points")),
                       float(minimum) if minimum is not None else None)
+    reader.finish()
+    return out
+
+
+def _drive(reader: FieldReader) -> DriveSpec:
+    out = DriveSpec(reader.string("coordinate"), reader.string("at"), reader.string("body", None))
     reader.finish()
     return out
 
@@ -432,6 +441,9 @@ def linkage_toml(spec: LinkageSpec, header: str = "") -> str:
         if m.minimum is not None:
             item["min"] = float(m.minimum)
         lines += ["", "[[measures]]", *(f"{_key(k)} = {_value(v)}" for k, v in item.items())]
+    for d in spec.drives:
+        item = {"coordinate": d.coordinate, "at": d.at, **({"body": d.body} if d.body is not None else {})}
+        lines += ["", "[[drives]]", *(f"{_key(k)} = {_value(v)}" for k, v in item.items())]
     if spec.lengths:
         lines += ["", "[lengths]  # named lengths (m): the geometric parameters"]
         for length in spec.lengths:

@@ -9,6 +9,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from .dh import inertial_problem
 from .mechanism import Mechanism
 
 
@@ -17,7 +18,10 @@ def with_payload(mech: Mechanism, mass: float, frame: str | None = None, com: Ar
     """A copy of ``mech`` carrying a payload of ``mass`` (kg) rigidly at ``frame`` (a frame name, default the tool),
     its centre ``com`` (m) in that frame and its ``inertia`` (3×3, kg·m², about the centre, frame axes; default a
     point mass). The payload becomes part of the body of the frame's joint (Pinocchio's ``appendBodyToJoint``), so
-    every dynamics call carries its weight and inertia."""
+    every dynamics call carries its weight and inertia.
+
+    The inertia must be a rigid body's: symmetric, zero or positive definite, its principal moments obeying
+    I1 + I2 ≥ I3 (:func:`~mechatron.model.dh.inertial_problem`), and not without mass."""
     if not mass >= 0:
         raise InputError(f"payload mass must be >= 0 kg, got {mass:g}")
     frame = frame or mech.tool_frame
@@ -30,6 +34,11 @@ def with_payload(mech: Mechanism, mass: float, frame: str | None = None, com: Ar
                                                              and np.all(np.isfinite(tensor))):
         raise InputError(f"a payload's com must be 3 finite numbers (m) and its inertia a finite 3×3 matrix (kg·m²), "
                          f"got com {com!r}")
+    problem = inertial_problem(float(mass), tensor)
+    if problem is None and np.any(tensor) and not mass > 0:
+        problem = "an inertia without mass is not a body's"
+    if problem:
+        raise InputError(f"payload: {problem}", field="inertia")
     body = pin.Inertia(float(mass), centre, tensor)
     model.appendBodyToJoint(model.frames[fid].parentJoint, body, placement)
     return replace(mech, model=model, rebuild=None)

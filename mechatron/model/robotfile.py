@@ -79,9 +79,20 @@ def _drive(link: FieldReader) -> Drive | None:
         efficiency=table.number("efficiency", 1.0, positive=True),
         viscous_friction=table.number("viscous_friction", 0.0, minimum=0.0),
         coulomb_friction=(float(coulomb[0]), float(coulomb[1])),
+        placement=table.string("placement", None),
+        offset=tuple(float(x) for x in table.lengths("offset", 3, np.zeros(3))),
     )
     table.finish()
     return drive
+
+
+def _check_placements(top: FieldReader, links: tuple[DHLink, ...]) -> None:
+    """Every drive placement names a frame of the arm: ``base``, ``link1`` … ``linkN`` or ``tool``."""
+    frames = ["base", *(f"link{i}" for i in range(1, len(links) + 1)), "tool"]
+    for i, link in enumerate(links, start=1):
+        if link.drive is not None and link.drive.placement is not None and link.drive.placement not in frames:
+            raise top.error(f"links[{i}].drive.placement", f"unknown body {link.drive.placement!r} for the drive of "
+                            f"joint {link.name or f'q{i}'} (known: {', '.join(frames)})")
 
 
 def _link(link: FieldReader) -> DHLink:
@@ -123,5 +134,6 @@ def read_robot_file(path: str | Path) -> RobotFile:
     tool = _placement(top, "tool")
     links = tuple(_link(link) for link in top.tables("links"))
     top.finish()
+    _check_placements(top, links)
     table = _checked(top, DHTable, links, convention, base, tool, gravity)
     return RobotFile(name=name, description=description, source=source, table=table, path=path)

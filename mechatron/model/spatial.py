@@ -226,7 +226,7 @@ def build_spatial(spec, *, check_tolerance: bool = True) -> Mechanism:
             does not close within the tolerance (default 2 % of the drawing's size), or inputs that do not match
             the mobility.
     """
-    from .linkage import _positions, check, drawing_size, frame_names, joint_coordinate, joint_parent
+    from .linkage import _positions, check, drawing_size, drive_placements, frame_names, joint_coordinate, joint_parent
 
     check(spec)
     positions = _positions(spec)
@@ -318,6 +318,7 @@ def build_spatial(spec, *, check_tolerance: bool = True) -> Mechanism:
         return build_spatial(spec.with_positions(moved), check_tolerance=False)
 
     mech.rebuild = rebuild
+    mech.drives.update(drive_placements(spec))
     return mech
 
 
