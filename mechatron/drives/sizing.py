@@ -30,7 +30,7 @@ from ..errors import InputError
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
 from ..report.result import Result, json_ready
-from .checks import CHECKS, PASS_TOLERANCE, Check, Evaluation, evaluate, motor_side
+from .checks import PASS_TOLERANCE, Check, DriveLimits, Evaluation, evaluate, motor_side
 from .converters import Converters, converters_for
 from .duty import JointDuty, joint_duties
 from .motor import continuous_torque, peak_torque_limit
@@ -211,10 +211,10 @@ def _feasible_by_score(evaluation: Evaluation, score: np.ndarray, tie: np.ndarra
     return _first_feasible(evaluation, m[order], c[order], count)
 
 
-def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float
-                  ) -> Callable[[float], bool]:
+def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float,
+                  limits: DriveLimits | None = None) -> Callable[[float], bool]:
     def passes(k: float) -> bool:
-        evaluation = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max, exact=False)
+        evaluation = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max, exact=False, limits=limits)
         bound = evaluation.worst()
         m, c = np.nonzero(bound <= 1 + PASS_TOLERANCE)
         order = np.argsort(bound[m, c], kind="stable")
@@ -225,7 +225,8 @@ def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inert
 
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
                linear: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
-               direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0) -> JointSizing:
+               direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0,
+               limits: DriveLimits | None = None) -> JointSizing:
     """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
 
     Every pair is checked; the per-sample checks are made exact in the order of the objective until the best
@@ -243,6 +244,7 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         inertia_ratio_max: The largest load-to-motor inertia ratio (J_L/u² + J_c)/J_m.
         direct: Whether the motor alone (u = 1) is tried on a revolute joint.
         chain_efficiency: Multiplies every converter's efficiency (η = Π η_i [Egorov, 7.53]).
+        limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
     """
     if objective not in OBJECTIVES:
         raise InputError(f"unknown objective {objective!r}; expected one of: {', '.join(OBJECTIVES)}")
@@ -253,10 +255,10 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     conv = converters_for(duty, gearboxes, linear, direct, chain_efficiency)
     scale = 1.0
     if objective == "time":
-        scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max))
+        scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max, limits))
         scale = scale if math.isfinite(scale) else 1.0
         duty = duty.scaled(scale)
-    evaluation = evaluate(duty, motors, conv, inertia_ratio_max, exact=False)
+    evaluation = evaluate(duty, motors, conv, inertia_ratio_max, exact=False, limits=limits)
     motor_mass = motors["mass"].fillna(0).to_numpy() if "mass" in motors else np.zeros(len(motors))
     motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
     mass = motor_mass[:, None] + conv.mass[None, :]
@@ -294,8 +296,7 @@ def _closest(evaluation: Evaluation, motors: pd.DataFrame, conv: Converters) -> 
     """The pairs with the smallest worst load factor and the checks they fail."""
     rows = []
     for m, c in zip(*_smallest_worst(evaluation, REPORTED)):
-        factors = evaluation.load_factors_of(m, c)
-        failed = [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
+        factors, failed = evaluation.load_factors_of(m, c), evaluation.failed(m, c)
         rows.append({"motor": str(motors["key"].iloc[m]), "converter": str(conv.key[c]), "ratio": float(conv.ratio[c]),
                      "worst_load_factor": float(factors.max()), "failed": "; ".join(failed) or "none"})
     return pd.DataFrame(rows)
@@ -390,7 +391,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                    gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                    loads: Loads = None, task: str = "task", direct: bool = True, pressure: float = 32e6,
-                   chain_efficiency: float = 1.0, progress: Callable[[int, int], None] | None = None) -> SizingResult:
+                   chain_efficiency: float = 1.0, progress: Callable[[int, int], None] | None = None,
+                   limits: DriveLimits | None = None) -> SizingResult:
     """Size every coordinate of ``mech`` that moves or carries load along ``trajectory``.
 
     The duty of every coordinate comes from the inverse dynamics without drive inertia
@@ -413,9 +415,10 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         chain_efficiency: Multiplies every converter's efficiency: the losses of the rest of the chain, the
             series product η = Π η_i [Egorov, 7.53] (:func:`mechatron.mechanics.efficiency.series`).
         progress: Called with (done, total) after each coordinate.
+        limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
     """
     from .catalogs import default_catalog
-    from .cylinders import size_cylinder
+    from .cylinders import cylinder_lengths, size_cylinder
 
     duties = [d for d in joint_duties(mech, trajectory, loads)
               if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0]
@@ -427,21 +430,24 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     linear = linear if linear is not None or "prismatic" not in kinds else default_catalog("linear")
     cylinders = cylinders if cylinders is not None or "cylinder" not in kinds else default_catalog("cylinders")
 
+    lengths = cylinder_lengths(mech, trajectory)
+
     def size_one(duty: JointDuty, scale: float | None = None) -> DriveSizing:
         if duty.kind == "cylinder":
-            spec = mech.cylinders[duty.name]
+            spec, length = mech.cylinders[duty.name], lengths[duty.name]
             if objective == "time":
-                return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass")
-            return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective)
+                return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass",
+                                     length=length)
+            return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective, length=length)
         return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
-                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency)
+                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency, limits=limits)
 
     scale = None
     if objective == "time":  # the slowest coordinate sets the pace of the whole task
         scales = [fastest_scale(_cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure))
                   if d.kind == "cylinder" else
                   fastest_scale(_motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
-                                              inertia_ratio_max)) for d in duties]
+                                              inertia_ratio_max, limits)) for d in duties]
         scale = max(scales) if all(math.isfinite(x) for x in scales) else 1.0
     out: list[DriveSizing] = []
     for k, duty in enumerate(duties):
@@ -463,7 +469,7 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
          linear: pd.DataFrame | str | Path | None = None, cylinders: pd.DataFrame | str | Path | None = None,
          objective: str = "mass", loads: Loads = None, inertia_ratio_max: float = 10.0, direct: bool = True,
          pressure: float = 32e6, chain_efficiency: float = 1.0,
-         progress: Callable[[int, int], None] | None = None) -> SizingResult:
+         progress: Callable[[int, int], None] | None = None, limits: DriveLimits | None = None) -> SizingResult:
     """Choose the drive of every joint of ``mech`` for a task — motor, gearbox and ratio (revolute joints), motor
     and ball screw or rack (prismatic joints), catalog cylinder (hydraulic cylinders of a closed-loop mechanism) —
     with every check vendors run (:mod:`~mechatron.drives.checks`, :mod:`~mechatron.drives.cylinders`).
@@ -492,6 +498,9 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
         chain_efficiency: The efficiency of the rest of the chain (couplings, bearings, belts; η = Π η_i
             [Egorov, 7.53]); multiplies every converter's.
         progress: Called with (done, total) after each coordinate.
+        limits: The emergency-stop torque or current limit, the required screw life and the supply voltage
+            (:class:`~mechatron.drives.checks.DriveLimits`); default: the motors' peak torque, 20 000 h, the
+            catalog's voltage.
 
     Returns:
         A :class:`SizingResult`; ``result.feasible`` is false when some joint has no feasible drive (its closest
@@ -514,4 +523,4 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     return size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=objective,
                           inertia_ratio_max=inertia_ratio_max, loads=[*as_loads(task.loads), *as_loads(loads)],
                           task=task.name, direct=direct, pressure=pressure, chain_efficiency=chain_efficiency,
-                          progress=progress)
+                          progress=progress, limits=limits)
