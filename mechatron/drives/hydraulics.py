@@ -134,6 +134,10 @@ def hydraulic_supply(sizing: SizingResult | Sequence[DriveSizing], pressure: flo
     pressure = cylinders[0].pressure if pressure is None else pressure
     if not (np.isfinite(pressure) and pressure > 0):
         raise InputError(f"the system pressure must be a finite number > 0 Pa, got {pressure!r}")
+    names = [c.joint for c in cylinders]
+    twice = next((n for n in names if names.count(n) > 1), None)
+    if twice is not None:
+        raise InputError(f"cylinder {twice} twice: each cylinder coordinate once")
     t = np.asarray(cylinders[0].duty.t, dtype=float)
     for c in cylinders[1:]:
         if c.duty.t.shape != t.shape or not np.allclose(c.duty.t, t, rtol=0, atol=1e-12 * max(1.0, abs(t[-1]))):
