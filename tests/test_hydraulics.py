@@ -151,8 +151,8 @@ def test_pump_flow_and_power_by_hand():
     s = np.sin(math.pi * t)
     a = size_cylinder(duty_of(t, 0.1 * s, 1e4 * s, name="A"), Cylinder("A", "a", "b", (1.0, 1.8), count=2),
                       one("A", 0.1, 0.056), pressure=25e6)
-    b = size_cylinder(duty_of(t, -0.2 * s, 1e4 * s, name="B"), Cylinder("B", "c", "d", (1.0, 1.8)), one("B", 0.08, 0.045),
-                      pressure=25e6)
+    b = size_cylinder(duty_of(t, -0.2 * s, 1e4 * s, name="B"), Cylinder("B", "c", "d", (1.0, 1.8)),
+                      one("B", 0.08, 0.045), pressure=25e6)
     supply = hydraulic_supply([a, b])
     k1 = 2 * math.pi * 0.1**2 / 4 * 0.1 + math.pi * (0.08**2 - 0.045**2) / 4 * 0.2
     k2 = 2 * math.pi * (0.1**2 - 0.056**2) / 4 * 0.1 + math.pi * 0.08**2 / 4 * 0.2
