@@ -164,17 +164,20 @@ class ElectricalBalance(Result):
                            "bus": self.bus()})
 
     def plot(self, ax: Axes | None = None) -> Figure:
-        """The electrical power of every axis and of the DC bus over time (kW), the bus's braking part shaded."""
+        """The electrical power of every axis and of the DC bus over time (W, or kW from 1 kW), the bus's braking
+        part shaded."""
         from ..report.figures import figure_axes, style_axes
 
         figure, ax = figure_axes(ax, 8, 4.5)
+        largest = max(float(np.abs(a.power).max()) for a in self.axes)
+        scale, unit = (1e3, "kW") if largest >= 1e3 else (1.0, "W")
         for a in self.axes:
-            ax.plot(self.t, a.power / 1e3, lw=1, label=f"{a.axis} ({a.motor})")
-        bus = self.bus_power / 1e3
+            ax.plot(self.t, a.power / scale, lw=1, label=f"{a.axis} ({a.motor})")
+        bus = self.bus_power / scale
         ax.plot(self.t, bus, color="k", lw=1.8, label="DC bus (sum)")
         ax.fill_between(self.t, bus, 0, where=bus < 0, color="tab:red", alpha=0.25, label="braking (regenerated)")
         ax.axhline(0, color="0.5", lw=0.6)
-        style_axes(ax, "time (s)", "electrical power (kW, < 0 regenerated)", "electrical power over the task",
+        style_axes(ax, "time (s)", f"electrical power ({unit}, < 0 regenerated)", "electrical power over the task",
                    legend=True)
         return figure
 
