@@ -226,6 +226,8 @@ class Evaluation:
         torque = np.abs(self.rotor[m, None] * accel[c] + base[c])
         available = peak_torque_limit(n[c], self.peak[m, None], self.rated[m, None], self.rated_speed[m, None],
                                       self.top_speed[m, None])
+        if not self.back_emf.any():  # no motor with the voltage data
+            return torque.max(axis=1), _load_factor(torque, available).max(axis=1), np.zeros(len(m))
         voltage = self.back_emf[m, None] * np.abs(n[c]) + self.drop[m, None] * torque
         return torque.max(axis=1), _load_factor(torque, available).max(axis=1), voltage.max(axis=1)
 
