@@ -251,3 +251,27 @@ def test_the_stop_limit_reaches_the_sizing():
 def test_bad_limits(kwargs, message):
     with pytest.raises(InputError, match=message):
         DriveLimits(**kwargs)
+
+
+def test_voltage_check_is_exact_on_the_sample_envelope():
+    """The voltage k_t |n| + R |T_m| / k_t grows with |n| and |T_m|, so the samples the envelope keeps decide it for
+    every motor and converter: the evaluated check equals the largest voltage over all samples, computed pair by
+    pair from the motor side (n = u ω, T_m = (J_m + J_c) u ω̇ + τ*/u), and the lazy bound never exceeds it."""
+    from mechatron.drives.catalogs import default_catalog
+    from mechatron.drives.checks import motor_side
+    from mechatron.drives.duty import joint_duties
+    from mechatron.dynamics.task import default_task
+
+    mech = mechatron.load("planar_2r")
+    duty = joint_duties(mech, default_task(mech).trajectory)[0]
+    motors = default_catalog("motors").iloc[::7].reset_index(drop=True)
+    motors = motors.assign(resistance=30 / motors["rated_current"], voltage=560.0)
+    conv = converters_for(duty, default_catalog("gearboxes").iloc[::5])
+    assert len(duty.envelope()) < len(duty.t)  # some samples are left out
+    lazy, exact = evaluate(duty, motors, conv, exact=False), evaluate(duty, motors, conv)
+    kt, R, Jm = (motors[c].to_numpy()[:, None] for c in ("torque_constant", "resistance", "rotor_inertia"))
+    for c in range(len(conv)):
+        n, accel, base = motor_side(duty, conv.ratio[c], conv.efficiency[c], conv.inertia[c])
+        brute = (kt * np.abs(n) + R * np.abs(Jm * accel + base) / kt).max(axis=1)
+        assert exact.values[:, c, 10] == pytest.approx(brute, rel=1e-12)
+        assert np.all(lazy.values[:, c, 10] <= brute * (1 + 1e-12))
