@@ -87,16 +87,24 @@ def gearboxes() -> list[dict]:
 
 
 def linear_drives() -> list[dict]:
+    """Ball screws: rolled steel shafts, the ball size of the common nuts, root diameter d - 0.85 d_ball, fixed at the
+    motor end and supported at the other, the longest shafts rolled. Racks and pinions: the permitted tangential
+    force of a hardened rack, about 100 N per mm² of module × face width."""
     rows = []
-    for diameter, leads, load in ((16, (5, 10, 16), 9.3), (20, (5, 10, 20), 14.0), (25, (5, 10, 25), 17.5),
-                                  (32, (5, 10, 20, 32), 26.0), (40, (10, 20, 40), 38.0)):
+    for diameter, leads, load, longest in ((16, (5, 10, 16), 9.3, 1500), (20, (5, 10, 20), 14.0, 2500),
+                                           (25, (5, 10, 25), 17.5, 3000), (32, (5, 10, 20, 32), 26.0, 4000),
+                                           (40, (10, 20, 40), 38.0, 5000)):
         d = diameter / 1000
         inertia = 7850 * math.pi * d**4 / 32  # kg·m² per metre of steel shaft
         for lead in leads:
+            ball = 3.175 if lead == 5 or diameter == 16 else 3.969 if diameter <= 25 and lead != 10 or \
+                diameter == 20 else 4.762 if diameter == 25 else 6.35
             rows.append({
                 "key": f"BS{diameter}{lead:02d}", "maker": "example", "type": "ball screw", "diameter_mm": diameter,
                 "lead_mm": lead, "efficiency": 0.9, "inertia_kgcm2": "", "inertia_per_length_kgcm2_m":
                 round(inertia * 1e4, 4), "max_speed_rpm": min(5000, int(70000 / diameter)), "dynamic_load_kN": load,
+                "root_diameter_mm": round(diameter - 0.85 * ball, 1), "end_fixing": "fixed-pinned",
+                "max_length_mm": longest, "permitted_force_kN": "",
                 "mass": "", "mass_per_length_kg_m": round(7850 * math.pi * d**2 / 4, 2), "price_eur": 80 + 6 * diameter,
             })
     for module, teeth, width in ((2, 20, 20), (2, 30, 20), (3, 20, 30), (3, 30, 30), (4, 20, 40)):
@@ -105,7 +113,9 @@ def linear_drives() -> list[dict]:
         rows.append({
             "key": f"RP{module}-{teeth}", "maker": "example", "type": "rack and pinion", "diameter_mm": d * 1000,
             "lead_mm": round(math.pi * d * 1000, 3), "efficiency": 0.96, "inertia_kgcm2": round(pinion * 1e4, 4),
-            "inertia_per_length_kgcm2_m": "", "max_speed_rpm": 3000, "dynamic_load_kN": round(0.25 * module * width, 1),
+            "inertia_per_length_kgcm2_m": "", "max_speed_rpm": 3000, "dynamic_load_kN": "",
+            "root_diameter_mm": "", "end_fixing": "", "max_length_mm": "",
+            "permitted_force_kN": round(0.1 * module * width, 1),
             "mass": round(7850 * math.pi / 4 * d**2 * width / 1000, 2),
             "mass_per_length_kg_m": round(7850 * (module * 10 / 1000) ** 2 * 1.5, 2), "price_eur": 150 + 40 * module,
         })
@@ -113,6 +123,7 @@ def linear_drives() -> list[dict]:
 
 
 def cylinders() -> list[dict]:
+    """Double-acting cylinders of the bores and rods of ISO 3320, rated 25 and 32 MPa, with an eye at each end."""
     rows = []
     for bore, rod in ((40, 22), (50, 28), (63, 36), (80, 45), (100, 56), (125, 70), (140, 90), (160, 100),
                       (180, 110), (200, 125), (220, 140), (250, 160), (280, 180), (320, 200)):
@@ -123,6 +134,7 @@ def cylinders() -> list[dict]:
             rows.append({
                 "key": f"HC{bore}/{rod}-{pressure}", "maker": "example", "bore_mm": bore, "rod_mm": rod,
                 "max_stroke_mm": 1500 if bore < 100 else 3000 if bore < 200 else 4000, "max_pressure_MPa": pressure,
+                "end_fixing": "pinned-pinned",
                 "mass": round(7850 * 2.4 * D**3 + 0.5, 1), "mass_per_stroke": round(per_metre, 1),
                 "price_eur": round(200 + 0.08 * bore**2 * (1.15 if pressure == 32 else 1.0)),
             })

@@ -26,6 +26,7 @@ UNITS: dict[str, dict[str, float]] = {
     "pressure": {"": 1.0, "Pa": 1.0, "MPa": 1e6, "bar": 1e5},
     "current": {"": 1.0, "A": 1.0},
     "voltage": {"": 1.0, "V": 1.0},
+    "resistance": {"": 1.0, "ohm": 1.0, "mohm": 1e-3},
     "torque_constant": {"": 1.0, "Nm_A": 1.0},
     "ratio": {"": 1.0},
     "fraction": {"": 1.0, "percent": 0.01},

@@ -147,7 +147,8 @@ def test_closed_loop_sizes_cylinders(capsys):
     assert code == 0
     (joint,) = json.loads(out)["joints"]
     assert joint["kind"] == "cylinder" and joint["cylinder"].startswith("HC")
-    assert {c["name"] for c in joint["checks"]} == {"push pressure", "pull pressure", "stroke", "rod buckling"}
+    assert {c["name"] for c in joint["checks"]} == {"rated pressure", "push pressure", "pull pressure", "stroke",
+                                                    "rod buckling"}
 
 
 # ----------------------------------------------------------------------------------------------- tasks

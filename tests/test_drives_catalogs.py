@@ -111,3 +111,65 @@ def test_unreadable_files(tmp_path):
         read_catalog(write(tmp_path, MOTOR_HEADER + "\n"), "motors")
     with pytest.raises(InputError, match="unknown catalog kind"):
         read_catalog(write(tmp_path, MOTOR_HEADER + "\n"), "brakes")
+
+
+# ------------------------------------------------------------------------------ the optional columns of issue 12
+ELECTRICAL = MOTOR_HEADER + ",torque_constant_Nm_A,resistance_ohm,voltage_V"
+
+
+@pytest.mark.parametrize("row, field", [
+    ("M2,1.2,3.6,3000,6000,1.5,2,0.5,,400", "resistance_ohm"),  # voltage without resistance
+    ("M2,1.2,3.6,3000,6000,1.5,2,0.5,2.0,", "voltage_V"),  # resistance without voltage
+    ("M2,1.2,3.6,3000,6000,1.5,2,,2.0,400", "torque_constant_Nm_A"),  # no torque constant
+])
+def test_half_filled_electrical_columns_name_file_row_and_column(tmp_path, row, field):
+    path = write(tmp_path, ELECTRICAL + "\nM1,1.2,3.6,3000,6000,1.5,2.1,0.5,2.0,400\n" + row + "\n")
+    with pytest.raises(InputError, match="electrical columns are half filled") as info:
+        read_catalog(path, "motors")
+    assert (info.value.file, info.value.row, info.value.field) == (str(path), 3, field)
+    assert str(info.value).count("\n") == 0 and f"motors.csv: row 3: field '{field}'" in str(info.value)
+
+
+def test_electrical_columns_all_or_none(tmp_path):
+    """A row with all three, a row with none and a row with the torque constant alone are all fine; the units
+    convert (mΩ)."""
+    header = MOTOR_HEADER + ",torque_constant,resistance_mohm,voltage"
+    path = write(tmp_path, header + "\nM1,1.2,3.6,3000,6000,1.5,2.1,0.5,2500,400\nM2,1.2,3.6,3000,6000,1.5,2,,,\n"
+                                    "M3,1.2,3.6,3000,6000,1.5,2,0.6,,\n")
+    table = read_catalog(path, "motors")
+    assert table.loc[0, "resistance"] == pytest.approx(2.5) and table.loc[0, "voltage"] == 400
+    assert table[["resistance", "voltage"]].iloc[1:].isna().all().all()
+
+
+def test_example_motors_pass_their_voltage_limit_wherever_their_curve_lets_them_run():
+    """The voltage k_t n + R T/k_t is linear in (n, T), so over the intermittent zone it is largest at a corner:
+    (n_r, T_p), (n_max, T_r n_r/n_max) or (n_max, 0); at each the examples stay below their 400 V."""
+    from mechatron.io.data import data_dir
+
+    motors = read_catalog(data_dir("examples/data") / "motors.csv", "motors")
+    kt, R, U = motors["torque_constant"], motors["resistance"], motors["voltage"]
+    n_r, n_max = motors["rated_speed"], motors["max_speed"]
+    corners = [(n_r, motors["peak_torque"]), (n_max, motors["rated_torque"] * n_r / n_max), (n_max, 0.0)]
+    for n, torque in corners:
+        assert ((kt * n + R * torque / kt) < U).all()
+
+
+@pytest.mark.parametrize("text, field, message", [
+    ("S,ball screw,16,5,0.9,3000,13.3,bolted", "end_fixing", "unknown end fixing 'bolted'"),
+    ("S,ball screw,16,5,0.9,3000,16,fixed-pinned", "diameter_mm", "diameter is not above root_diameter"),
+])
+def test_bad_screw_columns(tmp_path, text, field, message):
+    path = write(tmp_path, "key,type,diameter_mm,lead_mm,efficiency,max_speed_rpm,root_diameter_mm,end_fixing\n"
+                           + text + "\n", "s.csv")
+    with pytest.raises(InputError, match=message) as info:
+        read_catalog(path, "linear")
+    assert (info.value.row, info.value.field) == (2, field)
+
+
+def test_screw_and_rack_columns_convert(tmp_path):
+    path = write(tmp_path, "key,type,diameter_mm,lead_mm,efficiency,max_speed_rpm,root_diameter_mm,end_fixing,"
+                           "max_length_mm,permitted_force_kN\nS,ball screw,16,5,0.9,3000,13.3,fixed-pinned,1500,\n"
+                           "R,rack,40,125.66,0.96,3000,,,,4\n", "s.csv")
+    table = read_catalog(path, "linear")
+    assert table.loc[0, ["root_diameter", "max_length"]].tolist() == pytest.approx([0.0133, 1.5])
+    assert table.loc[0, "end_fixing"] == "fixed-pinned" and table.loc[1, "permitted_force"] == pytest.approx(4000)

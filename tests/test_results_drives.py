@@ -72,9 +72,9 @@ def test_frame_is_one_row_per_joint_and_check(arm, bucket):
     assert speed["unit"] == "rad/s"
     assert speed["value"] == pytest.approx(np.abs(arm.joints[0].operating_points()[0]).max())
     cylinder = bucket.to_frame()
-    assert list(cylinder["check"]) == ["push pressure", "pull pressure", "stroke", "rod buckling"]
+    assert list(cylinder["check"]) == ["rated pressure", "push pressure", "pull pressure", "stroke", "rod buckling"]
     assert cylinder["motor"].isna().all() and (cylinder["converter"] == bucket.joints[0].cylinder).all()
-    assert list(cylinder["unit"]) == ["Pa", "Pa", "m", "N"]
+    assert list(cylinder["unit"]) == ["Pa", "Pa", "Pa", "m", "N"]
 
 
 def test_text_report_shows_every_check(arm, bucket):

@@ -12,12 +12,15 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ..errors import InputError
 from ..io.data import data_dir
 from ..io.tables import number, read_csv
 from ..units import UNITS
+from .motor import ELECTRICAL_COLUMNS
+from .shafts import end_fixing
 
 
 @dataclass(frozen=True)
@@ -38,7 +41,8 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("rated_torque", "torque"), Field("peak_torque", "torque"), Field("rated_speed", "speed"),
         Field("max_speed", "speed"), Field("rotor_inertia", "inertia"),
         Field("torque_constant", "torque_constant", False), Field("rated_current", "current", False),
-        Field("rated_power", "power", False), Field("mass", "mass", False), Field("price", "money", False),
+        Field("rated_power", "power", False), Field("resistance", "resistance", False),
+        Field("voltage", "voltage", False), Field("mass", "mass", False), Field("price", "money", False),
     ),
     "gearboxes": (
         Field("key", "text"), Field("maker", "text", False), Field("type", "text"),
@@ -52,13 +56,15 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("key", "text"), Field("maker", "text", False), Field("type", "text"), Field("diameter", "length"),
         Field("lead", "length"), Field("efficiency", "fraction", maximum=1.0), Field("inertia", "inertia", False),
         Field("inertia_per_length", "inertia_per_length", False), Field("max_speed", "speed"),
-        Field("dynamic_load", "force", False), Field("mass", "mass", False),
+        Field("dynamic_load", "force", False), Field("root_diameter", "length", False),
+        Field("end_fixing", "text", False), Field("max_length", "length", False),
+        Field("permitted_force", "force", False), Field("mass", "mass", False),
         Field("mass_per_length", "linear_density", False), Field("price", "money", False),
     ),
     "cylinders": (
         Field("key", "text"), Field("maker", "text", False), Field("bore", "length"), Field("rod", "length"),
-        Field("max_stroke", "length"), Field("max_pressure", "pressure"), Field("mass", "mass", False),
-        Field("mass_per_stroke", "linear_density", False),
+        Field("max_stroke", "length"), Field("max_pressure", "pressure"), Field("end_fixing", "text", False),
+        Field("mass", "mass", False), Field("mass_per_stroke", "linear_density", False),
         Field("price", "money", False),
     ),
     "rotary_tables": (  # the direct-drive rotary tables of [Egorov, table 2.11]
@@ -170,16 +176,44 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
 
 def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: dict[str, str]) -> None:
     """Relations between columns: peak ≥ rated, max speed ≥ rated speed, rod < bore (strictly: a rod as wide as
-    the bore leaves no annulus to pull with)…"""
+    the bore leaves no annulus to pull with), a screw's root diameter < its diameter, a known end fixing, and the
+    electrical columns of a motor all or none."""
     rules = {"motors": [("peak_torque", "rated_torque", False), ("max_speed", "rated_speed", False)],
              "gearboxes": [("peak_torque", "rated_torque", False), ("emergency_torque", "peak_torque", False),
                            ("max_input_speed", "rated_input_speed", False)],
+             "linear": [("diameter", "root_diameter", True)],
              "cylinders": [("bore", "rod", True)], "rotary_tables": [("torque_5min", "torque_30min", False)]}
     for high, low, strict in rules.get(kind, []):
+        if high not in table or low not in table:
+            continue
         bad = table.index[table[high] <= table[low]] if strict else table.index[table[high] < table[low]]
         if len(bad):
             relation = "is not above" if strict else "is below"
             raise InputError(f"{high} {relation} {low}", file=path, row=int(bad[0]) + 2, field=column_of[high])
+    if "end_fixing" in table:
+        for row, name in enumerate(table["end_fixing"], start=2):
+            if name:
+                try:
+                    end_fixing(name)
+                except InputError as error:
+                    raise InputError(error.message, file=path, row=row, field=column_of["end_fixing"]) from None
+    if kind == "motors":
+        _check_electrical(table, path, column_of)
+
+
+def _check_electrical(table: pd.DataFrame, path: Path, column_of: dict[str, str]) -> None:
+    """A motor that gives its resistance or supply voltage gives all of the torque constant, the resistance and the
+    voltage (the voltage limit needs the three); else the row names the first one missing."""
+    given = {name: table[name].notna().to_numpy() if name in table else np.zeros(len(table), dtype=bool)
+             for name in ELECTRICAL_COLUMNS}
+    partial = (given["resistance"] | given["voltage"]) & ~np.all(list(given.values()), axis=0)
+    if partial.any():
+        i = int(np.flatnonzero(partial)[0])
+        missing = next(name for name in ELECTRICAL_COLUMNS if not given[name][i])
+        present = [name for name in ELECTRICAL_COLUMNS if given[name][i]]
+        raise InputError(f"missing value: the electrical columns are half filled ({', '.join(present)} given); the "
+                         f"voltage limit needs all of {', '.join(ELECTRICAL_COLUMNS)} (or none of resistance and "
+                         "voltage)", file=path, row=i + 2, field=column_of.get(missing, missing))
 
 
 def default_catalog(kind: str) -> pd.DataFrame:

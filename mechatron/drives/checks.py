@@ -26,7 +26,19 @@ transmission mean input speed         ⟨|n|⟩                                 
 
 ⟨·⟩ is the time mean over the task (trapezoidal rule). The S1 torque at the mean speed follows the drive makers'
 configuration manuals; the speed-weighted cubic mean is the gearbox makers' equivalent output torque; the emergency
-check is M_max,gear ≥ M_0 i with the peak torque for M_0 ([Vendor sizing]).
+check is M_max,gear ≥ M_0 i with the peak torque for M_0 ([Vendor sizing]), or the torque the drive is limited to in
+an emergency stop (:class:`DriveLimits`: a torque, or a current times the torque constant k_t; never above T_peak).
+
+Beyond these (:data:`ALL_CHECKS`), where the catalogs give the data:
+
+- **voltage limit** (V) of a motor with torque constant k_t (N·m/A), winding resistance R (Ω) and supply voltage U
+  (V) (:mod:`mechatron.drives.motor`): max (k_t |n| + R |T_m| / k_t) ≤ U, the back-EMF k_e ω plus the resistive
+  drop R I of the current I = T_m / k_t (k_e = k_t in SI units), at every sample — the voltage-limit line of the
+  speed–torque curve, applied to |T_m| in all four quadrants as the makers' curves are (conservative when braking);
+- the screw and rack checks of :mod:`mechatron.drives.screws` (equivalent load and L10 life, critical speed,
+  buckling, rack tooth force, length).
+
+A check whose data a motor or converter lacks has the limit inf and is not reported.
 """
 
 from __future__ import annotations
@@ -38,14 +50,23 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from ..errors import InputError
 from .converters import Converters
 from .duty import JointDuty
-from .motor import continuous_torque, peak_torque_limit
+from .motor import continuous_torque, electrical_data, peak_torque_limit
+from .screws import SCREW_CHECKS, SCREW_LIFE, SCREW_UNITS, screw_checks
 
+#: The checks of a motor and a gearbox (each applies to a motor with a gearbox).
 CHECKS = ("peak torque", "speed-torque curve", "RMS torque", "max speed", "inertia ratio",
           "transmission equivalent torque", "transmission peak torque", "transmission emergency torque",
           "transmission max input speed", "transmission mean input speed")
 UNITS = ("N·m", "-", "N·m", "rad/s", "-", "N·m", "N·m", "N·m", "rad/s", "rad/s")
+#: Every check of a motor × converter pair: :data:`CHECKS`, the voltage limit, the screw and rack checks.
+ALL_CHECKS = CHECKS + ("voltage limit",) + SCREW_CHECKS
+ALL_UNITS = UNITS + ("V",) + SCREW_UNITS
+_VOLTAGE = len(CHECKS)
+#: The checks evaluated sample by sample (lower bounds until refined).
+PER_SAMPLE = (0, 1, _VOLTAGE)
 #: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
 PASS_TOLERANCE = 1e-9
 
@@ -72,6 +93,45 @@ class Check:
                 "margin": float(self.margin), "pass": bool(self.passed)}
 
 
+@dataclass(frozen=True)
+class DriveLimits:
+    """Settings of the vendor checks beyond the catalogs (SI units).
+
+    Attributes:
+        stop_torque: The motor torque (N·m) the drive is limited to in an emergency stop; the gearbox's
+            emergency check takes min(stop_torque, T_peak) · u instead of T_peak · u.
+        stop_current: The same as a current limit (A): the stop torque of each motor is k_t · stop_current (never
+            above T_peak; a motor without a torque constant keeps T_peak). Give one of the two.
+        screw_life: The required nominal life of a screw running the task over and over (s; default 20 000 h).
+        voltage: The supply voltage (V) of the voltage-limit check, instead of each motor's catalog voltage.
+    """
+
+    stop_torque: float | None = None
+    stop_current: float | None = None
+    screw_life: float = SCREW_LIFE
+    voltage: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("stop_torque", "stop_current", "voltage"):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise InputError(f"{name} must be a finite number > 0, got {value!r}")
+        if self.stop_torque is not None and self.stop_current is not None:
+            raise InputError("give the emergency-stop limit as a torque or as a current, not both")
+        if not (math.isfinite(self.screw_life) and self.screw_life > 0):
+            raise InputError(f"screw_life must be a finite number of seconds > 0, got {self.screw_life!r}")
+
+    def stop_torques(self, motors: pd.DataFrame) -> NDArray[np.float64]:
+        """The torque (N·m) each motor gives in an emergency stop: min(limit, T_peak), T_peak without a limit."""
+        peak = motors["peak_torque"].to_numpy(dtype=float)
+        if self.stop_torque is not None:
+            return np.minimum(peak, self.stop_torque)
+        if self.stop_current is not None and "torque_constant" in motors:
+            kt = motors["torque_constant"].to_numpy(dtype=float)
+            return np.where(np.isfinite(kt), np.minimum(peak, kt * self.stop_current), peak)
+        return peak
+
+
 def _load_factor(value: ArrayLike, limit: ArrayLike) -> NDArray[np.float64] | float:
     """value / limit with 0/0 = 0, x/0 = inf and x/inf = 0."""
     value, limit = np.asarray(value, dtype=float), np.asarray(limit, dtype=float)
@@ -94,65 +154,82 @@ def motor_side(duty: JointDuty, u: ArrayLike, eta: ArrayLike, inertia: ArrayLike
 
 
 class Evaluation:
-    """The checks of every motor × converter pair of one joint: ``values`` and ``limits`` (N_m, N_c, len(CHECKS)).
+    """The checks of every motor × converter pair of one joint: ``values`` and ``limits`` (N_m, N_c,
+    len(ALL_CHECKS)).
 
-    The two per-sample checks (peak torque, speed–torque curve) cost a pass over the samples per pair; they start
-    as lower bounds from a few decisive samples (:meth:`JointDuty.strong_samples`) and are made exact for the
-    pairs given to :meth:`refine` (``exact`` marks them). Every other check is exact from the start (time means
-    over the samples per converter, combined per motor). A lower bound never passes a pair that fails.
+    The per-sample checks (peak torque, speed–torque curve, voltage limit) cost a pass over the samples per pair;
+    they start as lower bounds from a few decisive samples (:meth:`JointDuty.strong_samples`) and are made exact
+    for the pairs given to :meth:`refine` (``exact`` marks them) over the samples that can decide them
+    (:meth:`JointDuty.envelope`: the voltage k_t |n| + R |T_m| / k_t grows with |n| and |T_m| like the load on the
+    speed–torque curve). Every other check is exact from the start (time means over the samples per converter,
+    combined per motor). A lower bound never passes a pair that fails.
     """
 
-    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0):
+    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
+                 limits: DriveLimits | None = None):
+        limits = limits or DriveLimits()
         weights = duty.time_weights()
         u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
         n, accel, base = motor_side(duty, u, eta, Jc)  # (N_c, T)
         self.rotor = motors["rotor_inertia"].to_numpy()
         self.rated, self.peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
         self.rated_speed, self.top_speed = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
+        kt, resistance, voltage = electrical_data(motors, limits.voltage)
+        checked = np.isfinite(voltage)  # motors with the voltage data
+        # u = back_emf |n| + drop |T_m| (V): k_e = k_t, drop = R / k_t
+        self.back_emf, self.drop = np.where(checked, kt, 0.0), np.where(checked, resistance / kt, 0.0)
         shape = (len(motors), len(conv))
-        self.values, self.limits = np.empty(shape + (len(CHECKS),)), np.empty(shape + (len(CHECKS),))
+        self.values, self.limits = np.empty(shape + (len(ALL_CHECKS),)), np.empty(shape + (len(ALL_CHECKS),))
         self.exact = np.zeros(shape, dtype=bool)
-        values, limits, Jm = self.values, self.limits, self.rotor
+        values, lim, Jm = self.values, self.limits, self.rotor
 
         # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩
         m_aa, m_ab, m_bb = (accel**2) @ weights, (accel * base) @ weights, (base**2) @ weights
         values[..., 2] = np.sqrt(np.maximum(np.outer(Jm**2, m_aa) + 2 * np.outer(Jm, m_ab) + m_bb, 0.0))
         mean_speed = np.abs(n) @ weights
-        limits[..., 2] = continuous_torque(mean_speed[None, :], self.rated[:, None], self.rated_speed[:, None],
-                                           self.top_speed[:, None])
+        lim[..., 2] = continuous_torque(mean_speed[None, :], self.rated[:, None], self.rated_speed[:, None],
+                                        self.top_speed[:, None])
         top_speed = np.abs(n).max(axis=1)
-        values[..., 3], limits[..., 3] = top_speed[None, :], self.top_speed[:, None]
+        values[..., 3], lim[..., 3] = top_speed[None, :], self.top_speed[:, None]
         values[..., 4] = (duty.load_inertia / conv.ratio**2 + conv.inertia)[None, :] / Jm[:, None]
-        limits[..., 4] = inertia_ratio_max
+        lim[..., 4] = inertia_ratio_max
         # transmission (output side)
         motion = np.abs(duty.speed) * weights
         if motion.sum() == 0:
             motion = weights
         values[..., 5] = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
         values[..., 6] = np.abs(duty.torque).max()
-        values[..., 7] = np.outer(self.peak, conv.ratio)
+        values[..., 7] = np.outer(limits.stop_torques(motors), conv.ratio)
         values[..., 8], values[..., 9] = top_speed[None, :], mean_speed[None, :]
         for k, limit in zip(range(5, 10), (conv.rated_torque, conv.peak_torque, conv.emergency_torque,
                                            conv.max_input_speed, conv.rated_input_speed)):
-            limits[..., k] = limit[None, :]
-        limits[..., 0], limits[..., 1] = self.peak[:, None], 1.0
+            lim[..., k] = limit[None, :]
+        lim[..., 0], lim[..., 1] = self.peak[:, None], 1.0
+        lim[..., _VOLTAGE] = np.where(checked, voltage, math.inf)[:, None]
+        screw_values, screw_limits = screw_checks(duty, conv, limits.screw_life)
+        values[..., _VOLTAGE + 1:], lim[..., _VOLTAGE + 1:] = screw_values[None], screw_limits[None]
 
         # the per-sample checks: lower bounds now, exact on demand
         strong = duty.strong_samples(2)
         rows, cols = np.indices(shape)
-        values[..., 0], values[..., 1] = (x.reshape(shape) for x in self._per_sample(
-            rows.ravel(), cols.ravel(), n[:, strong], accel[:, strong], base[:, strong]))
+        bounds = self._per_sample(rows.ravel(), cols.ravel(), n[:, strong], accel[:, strong], base[:, strong])
+        for k, bound in zip(PER_SAMPLE, bounds):
+            values[..., k] = bound.reshape(shape)
         keep = duty.envelope()
         self._n, self._accel, self._base = n[:, keep], accel[:, keep], base[:, keep]
 
     def _per_sample(self, m: NDArray[np.intp], c: NDArray[np.intp], n: NDArray[np.float64],
                     accel: NDArray[np.float64], base: NDArray[np.float64]
-                    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """(max |T_m|, max |T_m| / T_intermittent(|n|)) of the pairs (m[i], c[i]) over the given samples."""
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """(max |T_m|, max |T_m| / T_intermittent(|n|), max k_t |n| + R |T_m| / k_t) of the pairs (m[i], c[i]) over
+        the given samples."""
         torque = np.abs(self.rotor[m, None] * accel[c] + base[c])
         available = peak_torque_limit(n[c], self.peak[m, None], self.rated[m, None], self.rated_speed[m, None],
                                       self.top_speed[m, None])
-        return torque.max(axis=1), _load_factor(torque, available).max(axis=1)
+        if not self.back_emf.any():  # no motor with the voltage data
+            return torque.max(axis=1), _load_factor(torque, available).max(axis=1), np.zeros(len(m))
+        voltage = self.back_emf[m, None] * np.abs(n[c]) + self.drop[m, None] * torque
+        return torque.max(axis=1), _load_factor(torque, available).max(axis=1), voltage.max(axis=1)
 
     def refine(self, m: ArrayLike, c: ArrayLike, batch: int = 512) -> None:
         """Make the per-sample checks exact for the pairs (m[i], c[i])."""
@@ -161,8 +238,9 @@ class Evaluation:
         m, c = m[todo], c[todo]
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
-            self.values[mb, cb, 0], self.values[mb, cb, 1] = self._per_sample(mb, cb, self._n, self._accel,
-                                                                              self._base)
+            exact = self._per_sample(mb, cb, self._n, self._accel, self._base)
+            for k, value in zip(PER_SAMPLE, exact):
+                self.values[mb, cb, k] = value
             self.exact[mb, cb] = True
 
     def refine_all(self) -> Evaluation:
@@ -171,11 +249,11 @@ class Evaluation:
         return self
 
     def load_factors(self) -> NDArray[np.float64]:
-        """value/limit of every check, (N_m, N_c, len(CHECKS)); > 1 fails."""
+        """value/limit of every check, (N_m, N_c, len(ALL_CHECKS)); > 1 fails."""
         return _load_factor(self.values, self.limits)
 
     def load_factors_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
-        """value/limit of every check of the pairs (m, c): (..., len(CHECKS))."""
+        """value/limit of every check of the pairs (m, c): (..., len(ALL_CHECKS))."""
         return _load_factor(self.values[m, c], self.limits[m, c])
 
     def worst_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
@@ -189,13 +267,19 @@ class Evaluation:
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), made exact first."""
         self.refine([m], [c])
-        return [Check(name, float(self.values[m, c, k]), float(self.limits[m, c, k]), UNITS[k])
-                for k, name in enumerate(CHECKS) if math.isfinite(self.limits[m, c, k])]
+        return [Check(name, float(self.values[m, c, k]), float(self.limits[m, c, k]), ALL_UNITS[k])
+                for k, name in enumerate(ALL_CHECKS) if math.isfinite(self.limits[m, c, k])]
+
+    def failed(self, m: int, c: int) -> list[str]:
+        """The checks the pair (m, c) fails, as ``name ×load factor``."""
+        factors = self.load_factors_of(m, c)
+        return [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(ALL_CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
 
 
 def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
-             exact: bool = True) -> Evaluation:
+             exact: bool = True, limits: DriveLimits | None = None) -> Evaluation:
     """Every check of every motor × converter pair (see the module docstring); with ``exact=False`` the
-    per-sample checks are lower bounds until :meth:`Evaluation.refine` is called."""
-    evaluation = Evaluation(duty, motors, conv, inertia_ratio_max)
+    per-sample checks are lower bounds until :meth:`Evaluation.refine` is called. ``limits``: the emergency-stop
+    limit, required screw life and supply voltage (:class:`DriveLimits`)."""
+    evaluation = Evaluation(duty, motors, conv, inertia_ratio_max, limits)
     return evaluation.refine_all() if exact else evaluation

@@ -1,6 +1,9 @@
 """The motion converters a joint can be driven through, as arrays: direct drive, the gearboxes of a catalog for a
 revolute joint, the linear drives of a catalog (ball screws, racks and pinions) for a prismatic one (ratio
-u = 2π / lead, rad/m, with the lead the travel per turn of the motor-side shaft)."""
+u = 2π / lead, rad/m, with the lead the travel per turn of the motor-side shaft).
+
+A linear drive also carries what its own checks need (:mod:`mechatron.drives.screws`): the length used, dynamic
+load rating, root diameter and end fixing of a screw, the permitted tooth force of a rack, the longest one made."""
 
 from __future__ import annotations
 
@@ -13,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from .duty import JointDuty
+from .shafts import fixing_factors
 
 #: Length of a screw or rack beyond the stroke, for bearings and nut (m): its inertia and mass per length count
 #: over stroke + LENGTH_ALLOWANCE.
@@ -24,7 +28,12 @@ class Converters:
     """Converters of one joint, one array entry each: key, kind, ratio u (motor speed / joint speed; rad/rad, or
     rad/m for a screw or rack), efficiency η, motor-side inertia J_c (kg·m²), output torque limits (N·m; rated
     T2N, peak T2B, emergency T2Stop), input speed limits (rad/s; max n1max, rated mean n1N), mass (kg) and price;
-    a limit that does not apply is inf."""
+    a limit that does not apply is inf.
+
+    A linear drive also has its length L = stroke + :data:`LENGTH_ALLOWANCE` (m), the dynamic load rating C (N),
+    the root diameter d_r (m) and the end fixing's effective-length factor K and eigenvalue λ of a screw
+    (:mod:`mechatron.drives.shafts`), the permitted tooth force of a rack (N) and the longest one made
+    (``max_length``, m); NaN (C, d_r, K, λ, L) or inf (the limits) where they do not apply."""
 
     key: NDArray[np.str_]
     kind: NDArray[np.str_]
@@ -38,6 +47,13 @@ class Converters:
     rated_input_speed: NDArray[np.float64]  # rad/s
     mass: NDArray[np.float64]  # kg
     price: NDArray[np.float64]
+    length: NDArray[np.float64]  # m
+    dynamic_load: NDArray[np.float64]  # N
+    root_diameter: NDArray[np.float64]  # m
+    buckling_factor: NDArray[np.float64]  # K
+    whirl_factor: NDArray[np.float64]  # λ
+    permitted_force: NDArray[np.float64]  # N
+    max_length: NDArray[np.float64]  # m
 
     def __len__(self) -> int:
         return len(self.key)
@@ -51,11 +67,20 @@ def _number(value) -> float:
     return 0.0 if value is None or (isinstance(value, float) and math.isnan(value)) else float(value)
 
 
+def _optional(value, missing: float) -> float:
+    return missing if value is None or (isinstance(value, float) and math.isnan(value)) else float(value)
+
+
+#: The linear-drive data of a converter that is not one (direct drive, gearbox).
+_ROTARY = dict(length=math.nan, dynamic_load=math.nan, root_diameter=math.nan, buckling_factor=math.nan,
+               whirl_factor=math.nan, permitted_force=math.inf, max_length=math.inf)
+
+
 def _direct() -> dict:
     inf = math.inf
     return dict(key="direct", kind="direct", ratio=1.0, efficiency=1.0, inertia=0.0, rated_torque=inf,
                 peak_torque=inf, emergency_torque=inf, max_input_speed=inf, rated_input_speed=inf, mass=0.0,
-                price=0.0)
+                price=0.0, **_ROTARY)
 
 
 def _gearbox(row: dict) -> dict:
@@ -63,16 +88,21 @@ def _gearbox(row: dict) -> dict:
                 inertia=row["input_inertia"], rated_torque=row["rated_torque"], peak_torque=row["peak_torque"],
                 emergency_torque=row["emergency_torque"], max_input_speed=row["max_input_speed"],
                 rated_input_speed=row["rated_input_speed"], mass=_number(row.get("mass")),
-                price=_number(row.get("price")))
+                price=_number(row.get("price")), **_ROTARY)
 
 
 def _linear(row: dict, length: float) -> dict:
     inf = math.inf
+    fixing, whirl = fixing_factors([row.get("end_fixing") or ""])
     return dict(key=row["key"], kind=row["type"], ratio=2 * math.pi / row["lead"], efficiency=row["efficiency"],
                 inertia=_number(row.get("inertia")) + _number(row.get("inertia_per_length")) * length,
                 rated_torque=inf, peak_torque=inf, emergency_torque=inf, max_input_speed=row["max_speed"],
                 rated_input_speed=inf, mass=_number(row.get("mass")) + _number(row.get("mass_per_length")) * length,
-                price=_number(row.get("price")))
+                price=_number(row.get("price")), length=length,
+                dynamic_load=_optional(row.get("dynamic_load"), math.nan),
+                root_diameter=_optional(row.get("root_diameter"), math.nan), buckling_factor=float(fixing[0]),
+                whirl_factor=float(whirl[0]), permitted_force=_optional(row.get("permitted_force"), inf),
+                max_length=_optional(row.get("max_length"), inf))
 
 
 def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,

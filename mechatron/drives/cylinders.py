@@ -1,17 +1,26 @@
 r"""Hydraulic cylinders of a closed-loop mechanism chosen from a catalog.
 
-For a cylinder coordinate with force F(t) (N, > 0 pushes: extends the cylinder), speed v(t) (m/s) shared by
-``count`` cylinders side by side, and a catalog cylinder of bore D and rod d (piston area A_p = π D²/4, annulus
-A_a = A_p − π d²/4):
+For a cylinder coordinate with force F(t) (N, > 0 pushes: extends the cylinder), speed v(t) (m/s) and pin-to-pin
+length L(t) (m) shared by ``count`` cylinders side by side, a hydraulic system of relief pressure p_s, and a
+catalog cylinder of bore D, rod d (piston area A_p = π D²/4, annulus A_a = A_p − π d²/4) and rated pressure p_r:
 
-- push pressure  p = max F⁺ / (count A_p)  ≤ min(rated pressure, system pressure);
-- pull pressure  p = max F⁻ / (count A_a)  ≤ the same;
-- stroke         L_max − L_min ≤ the catalog's maximum stroke;
-- rod buckling   max F⁺ / count ≤ F_E / S, F_E = π² E (π d⁴/64) / L_max² (Euler, pinned ends, the whole cylinder
-  taken as a rod of diameter d at full extension — the makers' conservative simplification), S = 3.5;
-- flow           Q = count · max(A_p v⁺, A_a v⁻) (m³/s), reported (the pump is a system choice).
+- rated pressure  p_s ≤ p_r: the relief pressure reaches the cylinder whenever the pump works against it (at a
+  stroke end, when the load stalls), whatever the task's forces;
+- push pressure   p = max F⁺ / (count A_p)  ≤ min(p_r, p_s);
+- pull pressure   p = max F⁻ / (count A_a)  ≤ the same;
+- stroke          L_max − L_min ≤ the catalog's maximum stroke;
+- rod buckling    at every pose, F⁺/count ≤ F_E(L) / S with F_E(L) = π² E (π d⁴/64) / (K L)² (Euler, buckling length
+  K L with the end fixing's factor K, :mod:`mechatron.drives.shafts`; the whole cylinder taken as a rod of
+  diameter d — the makers' conservative simplification), S = 3.5. Reported at the pose of the largest load factor
+  (value: the force there, limit: the allowed force at that length). Without the lengths of the task, every
+  pose is taken fully extended (L = L_max).
 
-The feasible cylinders are ranked by mass (``mass + mass_per_stroke · stroke``), cost or margin.
+The end fixing is the catalog row's (``end_fixing``, default pinned at both ends: an eye or clevis at each end) or
+the one given to :func:`size_cylinder`. Each cylinder says whether its bore and rod belong to the metric series of
+[ISO 3320] (:data:`ISO_3320_BORES`, :data:`ISO_3320_RODS`). The feasible cylinders are ranked by mass
+(``mass + mass_per_stroke · stroke``), cost or margin. The flow a cylinder takes,
+Q(t) = count · (A_p v⁺ + A_a v⁻) (m³/s), and the pump flow and hydraulic power over the cycle are in
+:mod:`mechatron.drives.hydraulics`.
 """
 
 from __future__ import annotations
@@ -22,6 +31,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..model.mechanism import Cylinder
@@ -29,14 +39,43 @@ from ..report.result import json_ready
 from .checks import PASS_TOLERANCE, Check, _load_factor
 from .duty import JointDuty
 from .report import REPORTED, DriveSizing
+from .shafts import END_FIXINGS, STEEL_MODULUS, end_fixing, euler_load, fixing_factors
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-STEEL_MODULUS = 2.1e11  # Pa
+    from ..dynamics.motion import Trajectory
+    from ..model.mechanism import Mechanism
+
 BUCKLING_SAFETY = 3.5
-CYLINDER_CHECKS = ("push pressure", "pull pressure", "stroke", "rod buckling")
+CYLINDER_CHECKS = ("rated pressure", "push pressure", "pull pressure", "stroke", "rod buckling")
+CYLINDER_UNITS = ("Pa", "Pa", "Pa", "m", "N")
+#: The cylinder bores of [ISO 3320] (mm): the preferred ones (the R10 series) and, in brackets in the standard,
+#: the non-preferred 90, 110, 140, 180, 220, 280, 360 and 450.
+ISO_3320_BORES = (8, 10, 12, 16, 20, 25, 32, 40, 50, 63, 80, 90, 100, 110, 125, 140, 160, 180, 200, 220, 250, 280,
+                  320, 360, 400, 450, 500)
+#: The piston rod diameters of [ISO 3320] (mm): the R20 series from 4 to 360 mm.
+ISO_3320_RODS = (4, 5, 6, 8, 10, 12, 14, 16, 18, 20, 22, 25, 28, 32, 36, 40, 45, 50, 56, 63, 70, 80, 90, 100, 110,
+                 125, 140, 160, 180, 200, 220, 250, 280, 320, 360)
+
+
+def iso_3320(bore: ArrayLike, rod: ArrayLike) -> NDArray[np.bool_]:
+    """Whether a bore D and rod d (m) both belong to the series of [ISO 3320] (to 1 µm)."""
+    def member(diameter: ArrayLike, series: tuple[int, ...]) -> NDArray[np.bool_]:
+        mm = np.asarray(diameter, dtype=float) * 1e3
+        return np.isin(np.round(mm, 3), np.asarray(series, dtype=float))
+
+    return member(bore, ISO_3320_BORES) & member(rod, ISO_3320_RODS)
+
+
+def cylinder_lengths(mech: Mechanism, trajectory: Trajectory) -> dict[str, NDArray[np.float64] | None]:
+    """The pin-to-pin length L(t) (m) of every hydraulic cylinder of ``mech`` along a trajectory of its actuated
+    coordinates (None for a cylinder that is not one of them)."""
+    q = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
+    actuated = list(mech.actuated) if mech.closures else []
+    return {name: q[:, actuated.index(name)].copy() if name in actuated and q.shape[1] == len(actuated) else None
+            for name in mech.cylinders}
 
 
 @dataclass
@@ -49,13 +88,18 @@ class CylinderSizing(DriveSizing):
         objective: how the feasible cylinders were ranked (``mass``, ``cost``, ``margin``).
         feasible: whether any catalog cylinder passes every check.
         cylinder, count: the chosen cylinder's key and how many work side by side.
-        checks: push and pull pressure (Pa), stroke (m), rod buckling (N).
+        checks: rated, push and pull pressure (Pa), stroke (m), rod buckling (N).
         peak_flow: Q = count · max(A_p v⁺, A_a v⁻) (m³/s).
-        ranking: the feasible cylinders, best first (cylinder, bore, rod, mass, price, smallest margin, peak flow,
-            score).
+        ranking: the feasible cylinders, best first (cylinder, bore, rod, iso_3320, mass, price, smallest margin,
+            peak flow, score).
         closest: the cylinders with the smallest worst load factor and the checks they fail.
         duty: the coordinate's duty: force (N, > 0 pushes) and speed (m/s) over time.
         cylinder_data: the chosen cylinder's catalog data (SI).
+        pressure: the system's relief pressure (Pa).
+        end_fixing: the end fixing of the buckling check (a key of :data:`~mechatron.drives.shafts.END_FIXINGS`,
+            or ``"K = …"`` for a factor given as a number).
+        buckling_length: K L at the pose that decides the buckling check (m).
+        length: the pin-to-pin length L(t) along the task (m), if known.
     """
 
     joint: str
@@ -69,6 +113,10 @@ class CylinderSizing(DriveSizing):
     closest: pd.DataFrame
     duty: JointDuty
     cylinder_data: dict
+    pressure: float = 32e6
+    end_fixing: str = "pinned-pinned"
+    buckling_length: float = math.nan
+    length: NDArray[np.float64] | None = None
 
     kind = "cylinder"
 
@@ -78,24 +126,39 @@ class CylinderSizing(DriveSizing):
         piston = math.pi * self.cylinder_data["bore"] ** 2 / 4
         return piston, piston - math.pi * self.cylinder_data["rod"] ** 2 / 4
 
+    @property
+    def standard(self) -> bool:
+        """Whether the chosen cylinder's bore and rod belong to the series of [ISO 3320]."""
+        return bool(iso_3320(self.cylinder_data["bore"], self.cylinder_data["rod"]))
+
+    def flow(self) -> NDArray[np.float64]:
+        """Q(t) = count · (A_p v⁺ + A_a v⁻) (m³/s): the oil the cylinders take in along the task (the piston side
+        when extending, the rod side when retracting)."""
+        piston, annulus = self.areas
+        v = self.duty.speed
+        return self.count * np.where(v > 0, piston * v, -annulus * v)
+
     def drive_columns(self) -> dict:
         return {"motor": None, "converter": self.cylinder, "ratio": None}
 
     def headline(self) -> str:
         c = self.cylinder_data
+        series = "ISO 3320" if self.standard else "not of the ISO 3320 series"
         return (f"{self.joint}: cylinder {self.cylinder} ×{self.count} (bore {c['bore'] * 1e3:g} mm, rod "
-                f"{c['rod'] * 1e3:g} mm), peak flow {self.peak_flow * 6e4:.1f} l/min")
+                f"{c['rod'] * 1e3:g} mm, {series}; {self.end_fixing}), peak flow {self.peak_flow * 6e4:.1f} l/min")
 
     def candidate(self, row: dict) -> str:
         return str(row["cylinder"])
 
     def as_dict(self) -> dict:
-        """joint, kind, feasible, motor/gearbox/ratio (None), cylinder, count, bore and rod (m), peak_flow (m³/s) and
-        peak_flow_l_min, checks (SI), alternatives, closest (when none is feasible)."""
+        """joint, kind, feasible, motor/gearbox/ratio (None), cylinder, count, bore and rod (m), iso_3320,
+        pressure (Pa), end_fixing, buckling_length (m), peak_flow (m³/s) and peak_flow_l_min, checks (SI),
+        alternatives, closest (when none is feasible)."""
         return json_ready({
             "joint": self.joint, "kind": "cylinder", "feasible": self.feasible, "motor": None, "gearbox": None,
             "ratio": None, "cylinder": self.cylinder, "count": self.count,
-            "bore": self.cylinder_data["bore"], "rod": self.cylinder_data["rod"],
+            "bore": self.cylinder_data["bore"], "rod": self.cylinder_data["rod"], "iso_3320": self.standard,
+            "pressure": self.pressure, "end_fixing": self.end_fixing, "buckling_length": self.buckling_length,
             "peak_flow": self.peak_flow, "peak_flow_l_min": self.peak_flow * 60e3,
             "checks": [c.as_dict() for c in self.checks],
             "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
@@ -119,40 +182,77 @@ class CylinderSizing(DriveSizing):
         return figure
 
 
+def _fixings(catalog: pd.DataFrame, given: str | float | None) -> tuple[NDArray[np.float64], list[str]]:
+    """(K, name) of the end fixing of every catalog row: ``given`` (a name or a factor K > 0) for all, else the
+    row's ``end_fixing`` (default pinned at both ends)."""
+    if given is None:
+        names = catalog["end_fixing"].tolist() if "end_fixing" in catalog else [""] * len(catalog)
+        factors, _ = fixing_factors(names)
+        return factors, [end_fixing(n) if isinstance(n, str) and n.strip() else "pinned-pinned" for n in names]
+    if isinstance(given, str):
+        name = end_fixing(given)
+        return np.full(len(catalog), END_FIXINGS[name][0]), [name] * len(catalog)
+    factor = float(given)
+    if not (math.isfinite(factor) and factor > 0):
+        raise InputError(f"the end-fixing factor K must be a finite number > 0, got {given!r}")
+    return np.full(len(catalog), factor), [f"K = {factor:g}"] * len(catalog)
+
+
 def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pressure: float = 32e6,
-                  objective: str = "mass") -> CylinderSizing:
+                  objective: str = "mass", length: ArrayLike | None = None,
+                  end_fixing: str | float | None = None) -> CylinderSizing:
     """Choose a catalog cylinder for the coordinate ``spec`` (its stroke and count) doing ``duty``; ``pressure``
-    is the system's relief pressure (Pa)."""
+    is the system's relief pressure (Pa) (the checks: the module docstring).
+
+    Args:
+        length: The pin-to-pin length L(t) (m) at every sample of the duty, for the buckling check at every pose
+            (:func:`cylinder_lengths`); default: fully extended, L = L_max of ``spec``, at every pose.
+        end_fixing: The end fixing of every cylinder: a name of :data:`~mechatron.drives.shafts.END_FIXINGS` or
+            the effective-length factor K; default: each catalog row's ``end_fixing`` (pinned at both ends where
+            it gives none).
+    """
     if objective not in ("mass", "cost", "margin"):
         raise InputError(f"cylinders are ranked by mass, cost or margin, not {objective!r}")
     if not pressure > 0:
         raise InputError(f"the system pressure must be > 0 Pa, got {pressure!r}")
+    if length is None:
+        length = np.full(len(duty.t), spec.stroke[1])
+    length = np.asarray(length, dtype=float)
+    if length.shape != duty.t.shape or not np.all(np.isfinite(length) & (length > 0)):
+        raise InputError(f"cylinder {duty.name}: give a length > 0 (m) at each of the {len(duty.t)} samples")
     bore, rod = catalog["bore"].to_numpy(), catalog["rod"].to_numpy()
     piston = math.pi * bore**2 / 4
     annulus = piston - math.pi * rod**2 / 4
     stroke = spec.stroke[1] - spec.stroke[0]
-    push = max(float(duty.torque.max()), 0.0) / spec.count
-    pull = max(float(-duty.torque.min()), 0.0) / spec.count
-    limit = np.minimum(catalog["max_pressure"].to_numpy(), pressure)
-    euler = math.pi**2 * STEEL_MODULUS * (math.pi * rod**4 / 64) / spec.stroke[1] ** 2
-    values = np.stack([push / piston, pull / annulus, np.full(len(catalog), stroke),
-                       np.full(len(catalog), push)], axis=1)
-    limits = np.stack([limit, limit, catalog["max_stroke"].to_numpy(), euler / BUCKLING_SAFETY], axis=1)
-    units = ("Pa", "Pa", "m", "N")
+    force = duty.torque / spec.count  # per cylinder
+    push = max(float(force.max()), 0.0)
+    pull = max(float(-force.min()), 0.0)
+    rated = catalog["max_pressure"].to_numpy()
+    limit = np.minimum(rated, pressure)
+    K, fixings = _fixings(catalog, end_fixing)
+    # buckling at every pose: the pose of the largest F⁺ (K L)² decides, for every cylinder
+    pose = int(np.argmax(np.maximum(force, 0.0) * length**2))
+    allowed = euler_load(rod, length[pose], K, STEEL_MODULUS) / BUCKLING_SAFETY
+    count = len(catalog)
+    values = np.stack([np.full(count, pressure), push / piston, pull / annulus, np.full(count, stroke),
+                       np.full(count, max(float(force[pose]), 0.0))], axis=1)
+    limits = np.stack([rated, limit, limit, catalog["max_stroke"].to_numpy(), allowed], axis=1)
     factors = _load_factor(values, limits)
     worst = factors.max(axis=1)
     feasible = worst <= 1 + PASS_TOLERANCE
-    mass = catalog["mass"].fillna(0).to_numpy() if "mass" in catalog else np.zeros(len(catalog))
+    mass = catalog["mass"].fillna(0).to_numpy() if "mass" in catalog else np.zeros(count)
     if "mass_per_stroke" in catalog:
         mass = mass + catalog["mass_per_stroke"].fillna(0).to_numpy() * stroke
-    price = catalog["price"].fillna(0).to_numpy() if "price" in catalog else np.zeros(len(catalog))
+    price = catalog["price"].fillna(0).to_numpy() if "price" in catalog else np.zeros(count)
     score = {"mass": mass, "cost": price, "margin": worst}[objective]
     extending, retracting = max(float(duty.speed.max()), 0.0), max(-float(duty.speed.min()), 0.0) + 0.0
     flow = spec.count * np.maximum(piston * extending, annulus * retracting)
+    standard = iso_3320(bore, rod)
     index = np.flatnonzero(feasible)
     ranking = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[index], "bore": bore[index], "rod": rod[index],
-                            "mass": mass[index] * spec.count, "price": price[index] * spec.count,
-                            "smallest_margin": 1 - worst[index], "peak_flow": flow[index], "score": score[index]})
+                            "iso_3320": standard[index], "mass": mass[index] * spec.count,
+                            "price": price[index] * spec.count, "smallest_margin": 1 - worst[index],
+                            "peak_flow": flow[index], "score": score[index]})
     ranking = ranking.sort_values(["score", "mass"], kind="stable").reset_index(drop=True)
     order = np.argsort(worst, kind="stable")[:REPORTED]
     closest = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[order], "worst_load_factor": worst[order],
@@ -160,6 +260,8 @@ def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pre
                                                  if factors[i, k] > 1 + PASS_TOLERANCE) or "none" for i in order]})
     i = int(np.flatnonzero(catalog["key"].to_numpy() == ranking["cylinder"].iloc[0])[0]) if len(ranking) \
         else int(order[0])
-    checks = [Check(name, float(values[i, k]), float(limits[i, k]), units[k]) for k, name in enumerate(CYLINDER_CHECKS)]
+    checks = [Check(name, float(values[i, k]), float(limits[i, k]), CYLINDER_UNITS[k])
+              for k, name in enumerate(CYLINDER_CHECKS)]
     return CylinderSizing(duty.name, objective, bool(len(ranking)), str(catalog["key"].iloc[i]), spec.count, checks,
-                          float(flow[i]), ranking, closest, duty, catalog.iloc[i].to_dict())
+                          float(flow[i]), ranking, closest, duty, catalog.iloc[i].to_dict(), float(pressure),
+                          fixings[i], float(K[i] * length[pose]), length)

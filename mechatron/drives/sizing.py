@@ -35,7 +35,7 @@ from ..errors import InputError
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
 from ..report.result import Result, json_ready
-from .checks import CHECKS, PASS_TOLERANCE, Check, Evaluation, evaluate, motor_side
+from .checks import ALL_CHECKS, PASS_TOLERANCE, Check, DriveLimits, Evaluation, evaluate, motor_side
 from .converters import Converters, converters_for
 from .duty import DriveMount, JointDuty, drive_carrier, joint_duties, mount_drives
 from .motor import continuous_torque, peak_torque_limit
@@ -266,10 +266,10 @@ def _feasible_by_score(evaluation: Evaluation, score: np.ndarray, tie: np.ndarra
     return _first_feasible(evaluation, m[order], c[order], count)
 
 
-def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float
-                  ) -> Callable[[float], bool]:
+def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float,
+                  limits: DriveLimits | None = None) -> Callable[[float], bool]:
     def passes(k: float) -> bool:
-        evaluation = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max, exact=False)
+        evaluation = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max, exact=False, limits=limits)
         bound = evaluation.worst()
         m, c = np.nonzero(bound <= 1 + PASS_TOLERANCE)
         order = np.argsort(bound[m, c], kind="stable")
@@ -280,7 +280,8 @@ def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inert
 
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
                linear: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
-               direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0) -> JointSizing:
+               direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0,
+               limits: DriveLimits | None = None) -> JointSizing:
     """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
 
     Every pair is checked; the per-sample checks are made exact in the order of the objective until the best
@@ -299,6 +300,7 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         inertia_ratio_max: The largest load-to-motor inertia ratio (J_L/u² + J_c)/J_m.
         direct: Whether the motor alone (u = 1) is tried on a revolute joint.
         chain_efficiency: Multiplies every converter's efficiency (η = Π η_i [Egorov, 7.53]).
+        limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
     """
     if objective not in OBJECTIVES:
         raise InputError(f"unknown objective {objective!r}; expected one of: {', '.join(OBJECTIVES)}")
@@ -309,10 +311,10 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     conv = converters_for(duty, gearboxes, linear, direct, chain_efficiency)
     scale = 1.0
     if objective == "time":
-        scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max))
+        scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max, limits))
         scale = scale if math.isfinite(scale) else 1.0
         duty = duty.scaled(scale)
-    evaluation = evaluate(duty, motors, conv, inertia_ratio_max, exact=False)
+    evaluation = evaluate(duty, motors, conv, inertia_ratio_max, exact=False, limits=limits)
     motor_mass = motors["mass"].fillna(0).to_numpy() if "mass" in motors else np.zeros(len(motors))
     motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
     mass = motor_mass[:, None] + conv.mass[None, :]
@@ -360,13 +362,13 @@ class _Table:
         (``name ×load factor``, made exact first)."""
         if failed:
             evaluation.refine(m, c)
-        factors = evaluation.load_factors_of(m, c).reshape(len(m), len(CHECKS))
+        factors = evaluation.load_factors_of(m, c).reshape(len(m), len(ALL_CHECKS))
         out = pd.DataFrame({"motor": self.motors["key"].to_numpy()[m], "converter": self.conv.key[c],
                             "kind": self.conv.kind[c], "ratio": self.conv.ratio[c], "mass": self.mass[m, c],
                             "price": self.price[m, c], "smallest_margin": 1 - factors.max(axis=1, initial=0.0)})
         if failed:
             out["worst_load_factor"] = factors.max(axis=1, initial=0.0)
-            out["failed"] = ["; ".join(f"{name} ×{f[k]:.2f}" for k, name in enumerate(CHECKS)
+            out["failed"] = ["; ".join(f"{name} ×{f[k]:.2f}" for k, name in enumerate(ALL_CHECKS)
                                        if f[k] > 1 + PASS_TOLERANCE) or "none" for f in factors]
         return out
 
@@ -660,7 +662,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                    cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                    loads: Loads = None, task: str = "task", direct: bool = True, pressure: float = 32e6,
                    chain_efficiency: float = 1.0, single_pass: bool = False, max_iterations: int = MAX_ITERATIONS,
-                   progress: Callable[[int, int], None] | None = None) -> SizingResult:
+                   progress: Callable[[int, int], None] | None = None,
+                   limits: DriveLimits | None = None) -> SizingResult:
     """Size every coordinate of ``mech`` that moves or carries load along ``trajectory``, as a system.
 
     The duty of every coordinate comes from the inverse dynamics without drive inertia
@@ -696,9 +699,10 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         single_pass: Size each coordinate once, with weightless drives (the drives load no joint).
         max_iterations: The most passes (≥ 2).
         progress: Called with (done, total) after each coordinate of each pass.
+        limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
     """
     from .catalogs import default_catalog
-    from .cylinders import size_cylinder
+    from .cylinders import cylinder_lengths, size_cylinder
 
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
         raise InputError(f"the most sizing passes must be a whole number >= 2, got {max_iterations!r}")
@@ -715,14 +719,17 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     order = _distal_first(mech, names)
     carriers = {n: drive_carrier(mech, n) for n in names if bare[n].kind != "cylinder"}
 
+    lengths = cylinder_lengths(mech, trajectory)
+
     def size_one(duty: JointDuty, scale: float | None) -> DriveSizing:
         if duty.kind == "cylinder":
-            spec = mech.cylinders[duty.name]
+            spec, length = mech.cylinders[duty.name], lengths[duty.name]
             if objective == "time":
-                return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass")
-            return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective)
+                return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass",
+                                     length=length)
+            return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective, length=length)
         return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
-                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency)
+                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency, limits=limits)
 
     fastest: dict[tuple, float] = {}
 
@@ -732,9 +739,10 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         key = (d.name, d.torque.tobytes(), d.static_torque.tobytes(), d.load_inertia)
         if key not in fastest:
             fastest[key] = fastest_scale(
-                _cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure) if d.kind == "cylinder" else
+                _cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure, lengths[d.name])
+                if d.kind == "cylinder" else
                 _motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
-                              inertia_ratio_max))
+                              inertia_ratio_max, limits))
         return fastest[key]
 
     def pace(duties: dict[str, JointDuty]) -> float | None:
@@ -797,11 +805,11 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                         mounts(chosen), cycle, duration)
 
 
-def _cylinder_passes(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, pressure: float
-                     ) -> Callable[[float], bool]:
+def _cylinder_passes(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, pressure: float,
+                     length: np.ndarray | None = None) -> Callable[[float], bool]:
     from .cylinders import size_cylinder
 
-    return lambda k: size_cylinder(duty.scaled(k), spec, catalog, pressure=pressure).feasible
+    return lambda k: size_cylinder(duty.scaled(k), spec, catalog, pressure=pressure, length=length).feasible
 
 
 def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
@@ -809,7 +817,8 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
          linear: pd.DataFrame | str | Path | None = None, cylinders: pd.DataFrame | str | Path | None = None,
          objective: str = "mass", loads: Loads = None, inertia_ratio_max: float = 10.0, direct: bool = True,
          pressure: float = 32e6, chain_efficiency: float = 1.0, single_pass: bool = False,
-         max_iterations: int = MAX_ITERATIONS, progress: Callable[[int, int], None] | None = None) -> SizingResult:
+         max_iterations: int = MAX_ITERATIONS, progress: Callable[[int, int], None] | None = None,
+         limits: DriveLimits | None = None) -> SizingResult:
     """Choose the drive of every joint of ``mech`` for a task — motor, gearbox and ratio (revolute joints), motor
     and ball screw or rack (prismatic joints), catalog cylinder (hydraulic cylinders of a closed-loop mechanism) —
     with every check vendors run (:mod:`~mechatron.drives.checks`, :mod:`~mechatron.drives.cylinders`), the chosen
@@ -841,6 +850,9 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
         single_pass: Size each coordinate once with weightless drives instead of to the fixed point.
         max_iterations: The most passes of the fixed point (≥ 2).
         progress: Called with (done, total) after each coordinate of each pass.
+        limits: The emergency-stop torque or current limit, the required screw life and the supply voltage
+            (:class:`~mechatron.drives.checks.DriveLimits`); default: the motors' peak torque, 20 000 h, the
+            catalog's voltage.
 
     Returns:
         A :class:`SizingResult`; ``result.feasible`` is false when some joint has no feasible drive (its closest
@@ -863,4 +875,5 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     return size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=objective,
                           inertia_ratio_max=inertia_ratio_max, loads=[*as_loads(task.loads), *as_loads(loads)],
                           task=task.name, direct=direct, pressure=pressure, chain_efficiency=chain_efficiency,
-                          single_pass=single_pass, max_iterations=max_iterations, progress=progress)
+                          single_pass=single_pass, max_iterations=max_iterations, progress=progress,
+                          limits=limits)
