@@ -118,8 +118,10 @@ def test_motor_torque_matches_the_dynamics_motor_model(puma_task, puma_sizing):
         drives[j.joint] = Drive(rotor_inertia=j.motor_data["rotor_inertia"] + c["inertia"], gear_ratio=c["ratio"],
                                 efficiency=c["efficiency"])
     links = tuple(replace(link, drive=drives[link.name]) for link in table.links)
+    # the task's part: a uniform 100 × 60 × 55 mm block of 2.5 kg
+    part = 2.5 / 12 * np.diag([0.06**2 + 0.055**2, 0.1**2 + 0.055**2, 0.1**2 + 0.06**2])
     geared = mechatron.model.payload.with_payload(dh_mechanism(replace(table, links=links), "puma_geared"), 2.5,
-                                             com=(0.0, 0.0, 0.05))
+                                                  com=(0.0, 0.0, 0.05), inertia=part)
     tr = puma_task.trajectory
     motors = motor_loads(geared, tr.v, tr.a, inverse_dynamics(geared, tr.q, tr.v, tr.a))
     for k, j in enumerate(puma_sizing.joints):
