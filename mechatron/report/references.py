@@ -20,8 +20,8 @@ REFERENCES: dict[str, str] = {
                  "Astrakhan State Technical University, 2006: the half grab scooping along a parabola, with "
                  "Lagrange multipliers.",
     "ShiLiang": "Shi Jinfa, Liang Xichang, *双缸液动平面七杆机构输出杆件的速度分析* (The velocity analysis of the "
-                "output link in the plane seven-link mechanism driven by two hydraulic cylinders), State Key Laboratory of Mechanical "
-                "Transmission, Chongqing University.",
+                "output link in the plane seven-link mechanism driven by two hydraulic cylinders), State Key "
+                "Laboratory of Mechanical Transmission, Chongqing University.",
     "Biagiotti": "L. Biagiotti, C. Melchiorri, *Trajectory Planning for Automatic Machines and Robots*, Springer, "
                  "2008 (the double-S profile, section 3.4).",
     "ISO 286-1": "ISO 286-1:2010, Geometrical product specifications — ISO code system for tolerances on linear "
