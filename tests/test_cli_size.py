@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -21,6 +22,7 @@ def run(capsys, *argv):
     return code, out, err
 
 
+ROOT = Path(__file__).resolve().parents[1]
 REQUIRED_CHECKS = {"peak torque", "RMS torque", "max speed", "inertia ratio"}
 
 
@@ -111,6 +113,33 @@ def test_single_pass_option(capsys):
     assert "method: single pass" in out
     code, out, err = run(capsys, "size", "planar_2r", "--max-iterations", "1")
     assert code == 2 and out == "" and "--max-iterations must be >= 2" in err
+
+
+def test_drive_limit_options(capsys):
+    """--stop-torque, --stop-current, --voltage and --screw-life-h are the API's DriveLimits: with a stop torque of
+    0.5 N·m the emergency check of every gearbox is min(0.5, T_peak) · u (N·m)."""
+    from mechatron.drives.checks import DriveLimits
+
+    motors = str(ROOT / "examples" / "data" / "motors.csv")  # with k_t, R and U: the voltage limit applies
+    code, out, _ = run(capsys, "size", "planar_2r", "--motors", motors, "--stop-torque", "0.5", "--voltage", "400",
+                       "--json")
+    data = json.loads(out)
+    api = mechatron.size(mechatron.load("planar_2r"), motors=motors,
+                         limits=DriveLimits(stop_torque=0.5, voltage=400.0))
+    assert code == 0 and data == json.loads(api.to_json())
+    for joint in api.joints:
+        if joint.converter_kind != "direct":
+            check = next(c for c in joint.checks if c.name == "transmission emergency torque")
+            peak = joint.motor_data["peak_torque"]
+            assert check.value == pytest.approx(min(0.5, peak) * joint.ratio, rel=1e-12)
+        voltage = next(c for c in joint.checks if c.name == "voltage limit")
+        assert voltage.limit == 400.0
+    for argv, message in ((["--stop-torque", "nan"], "--stop-torque must be a finite number > 0"),
+                          (["--stop-current", "-1"], "--stop-current must be a finite number > 0"),
+                          (["--screw-life-h", "0"], "--screw-life-h must be a finite number > 0"),
+                          (["--voltage", "inf"], "--voltage must be a finite number > 0")):
+        code, out, err = run(capsys, "size", "planar_2r", *argv)
+        assert code == 2 and out == "" and message in err and len(err.strip().splitlines()) == 1
 
 
 def test_infeasible_sizing_exits_1_and_names_failed_checks(tmp_path, capsys):

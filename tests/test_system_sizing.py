@@ -333,8 +333,10 @@ def test_totals_against_a_hand_calculation():
     """A disc of 0.5 kg·m² on a vertical axis turns 2 rad (trapezoid 2 rad/s, 10 rad/s²) through a gearbox of
     u = 50, η = 0.9, J_c = 2e-5 kg·m² from a motor of J_m = 1e-4 kg·m². Accelerating (0.2 s) the motor gives
     T_m = (J_m + J_c) u ω̇ + τ/(u η) = 0.06 + 5/45 N·m at n = 500 t rad/s, so its energy is
-    ½ T_m n_max t_a = ½ · 0.171111 · 100 · 0.2 J and its peak power T_m · 100 W; cruising needs nothing and the
-    braking power is negative (not recovered). Mass and price: motor 1 kg + gearbox 1.5 kg, 100 + 250."""
+    ½ T_m n_max t_a = ½ · 0.171111 · 100 · 0.2 J and its peak power T_m · 100 W; cruising needs nothing. Braking
+    (0.2 s) the load drives the gearbox back, T_m = −(J_m + J_c) u · 10 − 5 η / u = −0.06 − 0.09 N·m, so the motor
+    regenerates ½ · 0.15 · 100 · 0.2 = 1.5 J, at most 15 W, 1.5 J / 1.2 s on average (the catalog gives no k_t or
+    R: the shaft power alone). Mass and price: motor 1 kg + gearbox 1.5 kg, 100 + 250."""
     motor = pd.DataFrame([{"key": "M", "rated_torque": 0.1, "peak_torque": 0.3, "rated_speed": 300.0,
                            "max_speed": 500.0, "rotor_inertia": 1e-4, "mass": 1.0, "price": 100.0}])
     gearbox = pd.DataFrame([{"key": "G50", "type": "planetary", "ratio": 50.0, "rated_torque": 5.0,
@@ -349,7 +351,11 @@ def test_totals_against_a_hand_calculation():
     totals = result.totals()
     assert totals["drive_mass_kg"] == 2.5 and totals["cost"] == 350.0
     assert totals["energy_per_cycle_j"] == pytest.approx(0.5 * torque * 100 * 0.2, rel=1e-3)
-    assert totals["peak_power_w"] == pytest.approx(torque * 100, rel=1e-3)
+    assert totals["peak_bus_power_w"] == pytest.approx(torque * 100, rel=1e-3)
+    assert totals["regenerated_energy_j"] == pytest.approx(1.5, rel=1e-3)
+    assert totals["braking_resistor_peak_w"] == pytest.approx(15.0, rel=1e-3)
+    assert totals["braking_resistor_continuous_w"] == pytest.approx(1.5 / 1.2, rel=1e-3)
+    assert totals["peak_pump_power_w"] is None and totals["peak_pump_flow_m3_s"] is None
     assert totals["cycle_time_s"] == pytest.approx(1.2, rel=1e-12)
     assert result.as_dict()["totals"] == pytest.approx(totals)
 
@@ -372,7 +378,12 @@ def test_size_json_explains_every_joint(capsys):
                                                "loads_the_mechanism": False}
     assert data["joints"][5]["mounted_on"]["body"] == "link5"
     assert data["totals"]["drive_mass_kg"] == pytest.approx(sum(masses), rel=1e-12)
-    assert set(data["totals"]) == {"drive_mass_kg", "cost", "energy_per_cycle_j", "peak_power_w", "cycle_time_s"}
+    assert set(data["totals"]) == {"drive_mass_kg", "cost", "energy_per_cycle_j", "peak_bus_power_w",
+                                   "regenerated_energy_j", "braking_resistor_peak_w", "braking_resistor_continuous_w",
+                                   "peak_pump_power_w", "peak_pump_flow_m3_s", "cycle_time_s"}
+    bus = data["electrical"]["bus"]
+    assert data["totals"]["energy_per_cycle_j"] == bus["energy_drawn"] and data["hydraulics"] is None
+    assert data["totals"]["regenerated_energy_j"] == bus["energy_regenerated"]
 
 
 # ----------------------------------------------------------------------------------------- a closed loop

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from ..errors import InputError
 from .common import _load, _robot_arguments, add_output_options, emit
@@ -11,6 +12,7 @@ from .common import _load, _robot_arguments, add_output_options, emit
 def cmd_size(args: argparse.Namespace) -> int:
     """Motor, gearbox (screw, cylinder) and ratio for every joint doing a task; exit 1 when a joint has no
     feasible drive."""
+    from ..drives.checks import SCREW_LIFE, DriveLimits
     from ..drives.sizing import size
     from ..report.progress import progress_bar
 
@@ -18,12 +20,18 @@ def cmd_size(args: argparse.Namespace) -> int:
         raise InputError(f"--pressure-mpa must be > 0, got {args.pressure_mpa:g}")
     if args.max_iterations < 2:
         raise InputError(f"--max-iterations must be >= 2, got {args.max_iterations}")
+    for option in ("stop_torque", "stop_current", "voltage", "screw_life_h"):
+        value = getattr(args, option)
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise InputError(f"--{option.replace('_', '-')} must be a finite number > 0, got {value:g}")
+    limits = DriveLimits(args.stop_torque, args.stop_current,
+                         SCREW_LIFE if args.screw_life_h is None else args.screw_life_h * 3600.0, args.voltage)
     mech = _load(args)
     result = size(mech, args.task, motors=args.motors, gearboxes=args.gearboxes, linear=args.linear,
                   cylinders=args.cylinders, objective=args.objective, inertia_ratio_max=args.inertia_ratio,
                   direct=not args.no_direct, pressure=args.pressure_mpa * 1e6,
                   chain_efficiency=args.chain_efficiency, single_pass=args.single_pass,
-                  max_iterations=args.max_iterations,
+                  max_iterations=args.max_iterations, limits=limits,
                   progress=None if args.json else progress_bar(f"{mech.name}: sizing"))
     emit(result, args, result.save_plots(args.plots) if args.plots else (), mechanism=mech, task=args.task)
     return 0 if result.feasible else 1
@@ -55,6 +63,17 @@ def register(sub) -> None:
                         "mechanism and the sizing repeats until the choice no longer changes)")
     p.add_argument("--max-iterations", type=int, default=10, metavar="N",
                    help="the most sizing passes before reporting that the choice did not settle (default 10)")
+    stop = p.add_mutually_exclusive_group()
+    stop.add_argument("--stop-torque", type=float, metavar="NM",
+                      help="the motor torque (N·m) the drives are limited to in an emergency stop; the gearbox's "
+                           "emergency check takes it instead of the motor's peak torque")
+    stop.add_argument("--stop-current", type=float, metavar="A",
+                      help="the same as a current limit (A): the stop torque of each motor is k_t times it")
+    p.add_argument("--voltage", type=float, metavar="V",
+                   help="supply voltage of the voltage-limit check (default: each motor's catalog voltage)")
+    p.add_argument("--screw-life-h", type=float, metavar="H",
+                   help="required nominal (L10) life of ball screws running the task over and over, in hours "
+                        "(default 20000)")
     add_output_options(p, report=True)
     p.add_argument("--plots", metavar="DIR", help="write each joint's chart (speed–torque for a motor, force–speed "
                                                   "for a cylinder) as DIR/<robot>_<joint>.png and its data as "

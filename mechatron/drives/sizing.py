@@ -48,6 +48,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..dynamics.motion import Trajectory
     from ..dynamics.task import Task
     from ..report.html import Report
+    from .electrical import ElectricalBalance
+    from .hydraulics import HydraulicSupply
 
 OBJECTIVES = ("mass", "cost", "margin", "time")
 
@@ -471,19 +473,65 @@ class SizingResult(Result):
         """The joint whose drive has the smallest margin (an infeasible one first)."""
         return min(self.joints, key=lambda j: j.smallest_margin())
 
+    def electrical_balance(self) -> ElectricalBalance | None:
+        """The electrical power of the chosen motors over the task, per axis and on a common DC bus
+        (:func:`mechatron.drives.electrical.electrical`); ``None`` without a motor."""
+        from .electrical import electrical
+
+        return electrical(self) if any(j.kind != "cylinder" for j in self.joints) else None
+
+    def hydraulic_supply(self) -> HydraulicSupply | None:
+        """The pump flow and hydraulic power of the chosen cylinders over the task at the system pressure
+        (:func:`mechatron.drives.hydraulics.hydraulic_supply`); ``None`` without a cylinder."""
+        from .hydraulics import hydraulic_supply
+
+        return hydraulic_supply(self) if any(j.kind == "cylinder" for j in self.joints) else None
+
     def totals(self) -> dict:
-        """drive_mass_kg and cost (the sums over the drives; ``None`` if one is unknown), energy_per_cycle_j and
-        peak_power_w — the energy ∫ Σ_j P_j⁺ dt (J, trapezoidal rule) and the largest Σ_j P_j⁺ (W) of the drives'
-        power P_j (a motor's shaft power T_m n, a cylinder's F v; P⁺ = max(P, 0): braking energy is not recovered)
-        —, and cycle_time_s, the task's duration as sized (s)."""
+        """The sums over the drives (SI units; ``None`` where they do not apply or a catalog lacks the data):
+
+        - drive_mass_kg and cost: the chosen drives' catalog masses and prices;
+        - energy_per_cycle_j: the energy drawn from the supplies per cycle, ∫ max(P_bus, 0) dt of the common DC
+          bus (P_bus = Σ (T_m n + R I²), :mod:`~mechatron.drives.electrical`) plus the pump's ∫ p Q dt
+          (:mod:`~mechatron.drives.hydraulics`);
+        - peak_bus_power_w: max P_bus; regenerated_energy_j: ∫ max(−P_bus, 0) dt, the braking energy per cycle;
+          braking_resistor_peak_w and braking_resistor_continuous_w: max(−P_bus) and the regenerated energy over
+          the cycle time;
+        - peak_pump_power_w and peak_pump_flow_m3_s: max p Q and max Q;
+        - cycle_time_s: the task's duration as sized."""
         masses = [j.drive_mass() for j in self.joints]
         prices = [j.drive_price() for j in self.joints]
-        t = self.joints[0].duty.t if self.joints else np.zeros(1)
-        power = sum((np.maximum(j.shaft_power(), 0.0) for j in self.joints), np.zeros(len(t)))
+        balance, supply = self.electrical_balance(), self.hydraulic_supply()
+        bus = balance.bus() if balance else None
+        pump = supply.rows()[-1] if supply else None
         return {"drive_mass_kg": None if None in masses else float(sum(masses)),
                 "cost": None if None in prices else float(sum(prices)),
-                "energy_per_cycle_j": float(np.trapezoid(power, t)) if len(t) > 1 else 0.0,
-                "peak_power_w": float(power.max(initial=0.0)), "cycle_time_s": self.duration}
+                "energy_per_cycle_j": (bus["energy_drawn"] if bus else 0.0) + (pump["energy"] if pump else 0.0),
+                "peak_bus_power_w": bus["peak_power"] if bus else None,
+                "regenerated_energy_j": bus["energy_regenerated"] if bus else None,
+                "braking_resistor_peak_w": bus["peak_braking_power"] if bus else None,
+                "braking_resistor_continuous_w": bus["continuous_braking_power"] if bus else None,
+                "peak_pump_power_w": pump["peak_power"] if pump else None,
+                "peak_pump_flow_m3_s": pump["peak_flow"] if pump else None,
+                "cycle_time_s": self.duration}
+
+    def _totals_lines(self) -> list[str]:
+        totals = self.totals()
+
+        def number(key: str, unit: str) -> str:
+            return "unknown" if totals[key] is None else f"{totals[key]:.4g}{unit}"
+
+        lines = [f"totals: drive mass {number('drive_mass_kg', ' kg')}, cost {number('cost', '')}, energy drawn per "
+                 f"cycle {number('energy_per_cycle_j', ' J')}"]
+        if totals["peak_bus_power_w"] is not None:
+            lines.append(f"  common DC bus: peak {number('peak_bus_power_w', ' W')}; braking resistor peak "
+                         f"{number('braking_resistor_peak_w', ' W')}, continuous "
+                         f"{number('braking_resistor_continuous_w', ' W')} ({number('regenerated_energy_j', ' J')} "
+                         "regenerated per cycle; P = T·n + R·I²)")
+        if totals["peak_pump_power_w"] is not None:
+            lines.append(f"  pump: peak flow {totals['peak_pump_flow_m3_s'] * 6e4:.4g} l/min, peak power "
+                         f"{number('peak_pump_power_w', ' W')} (P = p·Q)")
+        return lines
 
     def to_frame(self) -> pd.DataFrame:
         """One row per joint and check (:data:`~mechatron.drives.report.COLUMNS`), SI units."""
@@ -499,12 +547,16 @@ class SizingResult(Result):
         time_scale, task_time (the task's duration as sized, s), iterations (every pass: iteration, drive_masses,
         time_scale, changes: joint, from, to), totals (:meth:`totals`) and joints (every joint's ``as_dict`` with
         deciding_check, runner_up, drive_mass_kg, drive_price and mounted_on: body, mass_kg, loads_the_mechanism),
-        JSON-ready."""
+        electrical (:meth:`electrical_balance`, per axis and the DC bus) and hydraulics (:meth:`hydraulic_supply`,
+        per cylinder and the pump), ``None`` where there is no motor or cylinder; JSON-ready."""
+        balance, supply = self.electrical_balance(), self.hydraulic_supply()
         return json_ready({"mechanism": self.mechanism, "task": self.task, "objective": self.objective,
                            "method": self.method, "converged": self.converged, "cycle": list(self.cycle),
                            "feasible": self.feasible, "time_scale": self.time_scale,
                            "task_time": self.duration if self.joints else None,
                            "iterations": [i.as_dict() for i in self.iterations], "totals": self.totals(),
+                           "electrical": None if balance is None else balance.as_dict(),
+                           "hydraulics": None if supply is None else supply.as_dict(),
                            "joints": [{**j.as_dict(), **j.explanation(), "mounted_on": self._mounted_on(j.joint)}
                                       for j in self.joints]})
 
@@ -576,12 +628,7 @@ class SizingResult(Result):
             if mount is not None:
                 lines.append(f"    on {mount.carrier}: {mount.mass:.3g} kg" + ("" if mount.parent > 0 else
                                                                               " (a fixed body: it loads no joint)"))
-        totals = self.totals()
-        mass = "unknown" if totals["drive_mass_kg"] is None else f"{totals['drive_mass_kg']:.4g} kg"
-        cost = "unknown" if totals["cost"] is None else f"{totals['cost']:.6g}"
-        lines += ["", f"totals: drive mass {mass}, cost {cost}, energy per cycle {totals['energy_per_cycle_j']:.4g} J, "
-                      f"peak power {totals['peak_power_w']:.4g} W (the drives' output power; braking energy not "
-                      "recovered)"]
+        lines += ["", *self._totals_lines()]
         if self.feasible:
             verdict = "every joint has a feasible drive"
         elif not self.converged:
@@ -602,19 +649,37 @@ class SizingResult(Result):
         from ..kinematics.drawing import configuration_figure
         from ..kinematics.loops import assemble
         from ..report.html import Chart, Code, Method, Report, Section, Table, Text
-        from . import checks, cylinders, duty
+        from . import checks, cylinders, duty, electrical, hydraulics
 
         lines = str(self).splitlines()
         kinds = {j.kind for j in self.joints}
         texts = [sys.modules[__name__].__doc__, duty.__doc__] + [checks.__doc__] * bool(kinds - {"cylinder"}) \
             + [cylinders.__doc__] * ("cylinder" in kinds)
-        drives = pd.DataFrame([{"joint": j.joint, "drive": j.headline(), "feasible": j.feasible,
-                                "smallest margin": j.smallest_margin(),
-                                "deciding check": min(j.checks, key=lambda c: c.margin).name} for j in self.joints])
+        def drive_row(j: DriveSizing) -> dict:
+            deciding, mount = j.deciding(), self._mounted_on(j.joint)
+            return {"joint": j.joint, "drive": j.headline(), "feasible": j.feasible,
+                    "smallest margin": j.smallest_margin(), "deciding check": deciding.name if deciding else "",
+                    "drive mass (kg)": j.drive_mass(), "price": j.drive_price(),
+                    "on body": mount["body"] if mount else "",
+                    "runner-up": " | ".join(f"{r['candidate']}: {r['reason']}" for r in j.runner_up())}
+
+        drives = pd.DataFrame([drive_row(j) for j in self.joints])
+        totals = pd.DataFrame([{"quantity": k, "value": v} for k, v in self.totals().items()])
+        iterations = pd.DataFrame([{"pass": i.number, "drives' masses": i.weighted, "moves ×": i.time_scale,
+                                    "changes": i.line().split(": ", 1)[1]} for i in self.iterations])
         sections = [Section("Method", [Method(text) for text in texts]), Section(
-            "Drives", [Text(line) for line in lines[1:lines.index("")]] + [Table(drives, "", "drives")])]
+            "Drives", [Text(line) for line in lines[1:lines.index("")]] + [
+                Table(drives, "the chosen drive of every joint, the check deciding it and the runners-up", "drives"),
+                Table(iterations, "the passes of the sizing", "iterations"),
+                Table(totals, "totals (kg, the catalogs' currency, J, W, s)", "totals")])]
+        for title, supply, module in (("Electrical", self.electrical_balance(), electrical),
+                                      ("Hydraulic supply", self.hydraulic_supply(), hydraulics)):
+            if supply is not None:
+                table = Table(supply.to_frame(), "SI units (J, W, A, V; m³/s, m³)", title.lower())
+                sections.append(Section(title, [Method(module.__doc__), table, Chart(supply.plot())]))
         for j in self.joints:
-            sections.append(Section(f"Joint {j.joint}", [Text(j.headline()), Table(
+            sections.append(Section(f"Joint {j.joint}", [Text(j.headline()), *(Text(line.strip()) for line in
+                                                                            j.explanation_lines()), Table(
                 j.to_frame()[["check", "value", "limit", "unit", "margin", "pass"]], "every check (SI; margin = 1 − "
                 "value/limit)", f"checks {j.joint}"), Table(j.ranking.head(REPORTED) if j.feasible else j.closest,
                 "the best feasible drives" if j.feasible else "the closest drives and the checks they fail",
