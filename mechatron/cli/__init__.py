@@ -28,7 +28,7 @@ from . import (
     structure,
     tolerance,
 )
-from .common import _join_negative_values, _Parser
+from .common import _join_negative_values, _Parser, outputs
 
 COMMANDS = (listing, show, pose, export, linkage, excavator, dynamics, reduced, size, tolerance, structure,
             demo_command)
@@ -51,7 +51,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
-        return int(args.func(args) or 0)
+        with outputs(parser, args):
+            return int(args.func(args) or 0)
     except MechatronError as exc:
         print(f"mechatron: error: {exc}", file=sys.stderr)
         return 2
