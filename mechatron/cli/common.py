@@ -118,27 +118,17 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
 # ------------------------------------------------------------------------------------------- result outputs
 
 class OutputPath:
-    """The ``type=`` of an option naming an output: checks the path before any work
-    (:func:`mechatron.io.output.check_output`; ``kind="folder"``: :func:`~mechatron.io.output.check_directory`), so
-    that argparse refuses a directory, a missing or read-only folder or an unsupported format in one line naming the
-    option. The value stays the string given."""
+    """The ``type=`` of an option naming an output (``kind``: a key of :data:`mechatron.io.output.SUFFIXES`,
+    ``"figure"``, ``"folder"`` or None): it marks the option, whose path :func:`outputs` checks before any work.
+    The value stays the string given."""
 
     def __init__(self, kind: str | None = None) -> None:
         self.kind = kind
-        self.__name__ = "output path"
+        self.__name__ = "file name"
 
     def __call__(self, text: str) -> str:
-        from ..io.output import check_directory, check_output
-
         if not text:
             raise argparse.ArgumentTypeError("must be a file name, got ''")
-        try:
-            if self.kind == "folder":
-                check_directory(text)
-            else:
-                check_output(text, self.kind)
-        except InputError as exc:
-            raise argparse.ArgumentTypeError(str(exc)) from None
         return text
 
 
@@ -180,9 +170,11 @@ def _command_parser(parser: argparse.ArgumentParser, args: argparse.Namespace) -
 @contextlib.contextmanager
 def outputs(parser: argparse.ArgumentParser, args: argparse.Namespace) -> Iterator[None]:
     """Run a command's work inside one output transaction (:func:`mechatron.io.output.transaction`): every file it
-    writes is staged and all of them are renamed together when it succeeds, none when it fails. Before any work:
+    writes is staged and all of them are renamed together when it succeeds, none when it fails. Before any work,
+    each output option's path is checked (:func:`~mechatron.io.output.check_output`: not a directory, its folder
+    exists and is writable, a suffix of its kind; ``--plots``: :func:`~mechatron.io.output.check_directory`), and
     two output options naming the same file, or an output naming one of the command's input files, is an error."""
-    from ..io.output import transaction
+    from ..io.output import check_directory, check_output, transaction
 
     command = _command_parser(parser, args) or parser
     labels: dict[Path, str] = {}
@@ -191,6 +183,10 @@ def outputs(parser: argparse.ArgumentParser, args: argparse.Namespace) -> Iterat
         if not path:
             continue
         label, key = "/".join(action.option_strings), Path(path).resolve()
+        if action.type.kind == "folder":
+            check_directory(path, where=f"{label} {path}")
+        else:
+            check_output(path, action.type.kind, where=f"{label} {path}")
         if key in labels:
             raise InputError(f"{labels[key]} and {label} both name {path}; give each output its own file")
         labels[key] = label

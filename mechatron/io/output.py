@@ -87,7 +87,8 @@ def check_output(path: str | Path, kind: str | None = None, *, where: str | None
         what = {"figure": "a chart", "table": "a CSV table", "html": "an HTML report", "urdf": "a URDF",
                 "toml": "a mechanism file", "json": "JSON"}.get(kind or "", "this file")
         given = f"a {path.suffix} file" if path.suffix else "a file without a suffix"
-        raise InputError(f"cannot write {what} as {given}; use {', '.join(allowed)}", file=where)
+        use = ".png, .pdf or .svg (or another format matplotlib writes)" if kind == "figure" else ", ".join(allowed)
+        raise InputError(f"cannot write {what} as {given}; use {use}", file=where)
     return path
 
 
@@ -140,8 +141,10 @@ class Transaction:
         """Write ``write(file)`` whole to a temporary file beside ``path`` (to memory for a device or pipe)."""
         target = Path(os.path.realpath(path)) if path.is_symlink() else path
         key = Path(os.path.abspath(target))
-        if any(Path(os.path.abspath(s.target)) == key for s in self._staged):
-            raise InputError("is written twice by this command; give each output its own file", file=self.where(path))
+        for s in self._staged:
+            if Path(os.path.abspath(s.target)) == key:
+                raise InputError(f"is also written as {self.where(s.given)} by this command; give each output its "
+                                 "own file", file=self.where(path))
         if _special(target):
             buffer = io.BytesIO()
             _render(buffer, write, binary)
@@ -393,6 +396,19 @@ def stage_removal(path: str | Path) -> None:
     outside one)."""
     with transaction() as current:
         current.remove(path)
+
+
+def stale_failures(path: str | Path) -> Path | None:
+    """The ``<stem>.failures.csv`` beside the table ``path`` if it is one that earlier versions of mechatron wrote
+    there (a CSV whose last column is ``reason``), else None."""
+    path = Path(path)
+    companion = path.with_name(path.stem + ".failures.csv")
+    try:
+        with open(companion, encoding="utf-8", errors="replace") as fh:
+            header = fh.readline(10_000).strip()
+    except OSError:
+        return None
+    return companion if header.split(",")[-1] == "reason" else None
 
 
 def written_so_far() -> list[Path]:
