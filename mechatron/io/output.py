@@ -133,7 +133,7 @@ class Transaction:
 
     def where(self, path: str | Path) -> str:
         """``path`` as the errors name it: after its option (``--plot out.png``) when known."""
-        resolved = Path(os.path.abspath(path))
+        resolved = Path(os.path.realpath(path))
         label = self.labels.get(resolved) or self.labels.get(resolved.parent)
         return f"{label} {path}" if label else str(path)
 
@@ -141,10 +141,11 @@ class Transaction:
         """Write ``write(file)`` whole to a temporary file beside ``path`` (to memory for a device or pipe)."""
         target = Path(os.path.realpath(path)) if path.is_symlink() else path
         key = Path(os.path.abspath(target))
-        for s in self._staged:
-            if Path(os.path.abspath(s.target)) == key:
-                raise InputError(f"is also written as {self.where(s.given)} by this command; give each output its "
-                                 "own file", file=self.where(path))
+        if any(Path(os.path.abspath(s.target)) == key for s in self._staged):
+            resolved = Path(os.path.realpath(path))
+            options = sorted({self.labels.get(resolved), self.labels.get(resolved.parent)} - {None})
+            by = f" ({' and '.join(options)})" if options else ""
+            raise InputError(f"is written twice by this command{by}; give each output its own file", file=path)
         if _special(target):
             buffer = io.BytesIO()
             _render(buffer, write, binary)
@@ -218,10 +219,10 @@ def transaction(labels: Mapping[Path, str] | None = None) -> Iterator[Transactio
     (which commits or rolls back); ``labels`` (path → option) name the paths in the errors."""
     current = _CURRENT.get()
     if current is not None:
-        current.labels.update({Path(os.path.abspath(k)): v for k, v in (labels or {}).items()})
+        current.labels.update({Path(os.path.realpath(k)): v for k, v in (labels or {}).items()})
         yield current
         return
-    current = Transaction({Path(os.path.abspath(k)): v for k, v in (labels or {}).items()})
+    current = Transaction({Path(os.path.realpath(k)): v for k, v in (labels or {}).items()})
     token = _CURRENT.set(current)
     try:
         yield current
@@ -233,7 +234,8 @@ def transaction(labels: Mapping[Path, str] | None = None) -> Iterator[Transactio
         _CURRENT.reset(token)
 
 
-def _where(path: Path) -> str:
+def _where(path: str | Path) -> str:
+    """``path`` as errors name it: after its option (``--plot out.png``) inside a command's transaction."""
     current = _CURRENT.get()
     return current.where(path) if current is not None else str(path)
 
@@ -389,6 +391,9 @@ def write_folder(directory: str | Path, files: Mapping[str, Callable[[], Figure 
                 if png.with_suffix(".csv").name not in files and png.with_suffix(".csv").is_file():
                     current.remove(png.with_suffix(".csv"))
     return written
+
+
+output_name = _where
 
 
 def stage_removal(path: str | Path) -> None:

@@ -281,13 +281,16 @@ def export_urdf(mechanism: Mechanism, path: str | Path) -> list[Path]:
     """Write ``mechanism`` as URDF to ``path`` (and its drives as ``path`` with suffix ``.srdf``), both whole and
     together (:func:`mechatron.io.output.transaction`); return the files. Without drives, an SRDF an earlier export
     wrote beside ``path`` (one holding mechatron's rotor data, :data:`SRDF_MARK`) is removed."""
-    from ..io.output import stage_removal, transaction, write_text
+    from ..io.output import output_name, stage_removal, transaction, write_text
 
     path = Path(path)
     companion = path.with_suffix(".srdf")
     if path.suffix.lower() == ".srdf" or Path(os.path.abspath(companion)) == Path(os.path.abspath(path)):
-        raise InputError("the URDF would be written over its own SRDF; name it .urdf", file=path)
+        raise InputError("the URDF would be written over its own SRDF; name it .urdf", file=output_name(path))
     srdf = to_srdf(mechanism)
+    if srdf is not None and path.exists() and not path.is_file():
+        raise InputError(f"{mechanism.name} has drives, whose SRDF goes beside the URDF: name a file, not a device",
+                         file=output_name(path))
     with transaction():
         written = [write_text(path, to_urdf(mechanism))]
         if srdf is not None:
