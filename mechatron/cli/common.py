@@ -152,7 +152,7 @@ def add_output_options(parser: argparse.ArgumentParser, *, csv: bool = True, plo
         output_option(parser, "--report", kind="html", metavar="FILE.html",
                       help="write the report as one self-contained HTML file (inputs, method, every check, "
                            "charts, the mechanism at its critical pose) that works offline")
-    parser.set_defaults(report_parser=parser)
+        parser.set_defaults(report_parser=parser)
 
 
 def _output_actions(parser: argparse.ArgumentParser | None) -> list[argparse.Action]:

@@ -29,5 +29,4 @@ def register(sub) -> None:
     p = sub.add_parser("export-urdf", help="write a robot as URDF (plus SRDF rotor data)")
     _robot_arguments(p)
     output_option(p, "-o", "--output", kind="urdf", help="URDF file to write (.urdf or .xml; the SRDF beside it)")
-    p.set_defaults(report_parser=p)
     p.set_defaults(func=cmd_export_urdf)
