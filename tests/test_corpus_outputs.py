@@ -95,6 +95,12 @@ def test_a_file_as_the_folder_is_refused(command, option, capfd, folder):
 
 
 @pytest.mark.parametrize(("command", "option"), FILE_OPTIONS + FOLDER_OPTIONS)
+def test_a_name_too_long_is_refused(command, option, capfd, folder):
+    path = "n" * 300 + Path(GOOD[key(command, option)]).suffix
+    clean([*COMMANDS[command][0], option, path], capfd, folder, option, path, "longer than 255 bytes|too long")
+
+
+@pytest.mark.parametrize(("command", "option"), FILE_OPTIONS + FOLDER_OPTIONS)
 def test_a_read_only_folder_is_refused(command, option, capfd, folder):
     if os.geteuid() == 0:
         pytest.skip("root writes into a read-only folder (a file as the folder is tried above)")

@@ -76,12 +76,26 @@ def check_output(path: str | Path, kind: str | None = None, *, where: str | None
     ``where`` (default: the path)."""
     path = Path(path)
     where = str(path) if where is None else where
+    try:
+        return _check_output(path, kind, where)
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise InputError(f"cannot write: {exc.strerror}", file=where) from None
+
+
+def _check_output(path: Path, kind: str | None, where: str) -> Path:
     if path.is_dir():
         raise InputError("is a directory, not a file", file=where)
     if _special(path):
         return path
     target = Path(os.path.realpath(path)) if path.is_symlink() else path
-    _check_folder(target.parent if str(target.parent) else Path("."), path, where)
+    folder = target.parent if str(target.parent) else Path(".")
+    _check_folder(folder, path, where)
+    try:
+        longest = os.pathconf(folder, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        longest = 255
+    if len(os.fsencode(target.name)) > longest:
+        raise InputError(f"the file name is longer than {longest} bytes", file=where)
     allowed = figure_formats() if kind == "figure" else SUFFIXES.get(kind or "", ())
     if allowed and path.suffix.lower() not in allowed:
         what = {"figure": "a chart", "table": "a CSV table", "html": "an HTML report", "urdf": "a URDF",
@@ -97,6 +111,13 @@ def check_directory(path: str | Path, *, where: str | None = None) -> Path:
     writable folder. Returns ``path``; raises :class:`InputError` naming ``where`` (default: the path)."""
     path = Path(path)
     where = str(path) if where is None else where
+    try:
+        return _check_directory(path, where)
+    except OSError as exc:  # e.g. a name too long for the file system
+        raise InputError(f"cannot write: {exc.strerror}", file=where) from None
+
+
+def _check_directory(path: Path, where: str) -> Path:
     if path.exists() or path.is_symlink():
         if not path.is_dir():
             raise InputError("is a file, not a folder", file=where)
@@ -255,7 +276,7 @@ def _temporary(target: Path, write: Callable[[IO], None], binary: bool, where: s
     """``write(file)`` into a new temporary file beside ``target``, complete and synced; returns its name."""
     folder = target.parent if str(target.parent) else Path(".")
     try:
-        handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=folder)
+        handle, temporary = tempfile.mkstemp(prefix=f".{target.name[:100]}.", suffix=".part", dir=folder)
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror}", file=where) from None
     try:
