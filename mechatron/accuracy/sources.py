@@ -131,7 +131,7 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
     if need == "error" and not columns["error"]:
         raise InputError("missing column 'error' (the given errors of --method given)", file=path, field="error")
     sources, seen = [], {}
-    for i, row in enumerate(frame.to_dict(orient="records"), start=2):
+    for i, row in zip(frame.index, frame.to_dict(orient="records")):
         raw = row["parameter"]
         if not raw:
             raise InputError("missing value", file=path, row=i, field="parameter")
@@ -232,12 +232,12 @@ def read_poses(path: str | Path, mech: Mechanism) -> tuple[NDArray[np.float64], 
     if missing:
         raise InputError(f"missing column(s) {', '.join(missing)}", file=path, field=missing[0])
     values = np.empty((len(frame), len(names)))
-    for i, row in enumerate(frame.to_dict(orient="records"), start=2):
+    for k, (i, row) in enumerate(zip(frame.index, frame.to_dict(orient="records"))):
         for j, name in enumerate(names):
             column, factor = lookup[name]
             if not row[column]:
                 raise InputError("missing value", file=path, row=i, field=column)
-            values[i - 2, j] = number(row[column], file=path, row=i, field=column) * factor
+            values[k, j] = number(row[column], file=path, row=i, field=column) * factor
     labels = [r or str(i + 1) for i, r in enumerate(frame["label"])] if "label" in frame.columns else \
         [str(i + 1) for i in range(len(frame))]
     return values, labels

@@ -375,7 +375,7 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
         raise InputError("a trajectory needs at least two rows", file=path)
     steps = np.diff(t)
     if np.any(steps <= 0):
-        row = int(np.flatnonzero(steps <= 0)[0]) + 3
+        row = int(frame.index[int(np.flatnonzero(steps <= 0)[0]) + 1])
         raise InputError("times must increase", file=path, row=row, field="t")
     coordinates = np.column_stack([numeric(c) for c in columns])
 
