@@ -135,6 +135,10 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
         results["worst"] = shift + np.abs(J) @ t
     if "rss" in methods:
         results["rss"] = shift + k * np.sqrt((J**2) @ sigma**2)
+        if any(s.distribution != "normal" for s in sources):
+            notes.append(f"rss is the k·σ estimate |J b| + k·√Σ(∂r/∂e·σ)² with σ = t/√3 (uniform), t/√6 (triangular), "
+                         f"t/k (normal): with uniform or triangular errors it can exceed the worst case "
+                         f"(one uniform ±t: {k:g}/√3·t)")
     variance = (J**2 * sigma**2).sum(axis=1)  # (N, n_e)
     for m, values in results.items():
         table[f"dx_{m}"], table[f"dy_{m}"], table[f"dz_{m}"] = values.T

@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -43,9 +44,14 @@ def read_csv(path: str | Path, *, allow_empty: bool = False) -> pd.DataFrame:
     # the lines pandas reads (not a comment, not blank) and their line numbers in the file
     lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
              if line.strip() and not line.lstrip().startswith("#")]
+    too_wide = _too_wide(path, lines)
+    if too_wide is not None:
+        raise too_wide
     try:
-        frame = pd.read_csv(io.StringIO("\n".join(line for _, line in lines)), dtype=str, keep_default_na=False,
-                            comment="#", skipinitialspace=True, skip_blank_lines=False, index_col=False)
+        with warnings.catch_warnings():  # empty cells beyond the header's columns: dropped (wider rows refused above)
+            warnings.simplefilter("ignore", pd.errors.ParserWarning)
+            frame = pd.read_csv(io.StringIO("\n".join(line for _, line in lines)), dtype=str, keep_default_na=False,
+                                comment="#", skipinitialspace=True, skip_blank_lines=False, index_col=False)
     except pd.errors.EmptyDataError:
         raise InputError("not a readable CSV file: no header line", file=path) from None
     except pd.errors.ParserError as exc:
@@ -74,14 +80,22 @@ def read_csv(path: str | Path, *, allow_empty: bool = False) -> pd.DataFrame:
     return frame
 
 
-def _parser_error(path: Path, lines: list[tuple[int, str]], exc: Exception) -> InputError:
-    """The error of a line pandas cannot split: the first row with more cells than the header, named by its line."""
-    rows = list(csv.reader(line for _, line in lines))
-    width = len(rows[0]) if rows else 0
-    for (n, _), cells in zip(lines[1:], rows[1:]):
-        if len(cells) > width:
+def _too_wide(path: Path, lines: list[tuple[int, str]]) -> InputError | None:
+    """The error of the first row with more cells than the header (named by its line), if any."""
+    rows = csv.reader(line.partition("#")[0] if "#" in line and '"' not in line else line for _, line in lines)
+    width = None
+    for (n, _), cells in zip(lines, rows):
+        if width is None:
+            width = len(cells)
+        elif len(cells) > width and any(c.strip() for c in cells[width:]):
             return InputError(f"{len(cells)} cells but the header has {width} columns", file=path, row=n)
-    return InputError(f"not a readable CSV file: {str(exc).strip().splitlines()[0]}", file=path)
+    return None
+
+
+def _parser_error(path: Path, lines: list[tuple[int, str]], exc: Exception) -> InputError:
+    """The error of a line pandas cannot split."""
+    return _too_wide(path, lines) or InputError(f"not a readable CSV file: {str(exc).strip().splitlines()[0]}",
+                                                file=path)
 
 
 def number(text: str, *, file: str | Path, row: int, field: str) -> float:
