@@ -464,3 +464,20 @@ def test_poses_header_problems(tmp_path, capfd, header, names):
     (tmp_path / "poses.csv").write_text(header + "\n" + ",".join(["0.1"] * len(header.split(","))) + "\n")
     assert_clean_error(["tolerance", "planar_2r", "--tolerances", "tol.csv", "--poses", "poses.csv"], capfd, tmp_path,
                        ["poses.csv", *names])
+
+
+# ------------------------------------------------------------------- values outside a closed loop's strokes
+@pytest.mark.parametrize("value", ["5", "1", "3.9"])
+def test_out_of_stroke_values_name_the_file_and_row(tmp_path, capfd, value):
+    """The front shovel's boom cylinder L1 strokes over [2.2404, 3.80868] m: a value beyond is refused by file, row
+    (line) and column in a trajectory, a poses file and a task's waypoints."""
+    (tmp_path / "move.csv").write_text(f"t,L1,L2,L3\n0,3,2.5,2.2\n# c\n0.5,3.1,2.5,2.2\n1,{value},2.5,2.2\n")
+    assert_clean_error(["dynamics", "front_shovel", "--trajectory", "move.csv"], capfd, tmp_path,
+                       ["move.csv", "row 5", "'L1'", f"L1 = {value} m", "stroke [2.2404, 3.80868] m"])
+    (tmp_path / "poses.csv").write_text(f"L1_mm,L2,L3\n3000,2.5,2.2\n{float(value) * 1000:g},2.5,2.2\n")
+    (tmp_path / "tol.csv").write_text("parameter,tolerance_mm\nL1,0.1\n")
+    assert_clean_error(["tolerance", "front_shovel", "--tolerances", "tol.csv", "--poses", "poses.csv"], capfd,
+                       tmp_path, ["poses.csv", "row 3", "'L1_mm'", f"L1 = {value} m", "stroke"])
+    (tmp_path / "task.toml").write_text(f"waypoints = [[3, 2.5, 2.2], [{value}, 2.5, 2.2]]\n")
+    assert_clean_error(["size", "front_shovel", "--task", "task.toml"], capfd, tmp_path,
+                       ["task.toml", "waypoints[2]", f"L1 = {value} m", "stroke"])
