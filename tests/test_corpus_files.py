@@ -481,3 +481,12 @@ def test_out_of_stroke_values_name_the_file_and_row(tmp_path, capfd, value):
     (tmp_path / "task.toml").write_text(f"waypoints = [[3, 2.5, 2.2], [{value}, 2.5, 2.2]]\n")
     assert_clean_error(["size", "front_shovel", "--task", "task.toml"], capfd, tmp_path,
                        ["task.toml", "waypoints[2]", f"L1 = {value} m", "stroke"])
+
+
+@pytest.mark.parametrize("value", ["0.01", "0.02"])
+def test_drawing_that_cannot_close_gives_the_residual_with_its_unit(tmp_path, capfd, value):
+    text = crank_slider()
+    assert "value = 0.4 }" in text
+    (tmp_path / "slider.toml").write_text(text.replace("value = 0.4 }", f"value = {value} }}"))
+    assert_clean_error(["show", "slider.toml"], capfd, tmp_path, ["slider.toml", "cannot be closed", "l2"],
+                       pattern=r"off by [0-9.e+]+ mm")
