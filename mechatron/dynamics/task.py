@@ -43,8 +43,15 @@ from ..io.schema import FieldReader
 from ..kinematics.loops import loop_solver
 from ..model.loads import Load
 from ..model.mechanism import Mechanism
-from .motion import (PROFILES, Trajectory, check_input_ranges, coordinate_limits, coordinate_names, cycle,
-                     read_trajectory)
+from .motion import (
+    PROFILES,
+    Trajectory,
+    check_input_ranges,
+    coordinate_limits,
+    coordinate_names,
+    cycle,
+    read_trajectory,
+)
 
 
 @dataclass

@@ -124,8 +124,8 @@ def check_urdf(path: str | Path, *, physical: bool = False) -> None:
             continue
         _check_origin(path, where, inertial)
         mass_element = inertial.find("mass")
-        mass = _attribute(path, where, mass_element, "value", unit="kg", minimum=0.0)[0] \
-            if mass_element is not None else 0.0
+        if mass_element is not None:
+            _attribute(path, where, mass_element, "value", unit="kg", minimum=0.0)
         tensor = inertial.find("inertia")
         inertia = np.zeros((3, 3))
         if tensor is not None:
