@@ -196,12 +196,8 @@ URDF = """<?xml version="1.0"?>
     <axis xyz="0 0 1"/>
     <limit lower="{lower}" upper="{upper}" effort="{effort}" velocity="2"/>
   </joint>
-  <joint name="elbow" type="revolute">
-    <parent link="upper"/><child link="fore"/>
-    <origin xyz="0.5 0 0" rpy="0 0 0"/>
-    <axis xyz="0 0 1"/>
-    <limit lower="-2" upper="2" effort="50" velocity="2"/>
-  </joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="50" velocity="2"/></joint>
 </robot>
 """
 URDF_OK = dict(com="0.25", mass="2.0", ixx="0.002", ixy="0", z="0.3", lower="-2", upper="2", effort="50")
@@ -490,3 +486,44 @@ def test_drawing_that_cannot_close_gives_the_residual_with_its_unit(tmp_path, ca
     (tmp_path / "slider.toml").write_text(text.replace("value = 0.4 }", f"value = {value} }}"))
     assert_clean_error(["show", "slider.toml"], capfd, tmp_path, ["slider.toml", "cannot be closed", "l2"],
                        pattern=r"off by [0-9.e+]+ mm")
+
+
+SHOVEL_FIELDS = {  # (text to replace, template with {v}, name in the message, extra bad values)
+    "stroke": ("stroke = [2.240401862275488, 3.80868316586833]", "stroke = [2.240401862275488, {v}]", "stroke",
+               ("-1", "1", "0")),
+    "count": ("count = 2", "count = {v}", "count", ("2.5", "0", "-1")),
+    "lower": ("lower = -0.13999168775447282", "lower = {v}", "lower", ("1.5",)),
+}
+
+
+@pytest.mark.parametrize("field,value", [(f, v) for f, spec in SHOVEL_FIELDS.items() for v in NOT_FINITE[:6] + spec[3]])
+def test_mechanism_file_cylinders_and_limits(tmp_path, capfd, field, value):
+    old, template, name, _ = SHOVEL_FIELDS[field]
+    text = (ROOT / "robots" / "front_shovel.toml").read_text()
+    assert old in text
+    (tmp_path / "shovel.toml").write_text(text.replace(old, template.format(v=value), 1))
+    assert_clean_error(["show", "shovel.toml"], capfd, tmp_path, ["shovel.toml"], pattern=name)
+
+
+@FAST
+@given(cell=st.one_of(huge, st.sampled_from(["abc", "", "1e400", "0x10", "--1"])), column=st.sampled_from([0, 1, 2]))
+def test_trajectory_hypothesis(tmp_path, capfd, cell, column):
+    rows = list(GOOD_ROWS)
+    cells = rows[1].split(",")
+    cells[column] = cell if isinstance(cell, str) else repr(cell)
+    rows[1] = ",".join(cells)
+    (tmp_path / "move.csv").write_text(trajectory(rows))
+    assert_clean_error(["dynamics", "planar_2r", "--trajectory", "move.csv"], capfd, tmp_path,
+                       ["move.csv", "row 5", ["'t'", "'q1'", "'q2'"][column]])
+
+
+@FAST
+@given(value=st.one_of(huge, negative), column=st.sampled_from(["rated_torque_Nm", "rotor_inertia_kgcm2",
+                                                                 "mass_kg", "max_speed_rpm"]))
+def test_motor_catalog_hypothesis(tmp_path, capfd, value, column):
+    header, row = catalog("motors.csv")
+    cells = list(row)
+    cells[header.index(column)] = repr(value)
+    (tmp_path / "motors.csv").write_text(",".join(header) + "\n" + ",".join(cells) + "\n")
+    assert_clean_error(["size", "planar_2r", "--motors", "motors.csv"], capfd, tmp_path,
+                       ["motors.csv", "row 2", column])
