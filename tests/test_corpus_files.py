@@ -527,3 +527,23 @@ def test_motor_catalog_hypothesis(tmp_path, capfd, value, column):
     (tmp_path / "motors.csv").write_text(",".join(header) + "\n" + ",".join(cells) + "\n")
     assert_clean_error(["size", "planar_2r", "--motors", "motors.csv"], capfd, tmp_path,
                        ["motors.csv", "row 2", column])
+
+
+@pytest.mark.parametrize("kind,column", [("rotary_tables", "torque_30min"), ("rotary_tables", "diameter_mm"),
+                                         ("gearmotor_ranges", "ratio_min"), ("gearmotor_ranges", "output_speed_max_rpm")])
+@pytest.mark.parametrize("value", ["nan", "-inf", "1e308", "-1", "abc"])
+def test_catalogs_read_by_the_api(tmp_path, kind, column, value):
+    """The rotary-table and gearmotor catalogs (read by Python only): the error names the file, the line and the
+    column."""
+    from mechatron.drives.catalogs import DEFAULT_FILES, read_catalog
+    from mechatron.errors import InputError
+
+    lines = [line for line in (ROOT / "catalogs" / DEFAULT_FILES[kind]).read_text().splitlines()
+             if line.strip() and not line.startswith("#")]
+    header = lines[0].split(",")
+    cells = lines[1].split(",")
+    cells[header.index(column)] = value
+    (tmp_path / "c.csv").write_text("# c\n" + lines[0] + "\n" + lines[1] + "\n" + ",".join(cells) + "\n")
+    with pytest.raises(InputError) as error:
+        read_catalog(tmp_path / "c.csv", kind)
+    assert error.value.row == 4 and error.value.field == column and "c.csv" in str(error.value)
