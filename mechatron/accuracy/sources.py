@@ -261,13 +261,13 @@ def read_poses(path: str | Path, mech: Mechanism) -> tuple[NDArray[np.float64], 
             if not row[column]:
                 raise InputError("missing value", file=path, row=i, field=column)
             values[k, j] = number(row[column], file=path, row=i, field=column) * factor
+    labels = [r or str(i + 1) for i, r in enumerate(frame["label"])] if "label" in frame.columns else \
+        [str(i + 1) for i in range(len(frame))]
     if mech.closures:
         from ..dynamics.motion import check_input_ranges
 
         check_input_ranges(mech, names, values, file=path, rows=[int(n) for n in frame.index],
-                           fields=[lookup[n][0] for n in names])
-    labels = [r or str(i + 1) for i, r in enumerate(frame["label"])] if "label" in frame.columns else \
-        [str(i + 1) for i in range(len(frame))]
+                           fields=[lookup[n][0] for n in names], labels=labels)
     return values, labels
 
 

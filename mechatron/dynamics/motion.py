@@ -355,10 +355,10 @@ def input_ranges(mech: Mechanism, names: Sequence[str]) -> tuple[np.ndarray, np.
 
 
 def check_input_ranges(mech: Mechanism, names: Sequence[str], values: np.ndarray, *, file: str | Path,
-                       rows: Sequence[int | str], fields: Sequence[str]) -> None:
+                       rows: Sequence[int | str], fields: Sequence[str], labels: Sequence[str] | None = None) -> None:
     """Every row of ``values`` (rows × inputs, rad or m) of a closed loop inside its inputs' ranges (strokes), else an
     :class:`InputError` naming ``file``, the row (``rows[i]``: a line number, or a name like ``waypoints[2]``) and the
-    field ``fields[j]``."""
+    field ``fields[j]`` (and the row's label, ``labels[i]``, if given: a pose's)."""
     if not mech.closures or not len(values):
         return
     lower, upper = input_ranges(mech, names)
@@ -369,7 +369,8 @@ def check_input_ranges(mech: Mechanism, names: Sequence[str], values: np.ndarray
         unit = "rad" if mech.joint_kind(names[j]) == "revolute" else "m"
         what = "stroke" if unit == "m" else "range"
         row = rows[i]
-        raise InputError(f"{names[j]} = {values[i, j]:.6g} {unit} is outside its {what} [{lower[j]:.6g}, "
+        label = f"pose {labels[i]}: " if labels is not None else ""
+        raise InputError(f"{label}{names[j]} = {values[i, j]:.6g} {unit} is outside its {what} [{lower[j]:.6g}, "
                          f"{upper[j]:.6g}] {unit} in {mech.name}", file=file,
                          row=row if isinstance(row, int) else None,
                          field=fields[j] if isinstance(row, int) else f"{row}")
