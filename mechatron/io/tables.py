@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import re
 import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -41,29 +42,37 @@ def read_csv(path: str | Path, *, allow_empty: bool = False) -> pd.DataFrame:
         raise InputError(f"not a readable CSV file (not UTF-8 text): {exc.reason}", file=path) from None
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror}", file=path) from None
-    # the lines pandas reads (not a comment, not blank) and their line numbers in the file
-    lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
-             if line.strip() and not line.lstrip().startswith("#")]
-    too_wide = _too_wide(path, lines)
-    if too_wide is not None:
-        raise too_wide
+    # A plain file (no comment, no blank line: the usual long trajectory) goes to pandas as it is, its rows on lines
+    # 2, 3, …; otherwise the lines pandas reads (not a comment, not blank) are kept with their line numbers.
+    plain = "#" not in text and not re.search(r"(^|\n)[ \t]*(\r?\n|$)", text.rstrip("\r\n"))
+    lines = None if plain else [(n, line) for n, line in enumerate(text.splitlines(), start=1)
+                                if line.strip() and not line.lstrip().startswith("#")]
+    if lines is not None:
+        text = "\n".join(line for _, line in lines)
     try:
-        with warnings.catch_warnings():  # empty cells beyond the header's columns: dropped (wider rows refused above)
-            warnings.simplefilter("ignore", pd.errors.ParserWarning)
-            frame = pd.read_csv(io.StringIO("\n".join(line for _, line in lines)), dtype=str, keep_default_na=False,
-                                comment="#", skipinitialspace=True, skip_blank_lines=False, index_col=False)
+        with warnings.catch_warnings(record=True) as caught:  # pandas drops cells beyond the header's columns
+            warnings.simplefilter("always", pd.errors.ParserWarning)
+            frame = pd.read_csv(io.StringIO(text), dtype=str, keep_default_na=False, comment="#",
+                                skipinitialspace=True, skip_blank_lines=False, index_col=False)
     except pd.errors.EmptyDataError:
         raise InputError("not a readable CSV file: no header line", file=path) from None
     except pd.errors.ParserError as exc:
-        raise _parser_error(path, lines, exc) from None
-    if len(frame) == len(lines) - 1:  # one row per line (no quoted line breaks): the index is the line number
+        raise _parser_error(path, lines or list(enumerate(text.splitlines(), start=1)), exc) from None
+    if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):  # only empty cells may be dropped
+        too_wide = _too_wide(path, lines or list(enumerate(text.splitlines(), start=1)))
+        if too_wide is not None:
+            raise too_wide
+    header_line = 1 if lines is None else lines[0][0]
+    if lines is None:
+        frame.index = pd.RangeIndex(2, len(frame) + 2)
+    elif len(frame) == len(lines) - 1:  # one row per line (no quoted line breaks): the index is the line number
         frame.index = pd.Index([n for n, _ in lines[1:]], dtype=int)
     else:
         frame.index = pd.RangeIndex(2, len(frame) + 2)
     names = [str(c).strip() for c in frame.columns]
     unnamed = [i for i, c in enumerate(names) if not c or c.startswith("Unnamed:")]
     if unnamed:
-        raise InputError(f"column {unnamed[0] + 1} of the header has no name", file=path, row=lines[0][0])
+        raise InputError(f"column {unnamed[0] + 1} of the header has no name", file=path, row=header_line)
 
     def original(name: str) -> str:  # pandas renames a repeated column "a" to "a.1"
         base, _, number = name.rpartition(".")
@@ -72,7 +81,7 @@ def read_csv(path: str | Path, *, allow_empty: bool = False) -> pd.DataFrame:
     repeated = next((c for c in names if names.count(c) > 1 or original(c) != c), None)
     if repeated is not None:
         first = original(repeated)
-        raise InputError(f"column {first!r} is given twice in the header", file=path, row=lines[0][0], field=first)
+        raise InputError(f"column {first!r} is given twice in the header", file=path, row=header_line, field=first)
     frame.columns = names
     frame = frame.fillna("").apply(lambda column: column.astype(str).str.strip())
     if frame.empty and not allow_empty:
@@ -80,21 +89,22 @@ def read_csv(path: str | Path, *, allow_empty: bool = False) -> pd.DataFrame:
     return frame
 
 
-def _too_wide(path: Path, lines: list[tuple[int, str]]) -> InputError | None:
-    """The error of the first row with more cells than the header (named by its line), if any."""
+def _too_wide(path: Path, lines: list[tuple[int, str]], empty: bool = False) -> InputError | None:
+    """The error of the first row with more cells than the header (named by its line), if any; cells beyond the
+    header that are empty count only with ``empty``."""
     rows = csv.reader(line.partition("#")[0] if "#" in line and '"' not in line else line for _, line in lines)
     width = None
     for (n, _), cells in zip(lines, rows):
         if width is None:
             width = len(cells)
-        elif len(cells) > width and any(c.strip() for c in cells[width:]):
+        elif len(cells) > width and (empty or any(c.strip() for c in cells[width:])):
             return InputError(f"{len(cells)} cells but the header has {width} columns", file=path, row=n)
     return None
 
 
 def _parser_error(path: Path, lines: list[tuple[int, str]], exc: Exception) -> InputError:
     """The error of a line pandas cannot split."""
-    return _too_wide(path, lines) or InputError(f"not a readable CSV file: {str(exc).strip().splitlines()[0]}",
+    return _too_wide(path, lines, empty=True) or InputError(f"not a readable CSV file: {str(exc).strip().splitlines()[0]}",
                                                 file=path)
 
 
