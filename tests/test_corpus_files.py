@@ -530,7 +530,8 @@ def test_motor_catalog_hypothesis(tmp_path, capfd, value, column):
 
 
 @pytest.mark.parametrize("kind,column", [("rotary_tables", "torque_30min"), ("rotary_tables", "diameter_mm"),
-                                         ("gearmotor_ranges", "ratio_min"), ("gearmotor_ranges", "output_speed_max_rpm")])
+                                         ("gearmotor_ranges", "ratio_min"),
+                                         ("gearmotor_ranges", "output_speed_max_rpm")])
 @pytest.mark.parametrize("value", ["nan", "-inf", "1e308", "-1", "abc"])
 def test_catalogs_read_by_the_api(tmp_path, kind, column, value):
     """The rotary-table and gearmotor catalogs (read by Python only): the error names the file, the line and the

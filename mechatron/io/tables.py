@@ -104,8 +104,8 @@ def _too_wide(path: Path, lines: list[tuple[int, str]], empty: bool = False) -> 
 
 def _parser_error(path: Path, lines: list[tuple[int, str]], exc: Exception) -> InputError:
     """The error of a line pandas cannot split."""
-    return _too_wide(path, lines, empty=True) or InputError(f"not a readable CSV file: {str(exc).strip().splitlines()[0]}",
-                                                file=path)
+    detail = str(exc).strip().splitlines()[0]
+    return _too_wide(path, lines, empty=True) or InputError(f"not a readable CSV file: {detail}", file=path)
 
 
 def number(text: str, *, file: str | Path, row: int, field: str) -> float:
