@@ -43,7 +43,9 @@ class StudyResult(Result):
         mechanism: The mechanism's name.
         frame: The frame whose position was studied.
         methods: The methods run (of ``given``, ``worst``, ``rss``, ``mc``); the first is the main one.
-        k: The coverage factor (σ = t/k for normal errors; results at ±kσ).
+        k: The coverage factor (σ = t/k for normal errors; results at ±kσ). The ``rss`` results are the k·σ
+            estimate |J b| + k·√Σ(∂r/∂e·σ)²: √Σ(∂r/∂e·t)², never above the worst case Σ|∂r/∂e|·t, when every error
+            is normal; up to k/√3 times that with uniform errors (one uniform source ±t: √3·t > t for k = 3).
         sources: The error sources.
         poses: The per-pose table: ``label``, the coordinates (rad, m), nominal ``x``, ``y``, ``z`` (m) and, per
             method, ``dx_<method>``, ``dy_<method>``, ``dz_<method>``, ``dr_<method>`` (m); with ``given`` also

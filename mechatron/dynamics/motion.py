@@ -343,6 +343,39 @@ def _drop_first(trajectory: Trajectory) -> Trajectory:
                       trajectory.coordinates[1:], trajectory.angular)
 
 
+def input_ranges(mech: Mechanism, names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """(lower, upper) limits (rad, m) of the closed loop's input coordinates ``names`` (its cylinders' strokes, its
+    cranks' ranges); ±inf where a coordinate has none."""
+    from ..kinematics.loops import loop_solver
+
+    solver = loop_solver(mech)
+    index = [solver.index[n] for n in names]
+    return (np.asarray(mech.model.lowerPositionLimit, dtype=float)[index],
+            np.asarray(mech.model.upperPositionLimit, dtype=float)[index])
+
+
+def check_input_ranges(mech: Mechanism, names: Sequence[str], values: np.ndarray, *, file: str | Path,
+                       rows: Sequence[int | str], fields: Sequence[str], labels: Sequence[str] | None = None) -> None:
+    """Every row of ``values`` (rows × inputs, rad or m) of a closed loop inside its inputs' ranges (strokes), else an
+    :class:`InputError` naming ``file``, the row (``rows[i]``: a line number, or a name like ``waypoints[2]``) and the
+    field ``fields[j]`` (and the row's label, ``labels[i]``, if given: a pose's)."""
+    if not mech.closures or not len(values):
+        return
+    lower, upper = input_ranges(mech, names)
+    margin = 1e-9 * np.maximum(1.0, np.abs(upper - lower))
+    bad = (values < lower - margin) | (values > upper + margin)
+    if bad.any():
+        i, j = (int(x) for x in np.argwhere(bad)[0])
+        unit = "rad" if mech.joint_kind(names[j]) == "revolute" else "m"
+        what = "stroke" if unit == "m" else "range"
+        row = rows[i]
+        label = f"pose {labels[i]}: " if labels is not None else ""
+        raise InputError(f"{label}{names[j]} = {values[i, j]:.6g} {unit} is outside its {what} [{lower[j]:.6g}, "
+                         f"{upper[j]:.6g}] {unit} in {mech.name}", file=file,
+                         row=row if isinstance(row, int) else None,
+                         field=fields[j] if isinstance(row, int) else f"{row}")
+
+
 def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
     """A trajectory CSV: columns ``t`` (s) and one per joint coordinate (named as the joints, or q1…qn; rad, m — a
     continuous joint's angle; for a closed-loop mechanism one per actuated coordinate), optional ``qd_<name>``
@@ -375,9 +408,10 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
         raise InputError("a trajectory needs at least two rows", file=path)
     steps = np.diff(t)
     if np.any(steps <= 0):
-        row = int(np.flatnonzero(steps <= 0)[0]) + 3
+        row = int(frame.index[int(np.flatnonzero(steps <= 0)[0]) + 1])
         raise InputError("times must increase", file=path, row=row, field="t")
     coordinates = np.column_stack([numeric(c) for c in columns])
+    check_input_ranges(mech, names, coordinates, file=path, rows=[int(n) for n in frame.index], fields=columns)
 
     def derivative(values: np.ndarray) -> np.ndarray:
         return np.gradient(values, t, axis=0, edge_order=2) if len(t) > 2 else np.gradient(values, t, axis=0)

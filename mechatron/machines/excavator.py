@@ -532,7 +532,7 @@ def read_design(path: str | Path) -> FrontShovelDesign:
         if f.name == "boom_foot":
             values[f.name] = tuple(float(x) for x in reader.vector(f.name, 2))
         elif f.name == "boom_cylinders":
-            values[f.name] = int(reader.number(f.name, minimum=1))
+            values[f.name] = reader.whole(f.name, minimum=1)
         else:
             values[f.name] = reader.number(f.name)
     reader.finish()
