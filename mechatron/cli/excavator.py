@@ -17,7 +17,7 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     from ..report.progress import progress_bar
 
     design = read_design(args.design) if args.design else None
-    tooth = tuple(_floats(args.tooth_force, "--tooth-force", unit="N")) if args.tooth_force else (0.0, 0.0)
+    tooth = tuple(_floats(args.tooth_force, "--tooth-force", unit="N")) if args.tooth_force is not None else (0.0, 0.0)
     if len(tooth) != 2:
         raise InputError(f"--tooth-force needs two values FX,FY (N), got {len(tooth)}")
     written = [write_shovel(design, args.output)] if args.output else []

@@ -41,6 +41,10 @@ def number_list(text: str, what: str, *, unit: str = "", minimum: float | None =
     parts = [part for part in (p.strip() for p in str(text).split(",")) if part]
     if not parts:
         raise InputError(f"{what} must be comma-separated numbers, got {text!r}")
+    try:
+        [float(part) for part in parts]
+    except ValueError:
+        raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
     out = []
     for k, part in enumerate(parts):
         where = what if len(parts) == 1 else f"{what} value {k + 1}"
