@@ -257,6 +257,12 @@ MOVE = ["--move", "0,0,0;1,1,1"]
     (["size", "planar_2r", "--motors", "a_directory"], ["--motors", "a_directory", "directory"]),
     (["size", "planar_2r", "--task", "a_directory"], ["--task", "a_directory", "directory"]),
     (["dynamics", "articulated_rrr", "--move", "0,0,0;1,1,1", "--dt", "-inf"], ["--dt", "got -inf"]),
+    (["dynamics", "planar_2r", "--move", "0,0;1,1", "--vmax", "1e-300"], ["samples", "dt", "vmax"]),
+    (["dynamics", "planar_2r", "--move", "0,0;1,1", "--profile", "quintic", "--amax", "1e-12"], ["samples", "amax"]),
+    (["dynamics", "planar_2r", "--move", "0,0;1,1", "--dwell", "1e12"], ["samples", "dwell"]),
+    (["dynamics", "planar_2r", "--move", "0,0;1,1", "--dt", "1e-6", "--dwell", "1e3"], ["samples", "dt"]),
+    (["size", "planar_2r", "--chain-efficiency", "1e-300"], ["--chain-efficiency", ">= 0.01"]),
+    (["tolerance", "planar_2r", "--tolerances", "tol.csv", "--k", "1e-300"], ["--k", ">= 0.1"]),
 ])
 def test_issue_cases(argv, names, capfd, folder):
     assert_clean_error(argv, capfd, folder, names)

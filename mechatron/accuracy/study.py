@@ -98,7 +98,7 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
             raise InputError(f"unknown method {m!r}; expected one of: {', '.join(METHODS)} or all")
     if not sources:
         raise InputError("no error sources")
-    k = number("k", k, positive=True, maximum=100.0)
+    k = number("k", k, minimum=0.1, maximum=100.0)
     if "mc" in methods:
         samples = number("samples", samples, integer=True, minimum=2)
     seed = number("seed", seed, integer=True, minimum=0)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .common import _load, _robot_arguments, add_output_options, emit
-from .values import FILE, FRACTION, Number
+from .values import FILE, Number
 
 
 def cmd_size(args: argparse.Namespace) -> int:
@@ -52,7 +52,7 @@ def register(sub) -> None:
     p.add_argument("--no-direct", action="store_true", help="do not consider direct drive (gearless) motors")
     p.add_argument("--pressure-mpa", type=Number(positive=True, maximum=1e4, unit="MPa"), metavar="P", default=32.0,
                    help="hydraulic system pressure (default 32 MPa)")
-    p.add_argument("--chain-efficiency", type=FRACTION, metavar="ETA", default=1.0,
+    p.add_argument("--chain-efficiency", type=Number(minimum=0.01, maximum=1.0), metavar="ETA", default=1.0,
                    help="efficiency of the rest of the chain (couplings, bearings, belt), multiplies every "
                         "converter's (default 1)")
     p.add_argument("--single-pass", action="store_true",

@@ -62,7 +62,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--samples", type=Number(integer=True, minimum=2), default=10000, metavar="N",
                    help="Monte Carlo samples per pose (default 10000)")
     p.add_argument("--seed", type=Number(integer=True, minimum=0), default=0, help="random seed (default 0)")
-    p.add_argument("--k", type=Number(positive=True, maximum=100.0), default=3.0,
+    p.add_argument("--k", type=Number(minimum=0.1, maximum=100.0), default=3.0,
                    help="coverage factor: σ = t/k for normal errors (default 3)")
     p.add_argument("--limit-mm", type=Number(positive=True, unit="mm"),
                    help="largest acceptable |Δr| (mm) for the Monte Carlo yield")

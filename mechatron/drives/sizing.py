@@ -398,6 +398,8 @@ def _rivals(evaluation: Evaluation, table: _Table, primary: np.ndarray, tie: np.
 MAX_ITERATIONS = 10
 #: The most passes a sizing may be allowed (``max_iterations``).
 MAX_PASSES = 1000
+#: The lowest efficiency of the rest of the chain (``chain_efficiency``): below it the drives' currents overflow.
+MIN_EFFICIENCY = 0.01
 
 
 @dataclass(frozen=True)
@@ -882,7 +884,7 @@ def _check_arguments(inertia_ratio_max: float, pressure: float, chain_efficiency
     number("max_iterations", max_iterations, integer=True, minimum=2, maximum=MAX_PASSES)
     number("inertia_ratio_max", inertia_ratio_max, positive=True)
     number("pressure", pressure, positive=True, maximum=1e10, unit="Pa")
-    number("chain_efficiency", chain_efficiency, positive=True, maximum=1.0)
+    number("chain_efficiency", chain_efficiency, minimum=MIN_EFFICIENCY, maximum=1.0)
 
 
 def _cylinder_passes(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, pressure: float,

@@ -45,6 +45,8 @@ PROFILES = ("triangular", "trapezoidal", "scurve", "quintic")
 
 #: The smallest sampling step of a move (s).
 MIN_STEP = 1e-6
+#: The most samples of one move (a larger count would not fit in memory).
+MAX_SAMPLES = 1e8
 
 
 # ------------------------------------------------------------------------------------------------ profiles
@@ -275,6 +277,15 @@ def _axis_limits(mech: Mechanism | None, n: int, value: ArrayLike | None, defaul
     return np.broadcast_to(arr.reshape(-1), (n,)).copy()
 
 
+def _sample_count(duration: float, dt: float, what: str, fix: str = "raise dt or shorten it") -> int:
+    """⌈duration/dt⌉, or an InputError when that many samples (at most :data:`MAX_SAMPLES`) cannot be held."""
+    steps = duration / dt
+    if not steps <= MAX_SAMPLES:
+        raise InputError(f"{what} of {duration:.6g} s sampled every dt = {dt:g} s needs {steps:.3g} samples, more "
+                         f"than {MAX_SAMPLES:.0e}: {fix}")
+    return int(math.ceil(steps))
+
+
 def _names(mech: Mechanism | None, n: int) -> tuple[list[str], list[bool] | None]:
     if mech is None:
         return [f"q{i + 1}" for i in range(n)], None
@@ -312,13 +323,14 @@ def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: s
     j_lim = _axis_limits(mech, n, jmax, 50.0, "jerk", "jmax")
     if not moving.any():
         T = duration or 0.0
+        _sample_count(T, dt, "a rest", "raise dt or shorten the rest (dwell)")
         t = t0 + np.arange(0.0, T + dt / 2, dt) if T > 0 else np.array([t0])
         s, ds, dds = np.zeros(len(t)), np.zeros(len(t)), np.zeros(len(t))
     else:
         scale = np.abs(delta[moving])
         shape = make_profile(profile, float(np.min(v_lim[moving] / scale)), float(np.min(a_lim[moving] / scale)),
                              float(np.min(j_lim[moving] / scale)), duration)
-        steps = max(1, int(math.ceil(shape.duration / dt)))
+        steps = max(1, _sample_count(shape.duration, dt, "a move", "raise dt or the limits vmax, amax, jmax"))
         local = np.linspace(0.0, shape.duration, steps + 1)
         s, ds, dds = shape.evaluate(local)
         t = t0 + local
