@@ -19,7 +19,7 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     design = read_design(args.design) if args.design else None
     tooth = tuple(_floats(args.tooth_force, "--tooth-force", unit="N")) if args.tooth_force is not None else (0.0, 0.0)
     if len(tooth) != 2:
-        raise InputError(f"--tooth-force needs two values FX,FY (N), got {len(tooth)}")
+        raise InputError(f"--tooth-force needs two finite numbers FX,FY (N), got {len(tooth)} values")
     written = [write_shovel(design, args.output)] if args.output else []
     if written and not (args.json or args.csv or args.plot):
         print(f"wrote {written[0]}")

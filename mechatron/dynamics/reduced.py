@@ -29,7 +29,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..io.values import number
+from ..io.values import LARGEST, number
 from ..kinematics.loops import assemble, loop_solver
 from ..model.loads import Loads
 from ..model.mechanism import Mechanism
@@ -328,6 +328,10 @@ def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, d
     the same forces.
     """
     input = _one_dof(mech, input)
+    phi0 = number("phi0", phi0, minimum=-LARGEST, unit="rad or m")
+    omega0 = number("omega0", omega0, minimum=-LARGEST, unit="rad/s or m/s")
+    duration = number("duration", duration, positive=True, unit="s")
+    dt = number("dt", dt, positive=True, unit="s")
     state = {"q": assemble(mech, {input: phi0}) if mech.closures else _serial_q(mech, input, phi0, None)}
     solver = loop_solver(mech) if mech.closures else None
 
