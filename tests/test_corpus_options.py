@@ -131,16 +131,14 @@ def test_the_tables_cover_every_numeric_option():
 
 @pytest.mark.parametrize("command,option,value", NUMBER_CASES)
 def test_bad_number_of_an_option(command, option, value, capfd, folder):
-    """``--option=value`` (and ``--option value``): one line naming the option, and for a value that is a number,
-    the value as given."""
+    """``--option=value``: one line naming the option and what it must be (``--option value``, as two words, is
+    in the issue's cases below)."""
     base = BASE[command]
     outcome = assert_clean_error([*base[:2], f"{option}={value}", *base[2:]], capfd, folder, [option])
     assert "must be" in outcome.err
-    if value not in ("", "-0") and not value.startswith("0x"):
-        assert_clean_error([*base[:2], option, value, *base[2:]], capfd, folder, [option])
 
 
-@settings(suppress_health_check=[HealthCheck.function_scoped_fixture], deadline=None, max_examples=60)
+@settings(suppress_health_check=[HealthCheck.function_scoped_fixture], deadline=None, max_examples=40)
 @given(case=st.sampled_from(NUMBER_OPTIONS),
        x=st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**15, 10**15),
                    st.text(alphabet="0123456789.eE+-naif ,x", max_size=8)))
