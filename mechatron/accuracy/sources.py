@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..io.tables import number, read_csv
+from ..io.values import number as check_number
 from ..kinematics.loops import loop_solver
 from ..model.mechanism import Mechanism, unknown_name_error
 from ..units import UNITS
@@ -297,8 +298,8 @@ def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> NDArray[np.flo
     """Poses (rad, m) over the coordinates' ranges: a full count^n grid for n ≤ 2 coordinates, else ``count``
     random poses (seeded). Unlimited revolute (and continuous) coordinates span one turn, unlimited prismatic ones
     ±0.5 m about the reference."""
-    if count < 1:
-        raise InputError(f"a grid needs at least 1 point per coordinate, got {count}")
+    count = check_number("count", count, integer=True, minimum=1)
+    seed = check_number("seed", seed, integer=True, minimum=0)
     names = coordinate_names(mech)
     reference = reference_pose(mech)[0]
     lower, upper = _coordinate_limits(mech)

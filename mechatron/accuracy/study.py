@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, SingularityError, UnreachableError
+from ..io.values import LARGEST, number, numbers
 from ..kinematics.loops import assemble
 from ..model.mechanism import Mechanism
 from .nonlinear import PerturbedLoop, perturbed_positions
@@ -100,16 +101,19 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
             raise InputError(f"unknown method {m!r}; expected one of: {', '.join(METHODS)} or all")
     if not sources:
         raise InputError("no error sources")
-    if not (k > 0 and math.isfinite(k)):
-        raise InputError(f"the coverage factor k must be > 0, got {k:g}")
-    if "mc" in methods and not samples >= 2:
-        raise InputError(f"the Monte Carlo needs at least 2 samples, got {samples}")
+    k = number("k", k, minimum=0.1, maximum=100.0)
+    if "mc" in methods:
+        samples = number("samples", samples, integer=True, minimum=2)
+    seed = number("seed", seed, integer=True, minimum=0)
+    limit = number("limit", limit, positive=True, unit="m", allow_none=True)
     if "given" in methods and any(s.error is None for s in sources):
         raise InputError("--method given needs an error for every source")
     frame = frame or mech.tool_frame
-    poses = np.atleast_2d(np.asarray(poses, dtype=float))
+    poses = np.atleast_2d(numbers("poses", poses, minimum=-LARGEST, unit="rad or m"))
     labels = list(labels) if labels is not None else [str(i + 1) for i in range(len(poses))]
     Q = configurations(mech, poses, labels)
+    if not mech.closures:
+        mech.warn_limits(Q, "poses", [f"pose {label}" for label in labels])
     parameters = [s.name for s in sources if s.kind == "parameter"]
     coordinates = [s.name for s in sources if s.kind == "coordinate"]
     sens = sensitivities(mech, Q, frame, parameters, coordinates)

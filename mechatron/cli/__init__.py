@@ -10,10 +10,11 @@ import argparse
 import os
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
 
 from .. import __version__
-from ..errors import MechatronError
+from ..errors import MechatronError, MechatronWarning
 from . import (
     demo_command,
     dynamics,
@@ -46,12 +47,23 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
+    """A :class:`~mechatron.errors.MechatronWarning` as one line ``mechatron: warning: …`` on stderr; other warnings
+    as Python shows them."""
+    if issubclass(category, MechatronWarning):
+        print(f"mechatron: warning: {message}", file=sys.stderr)
+    else:
+        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (0 ok, 2 error)."""
     parser = build_parser()
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
-        with outputs(parser, args):
+        with outputs(parser, args), warnings.catch_warnings():
+            warnings.simplefilter("always", MechatronWarning)
+            warnings.showwarning = _show_warning
             return int(args.func(args) or 0)
     except MechatronError as exc:
         print(f"mechatron: error: {exc}", file=sys.stderr)

@@ -19,7 +19,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..model import Mechanism
     from ..report.result import Result
 
-_NEGATIVE_VALUE = re.compile(r"^-\.?\d")
+_NEGATIVE_VALUE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -28,29 +28,32 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
-
-def _floats(text: str, what: str) -> np.ndarray:
-    try:
-        values = np.array([float(x) for x in text.replace(" ", "").split(",") if x != ""])
-    except ValueError:
-        raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
-    if not np.all(np.isfinite(values)):
-        raise InputError(f"{what} must be finite numbers, got {text!r}")
-    return values
+    def _get_values(self, action: argparse.Action, arg_strings: list[str]) -> Any:
+        # argparse drops a value "--" (``--dt=--``) and stores [] unchecked: refuse it as the value it is
+        if action.option_strings and action.nargs is None and arg_strings == ["--"]:
+            self.error(f"argument {'/'.join(action.option_strings)}: expected a value, got '--'")
+        return super()._get_values(action, arg_strings)
 
 
-def parse_assignments(items: Sequence[str] | None) -> dict[str, float]:
-    """``["a2=0.5,d3=0.1", ...]`` → {"a2": 0.5, "d3": 0.1} (values in SI units)."""
+def _floats(text: str, what: str, **bounds: Any) -> np.ndarray:
+    """Comma-separated numbers of an option (``what``: its name), each finite and within ``bounds`` (of
+    :func:`~mechatron.cli.values.number_list`)."""
+    from .values import number_list
+
+    return np.array(number_list(text, what, **bounds))
+
+
+def parse_assignments(items: Sequence[str] | None, option: str = "--set") -> dict[str, float]:
+    """``["a2=0.5,d3=0.1", ...]`` → {"a2": 0.5, "d3": 0.1} (values in SI units) of ``option``; every value finite."""
+    from ..io.values import LARGEST, number
+
     out: dict[str, float] = {}
     for item in items or ():
-        for part in filter(None, item.split(",")):
+        for part in filter(None, (p.strip() for p in item.split(","))):
             name, sep, value = part.partition("=")
             if not sep or not name.strip():
-                raise InputError(f"--set expects NAME=VALUE[,NAME=VALUE...], got {part!r}")
-            try:
-                out[name.strip()] = float(value)
-            except ValueError:
-                raise InputError(f"--set {name.strip()}: value must be a number, got {value!r}") from None
+                raise InputError(f"{option} expects NAME=VALUE[,NAME=VALUE...], got {part!r}")
+            out[name.strip()] = number(f"{option} {name.strip()}", value.strip(), minimum=-LARGEST)
     return out
 
 
@@ -70,8 +73,7 @@ def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
     if degrees:
         values = np.where(_revolute_mask(mech), np.radians(values), values)
     q = mech.configuration(values)
-    for message in mech.limit_violations(q):
-        print(f"mechatron: warning: {message}", file=sys.stderr)
+    mech.warn_limits(q)
     return q
 
 

@@ -31,7 +31,9 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from ..dynamics.motion import warn_limits
 from ..errors import InputError
+from ..io.values import number
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
 from ..report.result import Result, json_ready
@@ -394,6 +396,10 @@ def _rivals(evaluation: Evaluation, table: _Table, primary: np.ndarray, tie: np.
 # ------------------------------------------------------------------------------------------------ the system
 #: The most sizing passes of the fixed point (:func:`size_mechanism`) before it reports that it did not converge.
 MAX_ITERATIONS = 10
+#: The most passes a sizing may be allowed (``max_iterations``).
+MAX_PASSES = 1000
+#: The lowest efficiency of the rest of the chain (``chain_efficiency``): below it the drives' currents overflow.
+MIN_EFFICIENCY = 0.01
 
 
 @dataclass(frozen=True)
@@ -768,8 +774,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     from .catalogs import default_catalog
     from .cylinders import cylinder_lengths, size_cylinder
 
-    if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
-        raise InputError(f"the most sizing passes must be a whole number >= 2, got {max_iterations!r}")
+    _check_arguments(inertia_ratio_max, pressure, chain_efficiency, max_iterations)
+    warn_limits(mech, trajectory, f"task '{task}'")
     bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
             if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
     if not bare:
@@ -869,6 +875,17 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                         mounts(chosen), cycle, duration)
 
 
+def _check_arguments(inertia_ratio_max: float, pressure: float, chain_efficiency: float, max_iterations: int
+                     ) -> None:
+    """The numeric arguments of :func:`size` and :func:`size_mechanism`, checked (one line naming the argument)."""
+    if isinstance(max_iterations, float):  # 3.0 is a count, 2.5 is not
+        raise InputError(f"max_iterations must be a whole number >= 2 and <= {MAX_PASSES}, got {max_iterations!r}")
+    number("max_iterations", max_iterations, integer=True, minimum=2, maximum=MAX_PASSES)
+    number("inertia_ratio_max", inertia_ratio_max, positive=True)
+    number("pressure", pressure, positive=True, maximum=1e10, unit="Pa")
+    number("chain_efficiency", chain_efficiency, minimum=MIN_EFFICIENCY, maximum=1.0)
+
+
 def _cylinder_passes(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, pressure: float,
                      length: np.ndarray | None = None) -> Callable[[float], bool]:
     from .cylinders import size_cylinder
@@ -927,6 +944,7 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     from ..model.loads import as_loads
     from .catalogs import read_catalog
 
+    _check_arguments(inertia_ratio_max, pressure, chain_efficiency, max_iterations)
     if task is None:
         task = default_task(mech)
     elif isinstance(task, Trajectory):

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, MechatronError
+from ..io.values import number
 from ..model.mechanism import Measure, Mechanism
 from ..report.result import Result, frame_records, json_ready
 from .geometry import measure_values
@@ -381,6 +382,8 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
         close, a singular position) are in its ``failures`` with the reason, not in its table.
     """
     base = loop_solver(mech)
+    if inputs is None:
+        samples = number("samples", samples, integer=True, minimum=2)
     inputs = dict(inputs) if inputs is not None else default_inputs(mech, samples)
     lengths = {len(np.atleast_1d(np.asarray(v))) for v in inputs.values()}
     if len(lengths) != 1:
