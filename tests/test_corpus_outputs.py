@@ -286,3 +286,13 @@ def test_a_stale_failures_table_goes(capfd, folder):
         assert run(["linkage", FOUR_BAR, "--samples", "5", "--csv", name], capfd, folder).code == 0
     assert not (folder / "out.failures.csv").exists()
     assert snapshot(folder)["mine.failures.csv"] == before["mine.failures.csv"]
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+def test_a_failed_run_shows_its_error_alone(capfd, folder):
+    """q6 = 9 rad is outside its limits (a warning when the run succeeds); the run fails at its full disk: the error
+    is the one line on stderr."""
+    clean(["fk", "puma560", "--q", "0,0,0,0,0,9", "--plot", "/dev/full"], capfd, folder, "--plot", "/dev/full",
+          "No space left")
+    outcome = run(["fk", "puma560", "--q", "0,0,0,0,0,9"], capfd, folder)
+    assert outcome.code == 0 and outcome.err.strip() == "mechatron: warning: q6 = 9 outside [-4.64258, 4.64258]"
