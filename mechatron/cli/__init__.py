@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 from .. import __version__
 from ..errors import MechatronError
+from ..io.budget import command_line
 from . import (
     demo_command,
     dynamics,
@@ -51,7 +52,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
-        return int(args.func(args) or 0)
+        with command_line():  # values named as options in the messages of mechatron.io.budget
+            return int(args.func(args) or 0)
     except MechatronError as exc:
         print(f"mechatron: error: {exc}", file=sys.stderr)
         return 2

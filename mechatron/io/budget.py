@@ -13,6 +13,11 @@ On the command line the values are named as options (``--dt``, see :func:`comman
 The limit (GiB) is, in order: :func:`memory_limit` (``with memory_limit(2): ...``, the API's setting), the
 environment variable ``MECHATRON_MEMORY_GB``, or :data:`DEFAULT_FRACTION` of the memory the machine has available
 when the limit is asked for (``MemAvailable`` of ``/proc/meminfo``; 4 GiB where that cannot be read).
+
+Where the work, not the memory, grows past reason (a closed loop assembled at millions of positions), :func:`seconds`
+refuses an estimated run time above :func:`time_limit` (``with time_limit(600): ...``), ``MECHATRON_TIME_S`` or
+:data:`DEFAULT_TIME_S`. Times per unit are lower bounds measured on a desktop machine: a refused run would take at
+least the time shown.
 """
 
 from __future__ import annotations
@@ -31,13 +36,18 @@ DEFAULT_FRACTION = 0.5
 #: The limit where the available memory cannot be read (GiB).
 FALLBACK_GB = 4.0
 ENVIRONMENT = "MECHATRON_MEMORY_GB"
+#: The default bound on the estimated run time of one analysis (s), and the variable that sets another.
+DEFAULT_TIME_S = 3600.0
+TIME_ENVIRONMENT = "MECHATRON_TIME_S"
 
 _limit: ContextVar[float | None] = ContextVar("mechatron_memory_limit", default=None)
+_time: ContextVar[float | None] = ContextVar("mechatron_time_limit", default=None)
 _options: ContextVar[bool] = ContextVar("mechatron_option_names", default=False)
 
 
 class BudgetError(InputError):
-    """A request whose estimated memory exceeds the limit. ``estimate`` and ``limit`` are in bytes."""
+    """A request whose estimated memory (or run time) exceeds the limit. ``estimate`` and ``limit`` are in bytes
+    (seconds for a run time)."""
 
     def __init__(self, message: str, *, estimate: float, limit: float) -> None:
         self.estimate = estimate
@@ -137,3 +147,48 @@ def samples(name: str, value: float, count_: float, bytes_per_sample: float, *, 
     shown = option(name)
     what = f"{shown} {value:g} gives {count(count_)} samples"
     return require(what, count_, bytes_per_sample, fixed=fixed, advice=advice.format(name=shown))
+
+
+def time_limit_s() -> float:
+    """The run-time limit now (s): :func:`time_limit`, ``MECHATRON_TIME_S`` or :data:`DEFAULT_TIME_S`."""
+    from .values import number
+
+    limit = _time.get()
+    if limit is None and os.environ.get(TIME_ENVIRONMENT, "").strip():
+        limit = number(f"the environment variable {TIME_ENVIRONMENT}", os.environ[TIME_ENVIRONMENT].strip(),
+                       positive=True, unit="s")
+    return DEFAULT_TIME_S if limit is None else limit
+
+
+@contextlib.contextmanager
+def time_limit(seconds_: float | None) -> Iterator[None]:
+    """Within the block, analyses whose estimated run time exceeds ``seconds_`` are refused (None: the default)."""
+    from .values import number
+
+    token = _time.set(number("time_s", seconds_, positive=True, unit="s", allow_none=True))
+    try:
+        yield
+    finally:
+        _time.reset(token)
+
+
+def duration(value: float) -> str:
+    """A run time as the message shows it: ``45 s``, ``12 min``, ``3.1 h``, ``2.0e+03 days``."""
+    if value < 120:
+        return f"{value:.0f} s"
+    if value < 7200:
+        return f"{value / 60:.0f} min"
+    if value < 48 * 3600:
+        return f"{value / 3600:.1f} h"
+    return f"{value / 86400:.2g} days"
+
+
+def seconds(what: str, units: float, seconds_per_unit: float, *, advice: str) -> float:
+    """The estimated run time ``units · seconds_per_unit`` (s), or :class:`BudgetError`
+    ``{what} (at least {time}, limit {limit}): {advice}`` when it exceeds the limit."""
+    estimate = units * seconds_per_unit if math.isfinite(units) else math.inf
+    limit = time_limit_s()
+    if not estimate <= limit:
+        raise BudgetError(f"{what} (at least {duration(estimate) if math.isfinite(estimate) else 'for ever'}, "
+                          f"limit {duration(limit)}): {advice}", estimate=estimate, limit=limit)
+    return estimate
