@@ -265,6 +265,10 @@ def reference_pose(mech: Mechanism) -> NDArray[np.float64]:
     return np.clip(mech.coordinates(q), *_coordinate_limits(mech))[None, :]
 
 
+#: Bytes a pose of a study takes (its coordinates, sensitivities and row of the table; an upper bound).
+POSE_BYTES = 4096.0
+
+
 def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> NDArray[np.float64]:
     """Poses (rad, m) over the coordinates' ranges: a full count^n grid for n ≤ 2 coordinates, else ``count``
     random poses (seeded). Unlimited revolute (and continuous) coordinates span one turn, unlimited prismatic ones
@@ -272,6 +276,12 @@ def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> NDArray[np.flo
     if count < 1:
         raise InputError(f"a grid needs at least 1 point per coordinate, got {count}")
     names = coordinate_names(mech)
+    from ..io.budget import count as shown
+    from ..io.budget import option, require
+
+    poses = float(count) ** len(names) if len(names) <= 2 else float(count)
+    require(f"{option('grid')} {count} gives {shown(poses)} poses", poses, POSE_BYTES,
+            advice=f"use a smaller {option('grid')}")
     reference = reference_pose(mech)[0]
     lower, upper = _coordinate_limits(mech)
     for j, name in enumerate(names):
