@@ -222,8 +222,8 @@ def monte_carlo_budget(samples: float, sources: int, poses: int) -> float:
     name = option("samples")
     what = f"{name} {count(samples)}: the Monte Carlo"
     advice = f"use fewer {name} (its spread falls only as 1/√samples)"
-    estimate = require(what, samples, MC_BYTES_PER_SAMPLE, fixed=MC_FIXED_BYTES + MC_BYTES_PER_ERROR * sources * min(samples, REGRESSION_SAMPLES),
-                       advice=advice)
+    regression = MC_BYTES_PER_ERROR * sources * min(samples, REGRESSION_SAMPLES)
+    estimate = require(what, samples, MC_BYTES_PER_SAMPLE, fixed=MC_FIXED_BYTES + regression, advice=advice)
     seconds(f"{what} at {poses} pose(s)", samples * poses, MC_SECONDS, advice=advice + " or fewer poses")
     return estimate
 

@@ -722,6 +722,13 @@ def _distal_first(mech: Mechanism, names: list[str]) -> list[str]:
     return sorted(names, key=lambda n: -depth(n))
 
 
+def sizing_bytes(nv: int) -> float:
+    """Bytes per sample a sizing of a mechanism of ``nv`` coordinates keeps beyond its loads (the trajectory, the
+    duties, the mounted mechanism's dynamics of every pass; an upper bound, tests/test_bounded.py): the per-pair
+    checks go a block at a time (:data:`~mechatron.drives.checks.SAMPLE_BLOCK`) and do not grow with the task."""
+    return 8.0 * (32 + 32 * nv)
+
+
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
                    gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
@@ -766,8 +773,14 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         progress: Called with (done, total) after each coordinate of each pass.
         limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
     """
+    from ..io.budget import count, require
     from .catalogs import default_catalog
     from .cylinders import cylinder_lengths, size_cylinder
+    from .loads import loads_bytes
+
+    require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
+            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
+            advice="use fewer samples (a larger time step of the trajectory)")
 
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
         raise InputError(f"the most sizing passes must be a whole number >= 2, got {max_iterations!r}")

@@ -23,9 +23,9 @@ from .description import Pair, StructuralDescription
 
 DYAD_TYPES = ("RRR", "RRP", "RPR", "PRP", "RPP")
 MAX_GROUP = 6  # frozen links per group tried
-#: The most candidate sets the group search builds in all (about a second of work): an open chain or a textbook
-#: linkage needs hundreds, a
-#: dense graph of dozens of links joined to one another millions (the search is polynomial, of degree MAX_GROUP).
+#: The most candidate sets the group search builds in all (seconds of work): an open chain or a textbook linkage
+#: needs hundreds, a dense graph of dozens of links joined to one another millions (the search is polynomial, of
+#: degree MAX_GROUP).
 MAX_CANDIDATES = 50_000
 
 
