@@ -726,7 +726,15 @@ def sizing_bytes(nv: int) -> float:
     """Bytes per sample a sizing of a mechanism of ``nv`` coordinates keeps beyond its loads (the trajectory, the
     duties, the mounted mechanism's dynamics of every pass; an upper bound, tests/test_bounded.py): the per-pair
     checks go a block at a time (:data:`~mechatron.drives.checks.SAMPLE_BLOCK`) and do not grow with the task."""
-    return 8.0 * (32 + 32 * nv)
+    return 8.0 * (64 + 48 * nv)
+
+
+def sizing_fixed_bytes() -> float:
+    """Bytes of the blocks of the per-pair checks (:data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few
+    arrays of them at once), whatever the length of the task."""
+    from . import checks
+
+    return 8.0 * 8 * checks.SAMPLE_BLOCK
 
 
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
@@ -779,7 +787,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     from .loads import loads_bytes
 
     require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
-            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
+            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)), fixed=sizing_fixed_bytes(),
             advice="use fewer samples (a larger time step of the trajectory)")
 
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
