@@ -731,10 +731,11 @@ def sizing_bytes(nv: int) -> float:
 
 def sizing_fixed_bytes() -> float:
     """Bytes of the blocks of the per-pair checks (:data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few
-    arrays of them at once), whatever the length of the task."""
+    arrays of them at once) and of the checks of every motor × converter pair of the example catalogs (32 MiB),
+    whatever the length of the task."""
     from . import checks
 
-    return 8.0 * 8 * checks.SAMPLE_BLOCK
+    return 8.0 * 8 * checks.SAMPLE_BLOCK + 32 * 2**20
 
 
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
