@@ -236,3 +236,13 @@ def test_size_refuses_a_task_past_the_limit(capfd, tmp_path, monkeypatch):
     monkeypatch.setenv(budget.ENVIRONMENT, "0.001")  # 1 MiB: 2,000 samples of planar_2r need more
     assert_clean_error(["size", "planar_2r", "--task", "long.csv", "--csv", "out.csv"], capfd, tmp_path,
                        ["sizing along 2,000 samples of planar_2r", "limit 0.001 GiB", "fewer samples"])
+
+
+def test_cli_group_search_past_its_bound_names_the_file(capfd, tmp_path):
+    links = [f"L{i}" for i in range(1, 41)]
+    lines = ['name = "dense"', "planar = true", "links = [" + ", ".join(f'"{x}"' for x in links) + "]"]
+    for k, (a, b) in enumerate([("0", "L1"), *itertools.combinations(links, 2)]):
+        lines += ["[[pairs]]", f'name = "P{k}"', 'kind = "C"', f'links = ["{a}", "{b}"]']
+    (tmp_path / "dense.toml").write_text("\n".join(lines) + "\n")
+    assert_clean_error(["structure", "dense.toml"], capfd, tmp_path,
+                       ["dense.toml: structure dense: the search for structural groups would try more than 50,000"])
