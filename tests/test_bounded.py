@@ -246,3 +246,9 @@ def test_cli_group_search_past_its_bound_names_the_file(capfd, tmp_path):
     (tmp_path / "dense.toml").write_text("\n".join(lines) + "\n")
     assert_clean_error(["structure", "dense.toml"], capfd, tmp_path,
                        ["dense.toml: structure dense: the search for structural groups would try more than 50,000"])
+
+
+def test_cli_task_file_dt_is_named_as_the_field(capfd, tmp_path, limit_gb):
+    (tmp_path / "task.toml").write_text('name = "t"\ndt = 1e-9\nwaypoints = [[0.0, 0.0], [1.0, 1.0]]\n')
+    assert_clean_error(["size", "planar_2r", "--task", "task.toml"], capfd, tmp_path,
+                       ["task.toml: field 'dt' 1e-09 gives", "samples", "limit 2 GiB", "use a larger dt"])

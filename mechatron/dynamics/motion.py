@@ -298,9 +298,10 @@ def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: s
     names, angular = _names(mech, n)
     delta = end - start
     if budget:
+        from ..io.budget import option
         from ..io.values import number
 
-        dt = number("dt", dt, positive=True, unit="s")
+        dt = number(option("dt"), dt, positive=True, unit="s")
     shape = _shape(mech, start, end, profile, vmax, amax, jmax, duration)
     if budget:
         _sample_budget(dt, _samples(shape, duration, dt), n, "a shorter move")
@@ -348,29 +349,32 @@ def trajectory_bytes(n: int) -> float:
     return 8.0 * (8 + 8 * n)
 
 
-def _sample_budget(dt: float, samples: float, n: int, shorter: str) -> None:
+def _sample_budget(dt: float, samples: float, n: int, shorter: str, name: str = "dt") -> None:
     """Refuse (:func:`mechatron.io.budget.samples`) a trajectory of ``samples`` samples at the step ``dt``."""
     from ..io.budget import samples as within_budget
 
-    within_budget("dt", dt, samples, trajectory_bytes(n), advice=f"use a larger {{name}} or {shorter}")
+    larger = "{name}" if " " not in name else "dt"  # a file's field: "dt"
+    within_budget(name, dt, samples, trajectory_bytes(n), advice=f"use a larger {larger} or {shorter}")
 
 
 def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: float = 0.0,
           profile: str = "trapezoidal", vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
-          jmax: ArrayLike | None = None, dt: float = 0.005) -> Trajectory:
+          jmax: ArrayLike | None = None, dt: float = 0.005, dt_name: str = "dt") -> Trajectory:
     """Moves (:func:`move`) through ``waypoints`` (one coordinate per joint each: rad, m) one after another,
-    resting ``dwell`` seconds at every waypoint after the first."""
+    resting ``dwell`` seconds at every waypoint after the first. ``dt_name`` names ``dt`` in a refusal
+    (:mod:`mechatron.io.budget`: ``dt``, ``--dt`` on the command line, or a file's field)."""
     if len(waypoints) < 2:
         raise InputError("a cycle needs at least two waypoints")
+    from ..io.budget import option
     from ..io.values import number
 
-    dt = number("dt", dt, positive=True, unit="s")
+    dt = number(option(dt_name), dt, positive=True, unit="s")
     points = [np.asarray(w, dtype=float) for w in waypoints]
     if all(p.ndim == 1 and p.shape == points[0].shape and np.all(np.isfinite(p)) for p in points):
         # the whole cycle's samples, before any is made
         total = sum(_samples(_shape(mech, a, b, profile, vmax, amax, jmax, None), None, dt)
                     + (_samples(None, dwell, dt) if dwell > 0 else 0.0) for a, b in zip(points[:-1], points[1:]))
-        _sample_budget(dt, total, len(points[0]), "shorter moves" + (" and dwells" if dwell > 0 else ""))
+        _sample_budget(dt, total, len(points[0]), "shorter moves" + (" and dwells" if dwell > 0 else ""), dt_name)
     parts: list[Trajectory] = []
     t = 0.0
     for a, b in zip(waypoints[:-1], waypoints[1:]):
