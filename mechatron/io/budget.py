@@ -86,15 +86,20 @@ def limit_bytes() -> float:
 
 
 @contextlib.contextmanager
-def memory_limit(gb: float | None) -> Iterator[None]:
-    """Within the block, analyses may use up to ``gb`` GiB (None: the default, see the module docstring)."""
+def _setting(variable: ContextVar, name: str, value: float | None, unit: str) -> Iterator[None]:
+    """``variable`` set to ``value`` (checked: > 0, or None for the default) within the block."""
     from .values import number
 
-    token = _limit.set(number("memory_gb", gb, positive=True, unit="GiB", allow_none=True))
+    token = variable.set(number(name, value, positive=True, unit=unit, allow_none=True))
     try:
         yield
     finally:
-        _limit.reset(token)
+        variable.reset(token)
+
+
+def memory_limit(gb: float | None) -> contextlib.AbstractContextManager[None]:
+    """Within the block, analyses may use up to ``gb`` GiB (None: the default, see the module docstring)."""
+    return _setting(_limit, "memory_gb", gb, "GiB")
 
 
 @contextlib.contextmanager
@@ -160,16 +165,9 @@ def time_limit_s() -> float:
     return DEFAULT_TIME_S if limit is None else limit
 
 
-@contextlib.contextmanager
-def time_limit(seconds_: float | None) -> Iterator[None]:
+def time_limit(seconds_: float | None) -> contextlib.AbstractContextManager[None]:
     """Within the block, analyses whose estimated run time exceeds ``seconds_`` are refused (None: the default)."""
-    from .values import number
-
-    token = _time.set(number("time_s", seconds_, positive=True, unit="s", allow_none=True))
-    try:
-        yield
-    finally:
-        _time.reset(token)
+    return _setting(_time, "time_s", seconds_, "s")
 
 
 def duration(value: float) -> str:
