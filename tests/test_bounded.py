@@ -252,3 +252,11 @@ def test_cli_task_file_dt_is_named_as_the_field(capfd, tmp_path, limit_gb):
     (tmp_path / "task.toml").write_text('name = "t"\ndt = 1e-9\nwaypoints = [[0.0, 0.0], [1.0, 1.0]]\n')
     assert_clean_error(["size", "planar_2r", "--task", "task.toml"], capfd, tmp_path,
                        ["task.toml: field 'dt' 1e-09 gives", "samples", "limit 2 GiB", "use a larger dt"])
+
+
+def test_study_refuses_poses_past_the_limit(puma):
+    from mechatron.accuracy.study import tolerance_study
+
+    with budget.memory_limit(0.001), pytest.raises(budget.BudgetError, match=r"^1,000 poses \(0.0047 GiB, limit "
+                                                                             r"0.001 GiB\): use fewer poses$"):
+        tolerance_study(puma, TOLERANCES, np.zeros((1000, 6)))

@@ -33,7 +33,7 @@ from ..model.mechanism import Mechanism
 from .nonlinear import PerturbedLoop, perturbed_positions
 from .result import StudyResult
 from .sensitivity import Sensitivities, coordinate_names, sensitivities
-from .sources import ErrorSource
+from .sources import POSE_BYTES, ErrorSource
 
 __all__ = ["METHODS", "StudyResult", "configurations", "draw_errors", "run_study", "tolerance_study"]
 
@@ -105,6 +105,9 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
         raise InputError("--method given needs an error for every source")
     frame = frame or mech.tool_frame
     poses = np.atleast_2d(np.asarray(poses, dtype=float))
+    from ..io.budget import count, require
+
+    require(f"{count(len(poses))} poses", len(poses), POSE_BYTES + 64.0 * len(sources), advice="use fewer poses")
     if "mc" in methods:
         monte_carlo_budget(samples, len(sources), len(poses))
     labels = list(labels) if labels is not None else [str(i + 1) for i in range(len(poses))]
