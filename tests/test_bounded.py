@@ -144,7 +144,7 @@ def test_sizing_estimate_bounds_the_measured_peak(puma, monkeypatch):
                    single_pass=True)
     monkeypatch.setattr(checks, "SAMPLE_BLOCK", 1 << 15)  # full blocks at a test's size
     measured, _ = peak(lambda: size_mechanism(puma, trajectory, single_pass=True))
-    assert_bounds(len(t) * (sizing_bytes(puma.nv) + loads_bytes(puma.nv)) + sizing_fixed_bytes(), measured)
+    assert_bounds(len(t) * (sizing_bytes(puma.nv) + loads_bytes(puma.nv)) + sizing_fixed_bytes(len(t)), measured)
 
 
 # --------------------------------------------------------------------- the sizing's checks, a block at a time

@@ -729,13 +729,14 @@ def sizing_bytes(nv: int) -> float:
     return 8.0 * (64 + 48 * nv)
 
 
-def sizing_fixed_bytes() -> float:
-    """Bytes of the blocks of the per-pair checks (:data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few
-    arrays of them at once) and of the checks of every motor × converter pair of the example catalogs (32 MiB),
-    whatever the length of the task."""
+def sizing_fixed_bytes(samples: float = math.inf) -> float:
+    """Bytes of the blocks of the per-pair checks (converters × samples, at most
+    :data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few arrays of them at once; 512 converters counted)
+    and of the checks of every motor × converter pair of the example catalogs (32 MiB), for a task of ``samples``
+    samples: they stop growing with the task at the block's size."""
     from . import checks
 
-    return 8.0 * 8 * checks.SAMPLE_BLOCK + 32 * 2**20
+    return 8.0 * 8 * min(checks.SAMPLE_BLOCK, 512 * samples) + 32 * 2**20
 
 
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
@@ -787,12 +788,12 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     from .cylinders import cylinder_lengths, size_cylinder
     from .loads import loads_bytes
 
-    require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
-            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)), fixed=sizing_fixed_bytes(),
-            advice="use fewer samples (a larger time step of the trajectory)")
-
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
         raise InputError(f"the most sizing passes must be a whole number >= 2, got {max_iterations!r}")
+    require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
+            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
+            fixed=sizing_fixed_bytes(len(trajectory.t)),
+            advice="use fewer samples (a larger time step of the trajectory)")
     bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
             if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
     if not bare:
