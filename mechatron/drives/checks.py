@@ -176,7 +176,9 @@ class Evaluation:
     for the pairs given to :meth:`refine` (``exact`` marks them) over the samples that can decide them
     (:meth:`JointDuty.envelope`: the voltage k_t |n| + R |T_m| / k_t grows with |n| and |T_m| like the load on the
     speed–torque curve). Every other check is exact from the start (time means over the samples per converter,
-    combined per motor). A lower bound never passes a pair that fails.
+    combined per motor). A lower bound never passes a pair that fails. The work goes a block of samples (of pairs in
+    :meth:`refine`) at a time, so that its memory stays within :data:`SAMPLE_BLOCK` elements per array however long
+    the task.
     """
 
     def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
