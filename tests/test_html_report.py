@@ -194,7 +194,11 @@ def test_size_report_has_every_check_of_every_joint(tmp_path):
     assert number(totals["energy_per_cycle_j"]) == pytest.approx(result["totals"]["energy_per_cycle_j"], rel=1e-5)
     assert len(page.table("iterations")) == len(result["iterations"])
     # one chart per joint and the arm at its most loaded pose; the inputs and the method
-    assert len(page.images) == len(result["joints"]) + 1
+    assert len(page.images) == len(result["joints"]) + 2  # and the electrical power over the task
+    electrical = page.table("electrical")
+    assert list(electrical["axis"]) == [j["joint"] for j in result["joints"]] + ["DC bus"]
+    assert number(electrical["energy_regenerated"].iloc[-1]) == pytest.approx(
+        result["electrical"]["bus"]["energy_regenerated"], rel=1e-5)
     options = dict(page.table("options").values)
     assert options["robot"] == "puma560" and options["--objective"] == "mass" and options["--report"] == str(path)
     assert dict(page.table("mechanism").values)["name"] == "puma560"

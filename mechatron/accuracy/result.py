@@ -20,6 +20,8 @@ from .sensitivity import Sensitivities
 from .sources import ErrorSource
 
 if TYPE_CHECKING:  # pragma: no cover
+    from pathlib import Path
+
     import pandas as pd
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -260,6 +262,16 @@ class StudyResult(Result):
             out["monte_carlo"] = self.monte_carlo_chart()
         out["contributions"] = self.contribution_chart()
         return out
+
+    def save_charts(self, directory: str | Path) -> list[Path]:
+        """Every chart of :meth:`charts` as ``<directory>/<mechanism>_<name>.png`` (the directory created if
+        needed), whole and all together (:func:`mechatron.io.output.write_folder`); the charts an earlier call for
+        the same mechanism wrote there and this one does not draw are removed. Returns the files written."""
+        from ..io.output import write_folder
+
+        return write_folder(directory, {f"{self.mechanism}_{name}.png": (lambda f=figure: f)
+                                        for name, figure in self.charts().items()},
+                            owner=f"mechatron tolerance {self.mechanism}")
 
     # ---------------------------------------------------------------------------------------- the HTML report
     def report(self, mechanism: Mechanism | None = None, **context) -> Report:

@@ -29,7 +29,7 @@ from . import (
     structure,
     tolerance,
 )
-from .common import _join_negative_values, _Parser
+from .common import _join_negative_values, _Parser, outputs
 
 COMMANDS = (listing, show, pose, export, linkage, excavator, dynamics, reduced, size, tolerance, structure,
             demo_command)
@@ -52,7 +52,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
-        with command_line():  # values named as options in the messages of mechatron.io.budget
+        with outputs(parser, args), command_line():  # command_line: values named as options (mechatron.io.budget)
             return int(args.func(args) or 0)
     except MechatronError as exc:
         print(f"mechatron: error: {exc}", file=sys.stderr)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import _floats, add_output_options, emit
+from .common import _floats, add_output_options, emit, output_option
 
 
 def cmd_excavator(args: argparse.Namespace) -> int:
@@ -18,6 +18,9 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     tooth = tuple(_floats(args.tooth_force, "--tooth-force")) if args.tooth_force else (0.0, 0.0)
     written = [write_shovel(design, args.output)] if args.output else []
     if written and not (args.json or args.csv or args.plot):
+        from ..io.output import written_so_far
+
+        written_so_far()
         print(f"wrote {written[0]}")
         return 0
     progress = progress_bar("working range", force=False) if not args.json else None
@@ -30,7 +33,7 @@ def register(sub) -> None:
     p.add_argument("--design", metavar="FILE", help="TOML file overriding fields of the design (see docs)")
     p.add_argument("--samples", type=int, default=31, help="grid points per cylinder stroke (default 31)")
     p.add_argument("--tooth-force", metavar="FX,FY", help="force on the tooth tip for the holding loads (N)")
-    p.add_argument("-o", "--output", metavar="FILE",
-                   help="write the design's mechanism file (every command reads it) instead of the report")
+    output_option(p, "-o", "--output", kind="toml",
+                  help="write the design's mechanism file (.toml; every command reads it) instead of the report")
     add_output_options(p)
     p.set_defaults(func=cmd_excavator)

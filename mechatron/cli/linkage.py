@@ -7,7 +7,7 @@ import argparse
 import sys
 
 from ..errors import InputError
-from .common import _load, _robot_arguments, add_output_options, emit, parse_assignments
+from .common import _load, _robot_arguments, add_output_options, emit, output_option, parse_assignments
 
 
 def cmd_linkage(args: argparse.Namespace) -> int:
@@ -42,8 +42,8 @@ def register(sub) -> None:
     _robot_arguments(p)
     p.add_argument("--samples", type=int, default=200, help="number of positions (default 200)")
     add_output_options(p, report=True)
-    p.add_argument("--plans", metavar="FILE",
-                   help="write the velocity and acceleration plans at one position (.png, .pdf or .svg)")
+    output_option(p, "--plans", kind="figure",
+                  help="write the velocity and acceleration plans at one position (.png, .pdf or .svg)")
     p.add_argument("--at", action="append", metavar="INPUT=VALUE,...",
                    help="the position of --plans (actuated coordinates, SI units; default: the reference position)")
     p.set_defaults(func=cmd_linkage)

@@ -6,7 +6,7 @@ import argparse
 import math
 
 from ..errors import InputError
-from .common import _load, _robot_arguments, add_output_options, emit
+from .common import _load, _robot_arguments, add_output_options, emit, output_option
 
 
 def cmd_size(args: argparse.Namespace) -> int:
@@ -75,7 +75,8 @@ def register(sub) -> None:
                    help="required nominal (L10) life of ball screws running the task over and over, in hours "
                         "(default 20000)")
     add_output_options(p, report=True)
-    p.add_argument("--plots", metavar="DIR", help="write each joint's chart (speed–torque for a motor, force–speed "
-                                                  "for a cylinder) as DIR/<robot>_<joint>.png and its data as "
-                                                  "DIR/<robot>_<joint>.csv")
+    output_option(p, "--plots", kind="folder", metavar="DIR",
+                  help="write each joint's chart (speed–torque for a motor, force–speed for a cylinder) as "
+                       "DIR/<robot>_<joint>.png and its data as DIR/<robot>_<joint>.csv (the charts of an earlier "
+                       "run for joints no longer there are removed)")
     p.set_defaults(func=cmd_size)

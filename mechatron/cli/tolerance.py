@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import InputError
-from .common import _load, _robot_arguments, add_output_options, emit
+from .common import _load, _robot_arguments, add_output_options, emit, output_option
 
 
 def cmd_tolerance(args: argparse.Namespace) -> int:
@@ -39,11 +39,7 @@ def cmd_tolerance(args: argparse.Namespace) -> int:
 
         written.append(write_table(result.contributions, args.contributions))
     if args.plots:
-        from ..io.output import output_directory, save_figure
-
-        directory = output_directory(args.plots)
-        written += [save_figure(figure, directory / f"{result.mechanism}_{name}.png")
-                    for name, figure in result.charts().items()]
+        written += result.save_charts(args.plots)
     emit(result, args, written, mechanism=mech)
     return 0
 
@@ -66,6 +62,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--limit-mm", type=float, help="largest acceptable |Δr| (mm) for the Monte Carlo yield")
     p.add_argument("--frame", help="the frame whose position is studied (default: the tool)")
     add_output_options(p, report=True)
-    p.add_argument("--contributions", metavar="FILE", help="write the contributions table (CSV)")
-    p.add_argument("--plots", metavar="DIR", help="write the error map, Monte Carlo and contribution charts")
+    output_option(p, "--contributions", kind="table", help="write the contributions table (CSV)")
+    output_option(p, "--plots", kind="folder", metavar="DIR",
+                  help="write the error map, Monte Carlo and contribution charts as DIR/<robot>_<chart>.png (the "
+                       "charts of an earlier run that this one does not draw are removed)")
     p.set_defaults(func=cmd_tolerance)

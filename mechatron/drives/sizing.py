@@ -582,17 +582,16 @@ class SizingResult(Result):
     def save_plots(self, directory: str | Path) -> list[Path]:
         """Every joint's chart (:meth:`DriveSizing.plot`) as ``<directory>/<mechanism>_<joint>.png`` and its data
         (:meth:`DriveSizing.chart_frame`) as ``<directory>/<mechanism>_<joint>.csv``; the directory is created if
-        needed. Returns the files written."""
-        from ..io.output import output_directory, write_atomically
+        needed. The files are written whole and all together (:func:`mechatron.io.output.write_folder`), and the
+        charts (and their data) an earlier call for the same mechanism wrote there for joints no longer sized are
+        removed. Returns the files written."""
+        from ..io.output import write_folder
 
-        directory = output_directory(directory)
-        written = []
+        files: dict = {}
         for j in self.joints:
-            stem = directory / f"{self.mechanism}_{j.joint}"
-            frame = j.chart_frame()
-            written += [j.save_plot(stem.with_suffix(".png")),
-                        write_atomically(stem.with_suffix(".csv"), lambda fh, f=frame: f.to_csv(fh, index=False))]
-        return written
+            files[f"{self.mechanism}_{j.joint}.png"] = j.plot
+            files[f"{self.mechanism}_{j.joint}.csv"] = j.chart_frame
+        return write_folder(directory, files, owner=f"mechatron size {self.mechanism}")
 
     def _method_lines(self) -> list[str]:
         if self.single_pass:

@@ -24,6 +24,8 @@ from .geometry import measure_values
 from .loops import SINGULAR_RATIO, LoopSolver, loop_solver
 
 if TYPE_CHECKING:  # pragma: no cover
+    from pathlib import Path
+
     import pandas as pd
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -98,6 +100,19 @@ class SweepResult(Result):
     def to_frame(self) -> pd.DataFrame:
         """:attr:`table`: one row per assembled sample (SI units; see the class docstring for the columns)."""
         return self.table.copy()
+
+    def write_csv(self, path: str | Path) -> Path:
+        """Write :meth:`to_frame` as CSV, whole or not at all; the ``<stem>.failures.csv`` that earlier versions
+        wrote beside it (the failures, now in :meth:`as_dict` and the text report) is removed with the same
+        commit (:func:`mechatron.io.output.stage_removal`)."""
+        from ..io.output import stage_removal, stale_failures, transaction
+
+        with transaction():
+            written = super().write_csv(path)
+            stale = stale_failures(written)
+            if stale is not None:
+                stage_removal(stale)
+        return written
 
     def as_dict(self) -> dict[str, Any]:
         """The sweep as plain data: ``mechanism, description, actuated, mobility, redundant_closure_equations``,

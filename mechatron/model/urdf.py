@@ -250,6 +250,11 @@ def to_urdf(mechanism: Mechanism) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: The comment that opens every SRDF :func:`to_srdf` writes (how :func:`export_urdf` knows its own SRDF).
+SRDF_MARK = ("rotor inertia (attribute 'mass', kg m^2) and gear ratio of each drive; "
+             "pinocchio.loadRotorParameters sets armature = mass * gear_ratio^2")
+
+
 def to_srdf(mechanism: Mechanism) -> str | None:
     """SRDF ``<rotor_params>`` reproducing the model's armature, or ``None`` if every armature is zero."""
     model = mechanism.model
@@ -267,22 +272,38 @@ def to_srdf(mechanism: Mechanism) -> str | None:
     if not entries:
         return None
     return "\n".join(['<?xml version="1.0"?>',
-                      "<!-- rotor inertia (attribute 'mass', kg m^2) and gear ratio of each drive; "
-                      "pinocchio.loadRotorParameters sets armature = mass * gear_ratio^2 -->",
+                      f"<!-- {SRDF_MARK} -->",
                       f"<robot name={quoteattr(mechanism.name)}>", "  <rotor_params>", *entries, "  </rotor_params>",
                       "</robot>"]) + "\n"
 
 
 def export_urdf(mechanism: Mechanism, path: str | Path) -> list[Path]:
-    """Write ``mechanism`` as URDF to ``path`` (and its drives as ``path`` with suffix ``.srdf``); return the files."""
+    """Write ``mechanism`` as URDF to ``path`` (and its drives as ``path`` with suffix ``.srdf``), both whole and
+    together (:func:`mechatron.io.output.transaction`); return the files. Without drives, an SRDF an earlier export
+    wrote beside ``path`` (one holding mechatron's rotor data, :data:`SRDF_MARK`) is removed."""
+    from ..io.output import output_name, stage_removal, transaction, write_text
+
     path = Path(path)
-    try:
-        path.write_text(to_urdf(mechanism))
-        written = [path]
-        srdf = to_srdf(mechanism)
+    companion = path.with_suffix(".srdf")
+    if path.suffix.lower() == ".srdf" or Path(os.path.abspath(companion)) == Path(os.path.abspath(path)):
+        raise InputError("the URDF would be written over its own SRDF; name it .urdf", file=output_name(path))
+    srdf = to_srdf(mechanism)
+    if srdf is not None and path.exists() and not path.is_file():
+        raise InputError(f"{mechanism.name} has drives, whose SRDF goes beside the URDF: name a file, not a device",
+                         file=output_name(path))
+    with transaction():
+        written = [write_text(path, to_urdf(mechanism))]
         if srdf is not None:
-            path.with_suffix(".srdf").write_text(srdf)
-            written.append(path.with_suffix(".srdf"))
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
+            written.append(write_text(companion, srdf))
+        elif _written_by_mechatron(companion):
+            stage_removal(companion)
     return written
+
+
+def _written_by_mechatron(path: Path) -> bool:
+    """Whether ``path`` is an SRDF of :func:`to_srdf` (its comment :data:`SRDF_MARK` in its first lines)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            return SRDF_MARK in fh.read(1000)
+    except OSError:
+        return False
