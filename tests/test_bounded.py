@@ -260,3 +260,17 @@ def test_study_refuses_poses_past_the_limit(puma):
     with budget.memory_limit(0.001), pytest.raises(budget.BudgetError, match=r"^1,000 poses \(0.0047 GiB, limit "
                                                                              r"0.001 GiB\): use fewer poses$"):
         tolerance_study(puma, TOLERANCES, np.zeros((1000, 6)))
+
+
+def test_simulation_steps_are_bounded(limit_gb):
+    from mechatron.dynamics.integrate import time_steps
+
+    assert time_steps(1.0, 1e-3) == 1000
+    with pytest.raises(budget.BudgetError, match=r"^dt 1e-12 gives 1.0e\+12 steps over 1 s \(1907349 GiB, limit "
+                                                 r"2 GiB\): use a larger dt or a shorter duration$"):
+        time_steps(1.0, 1e-12)
+    with pytest.raises(budget.BudgetError, match=r"^dt 1e-06 gives 1.0e\+06 steps over 1 s \(at least 100 s, limit "
+                                                 r"10 s\)"), budget.time_limit(10):
+        time_steps(1.0, 1e-6)
+    with pytest.raises(InputError, match="dt must be a finite number > 0 s, got 0"):
+        time_steps(1.0, 0.0)
