@@ -294,6 +294,10 @@ def reference_pose(mech: Mechanism) -> NDArray[np.float64]:
     return np.clip(mech.coordinates(q), *_coordinate_limits(mech))[None, :]
 
 
+#: Bytes a pose of a study takes (its coordinates, sensitivities and row of the table; an upper bound).
+POSE_BYTES = 4096.0
+
+
 def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> NDArray[np.float64]:
     """Poses (rad, m) over the coordinates' ranges: a full count^n grid for n ≤ 2 coordinates, else ``count``
     random poses (seeded). Unlimited revolute (and continuous) coordinates span one turn, unlimited prismatic ones
@@ -301,6 +305,12 @@ def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> NDArray[np.flo
     count = check_number("count", count, integer=True, minimum=1)
     seed = check_number("seed", seed, integer=True, minimum=0)
     names = coordinate_names(mech)
+    from ..io.budget import count as shown
+    from ..io.budget import option, require
+
+    poses = float(count) ** len(names) if len(names) <= 2 else float(count)
+    require(f"{option('grid')} {count} gives {shown(poses)} poses", poses, POSE_BYTES,
+            advice=f"use a smaller {option('grid')}")
     reference = reference_pose(mech)[0]
     lower, upper = _coordinate_limits(mech)
     for j, name in enumerate(names):

@@ -37,7 +37,7 @@ from ..model.mechanism import Mechanism
 from .nonlinear import PerturbedLoop, perturbed_positions
 from .result import StudyResult
 from .sensitivity import Sensitivities, coordinate_names, sensitivities
-from .sources import ErrorSource
+from .sources import POSE_BYTES, ErrorSource
 
 __all__ = ["METHODS", "StudyResult", "configurations", "draw_errors", "run_study", "tolerance_study"]
 
@@ -110,6 +110,11 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
         raise InputError("--method given needs an error for every source")
     frame = frame or mech.tool_frame
     poses = np.atleast_2d(numbers("poses", poses, minimum=-LARGEST, unit="rad or m"))
+    from ..io.budget import count, require
+
+    require(f"{count(len(poses))} poses", len(poses), POSE_BYTES + 64.0 * len(sources), advice="use fewer poses")
+    if "mc" in methods:
+        monte_carlo_budget(samples, len(sources), len(poses))
     labels = list(labels) if labels is not None else [str(i + 1) for i in range(len(poses))]
     Q = configurations(mech, poses, labels)
     if not mech.closures:
@@ -215,6 +220,26 @@ def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Gener
             out[:, j] = (rng.random(count) + rng.random(count) - 1) * s.tolerance
         out[:, j] += s.bias
     return out
+
+
+#: Memory of the Monte Carlo (bytes): per sample of a pose (Δr of the pose, its finite rows, |Δr|, the sorted
+#: copy of the quantiles, the critical pose's samples kept), per sample and source of the regression's errors, and
+#: fixed (the chunks); time per sample and pose (s, a lower bound: about 2e-5 s measured for a serial arm).
+MC_BYTES_PER_SAMPLE, MC_BYTES_PER_ERROR, MC_FIXED_BYTES, MC_SECONDS = 160.0, 16.0, 64 * 2**20, 5e-6
+
+
+def monte_carlo_budget(samples: float, sources: int, poses: int) -> float:
+    """The memory (bytes) of a Monte Carlo of ``samples`` per pose over ``sources`` errors at ``poses`` poses, or
+    :class:`~mechatron.io.budget.BudgetError` past the memory or time limit (:mod:`mechatron.io.budget`)."""
+    from ..io.budget import count, option, require, seconds
+
+    name = option("samples")
+    what = f"{name} {count(samples)}: the Monte Carlo"
+    advice = f"use fewer {name} (its spread falls only as 1/√samples)"
+    regression = MC_BYTES_PER_ERROR * sources * min(samples, REGRESSION_SAMPLES)
+    estimate = require(what, samples, MC_BYTES_PER_SAMPLE, fixed=MC_FIXED_BYTES + regression, advice=advice)
+    seconds(f"{what} at {poses} pose(s)", samples * poses, MC_SECONDS, advice=advice + " or fewer poses")
+    return estimate
 
 
 def _monte_carlo(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: Floats, nominal: Floats,

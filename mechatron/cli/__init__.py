@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 from .. import __version__
 from ..errors import MechatronError, MechatronWarning
+from ..io.budget import command_line
 from . import (
     demo_command,
     dynamics,
@@ -72,7 +73,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
     shown = _Warnings()
     try:
-        with outputs(parser, args), warnings.catch_warnings():
+        with outputs(parser, args), command_line(), warnings.catch_warnings():
             warnings.simplefilter("always", MechatronWarning)
             warnings.showwarning = shown.show
             status = int(args.func(args) or 0)

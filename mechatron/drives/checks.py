@@ -140,17 +140,31 @@ def _load_factor(value: ArrayLike, limit: ArrayLike) -> NDArray[np.float64] | fl
     return out if out.ndim else float(out)
 
 
-def motor_side(duty: JointDuty, u: ArrayLike, eta: ArrayLike, inertia: ArrayLike
+def motor_side(duty: JointDuty, u: ArrayLike, eta: ArrayLike, inertia: ArrayLike,
+               samples: slice | NDArray[np.intp] | None = None
                ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(n, a, b): motor speed n = u ω (rad/s), motor acceleration a = u ω̇ (rad/s²) and the motor torque without the
     rotor, b = J_c u ω̇ + τ*/u (N·m), for the ratio u (rad/rad or rad/m), efficiency η and motor-side converter
-    inertia J_c (kg·m²); ``u``, ``eta``, ``inertia`` broadcast against the samples (give them as columns). The
-    motor torque is then T_m = J_m a + b (the module docstring)."""
+    inertia J_c (kg·m²); ``u``, ``eta``, ``inertia`` broadcast against the samples (give them as columns); only at
+    ``samples`` (a slice or indices) when given. The motor torque is then T_m = J_m a + b (the module docstring)."""
     from .transmission import transmitted_torque
 
-    load = transmitted_torque(duty.torque, duty.speed, u, eta)
-    accel = u * duty.acceleration
-    return u * duty.speed, accel, inertia * accel + load
+    every = slice(None) if samples is None else samples
+    torque, speed, acceleration = duty.torque[every], duty.speed[every], duty.acceleration[every]
+    load = transmitted_torque(torque, speed, u, eta)
+    accel = u * acceleration
+    return u * speed, accel, inertia * accel + load
+
+
+#: Elements of the largest (converters × samples) array of an evaluation (8 bytes each): the per-sample work goes
+#: a block of samples (or of pairs) at a time, so that its memory does not grow with the length of the task.
+SAMPLE_BLOCK = 1 << 22
+
+
+def _blocks(samples: int, converters: int) -> list[slice]:
+    """Slices of the samples, each at most :data:`SAMPLE_BLOCK` / ``converters`` long (one slice for short tasks)."""
+    size = max(1, SAMPLE_BLOCK // max(1, converters))
+    return [slice(start, min(start + size, samples)) for start in range(0, max(samples, 1), size)]
 
 
 class Evaluation:
@@ -162,7 +176,9 @@ class Evaluation:
     for the pairs given to :meth:`refine` (``exact`` marks them) over the samples that can decide them
     (:meth:`JointDuty.envelope`: the voltage k_t |n| + R |T_m| / k_t grows with |n| and |T_m| like the load on the
     speed–torque curve). Every other check is exact from the start (time means over the samples per converter,
-    combined per motor). A lower bound never passes a pair that fails.
+    combined per motor). A lower bound never passes a pair that fails. The work goes a block of samples (of pairs in
+    :meth:`refine`) at a time, so that its memory stays within :data:`SAMPLE_BLOCK` elements per array however long
+    the task.
     """
 
     def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
@@ -170,7 +186,7 @@ class Evaluation:
         limits = limits or DriveLimits()
         weights = duty.time_weights()
         u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
-        n, accel, base = motor_side(duty, u, eta, Jc)  # (N_c, T)
+        self._u, self._eta, self._Jc = u, eta, Jc
         self.rotor = motors["rotor_inertia"].to_numpy()
         self.rated, self.peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
         self.rated_speed, self.top_speed = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
@@ -183,13 +199,21 @@ class Evaluation:
         self.exact = np.zeros(shape, dtype=bool)
         values, lim, Jm = self.values, self.limits, self.rotor
 
-        # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩
-        m_aa, m_ab, m_bb = (accel**2) @ weights, (accel * base) @ weights, (base**2) @ weights
+        # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩; the time means a block of samples at a time (memory
+        # bounded by SAMPLE_BLOCK, whatever the length of the task)
+        m_aa, m_ab, m_bb, mean_speed, top_speed = (np.zeros(len(conv)) for _ in range(5))
+        for block in _blocks(len(weights), len(conv)):
+            n, accel, base = motor_side(duty, u, eta, Jc, block)  # (N_c, samples of the block)
+            w = weights[block]
+            m_aa += (accel**2) @ w
+            m_ab += (accel * base) @ w
+            m_bb += (base**2) @ w
+            mean_speed += np.abs(n) @ w
+            top_speed = np.maximum(top_speed, np.abs(n).max(axis=1))
+            del n, accel, base
         values[..., 2] = np.sqrt(np.maximum(np.outer(Jm**2, m_aa) + 2 * np.outer(Jm, m_ab) + m_bb, 0.0))
-        mean_speed = np.abs(n) @ weights
         lim[..., 2] = continuous_torque(mean_speed[None, :], self.rated[:, None], self.rated_speed[:, None],
                                         self.top_speed[:, None])
-        top_speed = np.abs(n).max(axis=1)
         values[..., 3], lim[..., 3] = top_speed[None, :], self.top_speed[:, None]
         values[..., 4] = (duty.load_inertia / conv.ratio**2 + conv.inertia)[None, :] / Jm[:, None]
         lim[..., 4] = inertia_ratio_max
@@ -210,19 +234,19 @@ class Evaluation:
         values[..., _VOLTAGE + 1:], lim[..., _VOLTAGE + 1:] = screw_values[None], screw_limits[None]
 
         # the per-sample checks: lower bounds now, exact on demand
+        self._duty = duty
         strong = duty.strong_samples(2)
         rows, cols = np.indices(shape)
-        bounds = self._per_sample(rows.ravel(), cols.ravel(), n[:, strong], accel[:, strong], base[:, strong])
+        bounds = self._per_sample(rows.ravel(), cols.ravel(), *motor_side(duty, u, eta, Jc, strong))
         for k, bound in zip(PER_SAMPLE, bounds):
             values[..., k] = bound.reshape(shape)
-        keep = duty.envelope()
-        self._n, self._accel, self._base = n[:, keep], accel[:, keep], base[:, keep]
+        self._keep = duty.envelope()
 
     def _per_sample(self, m: NDArray[np.intp], c: NDArray[np.intp], n: NDArray[np.float64],
                     accel: NDArray[np.float64], base: NDArray[np.float64]
                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """(max |T_m|, max |T_m| / T_intermittent(|n|), max k_t |n| + R |T_m| / k_t) of the pairs (m[i], c[i]) over
-        the given samples."""
+        the given samples (n, accel, base: (N_c, samples) of :func:`motor_side`)."""
         torque = np.abs(self.rotor[m, None] * accel[c] + base[c])
         available = peak_torque_limit(n[c], self.peak[m, None], self.rated[m, None], self.rated_speed[m, None],
                                       self.top_speed[m, None])
@@ -236,9 +260,12 @@ class Evaluation:
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         todo = ~self.exact[m, c]
         m, c = m[todo], c[todo]
+        batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._keep))))  # (batch, samples) arrays stay bounded
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
-            exact = self._per_sample(mb, cb, self._n, self._accel, self._base)
+            used = np.unique(cb)  # the converters of the batch, at the samples that can decide
+            side = motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], self._keep)
+            exact = self._per_sample(mb, np.searchsorted(used, cb), *side)
             for k, value in zip(PER_SAMPLE, exact):
                 self.values[mb, cb, k] = value
             self.exact[mb, cb] = True

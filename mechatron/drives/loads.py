@@ -137,6 +137,17 @@ class TrajectoryLoads(Result):
                   "motor speed rad/s")
 
 
+#: The least time a closed-loop position takes in :func:`trajectory_loads` (assembly, velocity and acceleration
+#: analysis, constrained dynamics): s (measured: about 5 ms on a desktop).
+CLOSED_LOOP_SECONDS = 1e-3
+
+
+def loads_bytes(nv: int, closed: bool = False) -> float:
+    """Bytes per sample :func:`trajectory_loads` takes for a mechanism of ``nv`` coordinates, closed-loop or not
+    (an upper bound, measured with tracemalloc: tests/test_bounded.py)."""
+    return 8.0 * (8 + 8 * nv) + (2048.0 if closed else 0.0)
+
+
 def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> TrajectoryLoads:
     """Joint (or, for a closed-loop mechanism, actuator) forces along ``trajectory`` (a
     :class:`~mechatron.dynamics.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
@@ -144,6 +155,13 @@ def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = Non
     the drives' motor side (:func:`~mechatron.drives.transmission.motor_loads`, [Egorov, 4.59])."""
     warn_limits(mech, trajectory)
     t = np.asarray(trajectory.t, dtype=float)
+    from ..io.budget import count, require, seconds
+
+    fewer = "use fewer samples (a larger time step or a shorter trajectory)"
+    require(f"the loads along {count(len(t))} samples", len(t), loads_bytes(mech.nv, bool(mech.closures)),
+            advice=fewer)
+    if mech.closures:
+        seconds(f"the closed-loop loads at {count(len(t))} positions", len(t), CLOSED_LOOP_SECONDS, advice=fewer)
     positions, speeds, accelerations = trajectory.coordinates, trajectory.v, trajectory.a
     if mech.closures:
         names = list(mech.actuated)

@@ -727,6 +727,23 @@ def _distal_first(mech: Mechanism, names: list[str]) -> list[str]:
     return sorted(names, key=lambda n: -depth(n))
 
 
+def sizing_bytes(nv: int) -> float:
+    """Bytes per sample a sizing of a mechanism of ``nv`` coordinates keeps beyond its loads (the trajectory, the
+    duties, the mounted mechanism's dynamics of every pass; an upper bound, tests/test_bounded.py): the per-pair
+    checks go a block at a time (:data:`~mechatron.drives.checks.SAMPLE_BLOCK`) and do not grow with the task."""
+    return 8.0 * (64 + 48 * nv)
+
+
+def sizing_fixed_bytes(samples: float = math.inf) -> float:
+    """Bytes of the blocks of the per-pair checks (converters × samples, at most
+    :data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few arrays of them at once; 512 converters counted)
+    and of the checks of every motor × converter pair of the example catalogs (32 MiB), for a task of ``samples``
+    samples: they stop growing with the task at the block's size."""
+    from . import checks
+
+    return 8.0 * 8 * min(checks.SAMPLE_BLOCK, 512 * samples) + 32 * 2**20
+
+
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
                    gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
@@ -771,11 +788,17 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         progress: Called with (done, total) after each coordinate of each pass.
         limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
     """
+    from ..io.budget import count, require
     from .catalogs import default_catalog
     from .cylinders import cylinder_lengths, size_cylinder
+    from .loads import loads_bytes
 
     _check_arguments(inertia_ratio_max, pressure, chain_efficiency, max_iterations)
     warn_limits(mech, trajectory, f"task '{task}'")
+    require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
+            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
+            fixed=sizing_fixed_bytes(len(trajectory.t)),
+            advice="use fewer samples (a larger time step of the trajectory)")
     bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
             if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
     if not bare:

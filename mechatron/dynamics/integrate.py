@@ -51,6 +51,22 @@ def rk4_step(dynamics: Dynamics, t: float, q: Any, v: Any, dt: float, first: tup
     return q_next, v_next, dt / 6 * (p1 + 2 * p2 + 2 * p3 + p4)
 
 
+#: A step's bytes (the state, its derivatives and the multipliers kept per step, as Python objects) and its least
+#: time (four evaluations of the dynamics; s), for :func:`time_steps`' refusal (:mod:`mechatron.io.budget`).
+STEP_BYTES, STEP_SECONDS = 2048.0, 1e-4
+
+
 def time_steps(duration: float, dt: float) -> int:
-    """The number of fixed steps of length ``dt`` that cover ``duration`` (s)."""
-    return int(np.ceil(duration / dt))
+    """The number of fixed steps of length ``dt`` that cover ``duration`` (s); both checked (finite, > 0), and a
+    count whose memory or time exceeds the limits of :mod:`mechatron.io.budget` refused."""
+    from ..io.budget import count, option, require, seconds
+    from ..io.values import number
+
+    duration = number("duration", duration, positive=True, unit="s")
+    dt = number(option("dt"), dt, positive=True, unit="s")
+    steps = float(np.ceil(duration / dt))
+    what, advice = f"{option('dt')} {dt:g} gives {count(steps)} steps over {duration:g} s", \
+        f"use a larger {option('dt')} or a shorter duration"
+    require(what, steps, STEP_BYTES, advice=advice)
+    seconds(what, steps, STEP_SECONDS, advice=advice)
+    return int(steps)

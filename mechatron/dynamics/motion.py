@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.budget import option
 from ..io.values import LARGEST, number, numbers
 from ..model.mechanism import Mechanism
 from ..report.result import Result
@@ -294,7 +295,7 @@ def _names(mech: Mechanism | None, n: int) -> tuple[list[str], list[bool] | None
 
 def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: str = "trapezoidal",
          vmax: ArrayLike | None = None, amax: ArrayLike | None = None, jmax: ArrayLike | None = None,
-         duration: float | None = None, dt: float = 0.005, t0: float = 0.0) -> Trajectory:
+         duration: float | None = None, dt: float = 0.005, t0: float = 0.0, budget: bool = True) -> Trajectory:
     """A synchronised point-to-point move from ``start`` to ``end``: one coordinate per joint (rad, m; a continuous
     joint's angle, unwrapped), each following c_i(t) = start_i + (end_i − start_i)·s(t) for the profile s of the
     module docstring; the configurations are q = neutral ⊕ c (``mech.configuration``).
@@ -306,30 +307,27 @@ def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: s
         duration: Make the move last this long (s) if that is longer than the shortest move.
         dt: Sampling step (s); the end point is always included.
         t0: Time of the first sample (s).
+        budget: Refuse a move whose samples would not fit in memory (:mod:`mechatron.io.budget`).
     """
     start = numbers("start", start, minimum=-LARGEST, unit="rad or m")
     end = numbers("end", end, minimum=-LARGEST, unit="rad or m")
     n = len(start) if start.ndim == 1 else 0
     if start.ndim != 1 or end.shape != start.shape or (mech is not None and n != mech.nv):
         raise InputError(f"a move needs start and end with {mech.nv if mech else n} joint coordinates each")
-    dt = number("dt", dt, minimum=MIN_STEP, unit="s")
+    dt = number(option("dt"), dt, minimum=MIN_STEP, unit="s")
     t0 = number("t0", t0, minimum=-LARGEST, unit="s")
     duration = number("duration", duration, minimum=0.0, unit="s", allow_none=True)
     names, angular = _names(mech, n)
     delta = end - start
-    moving = np.abs(delta) > 0
-    v_lim = _axis_limits(mech, n, vmax, 1.0, "velocity", "vmax")
-    a_lim = _axis_limits(mech, n, amax, 5.0, "acceleration", "amax")
-    j_lim = _axis_limits(mech, n, jmax, 50.0, "jerk", "jmax")
-    if not moving.any():
+    shape = _shape(mech, start, end, profile, vmax, amax, jmax, duration)
+    if budget:
+        _sample_budget(dt, _samples(shape, duration, dt), n, "a shorter move")
+    if shape is None:
         T = duration or 0.0
         _sample_count(T, dt, "a rest", "raise dt or shorten the rest (dwell)")
         t = t0 + np.arange(0.0, T + dt / 2, dt) if T > 0 else np.array([t0])
         s, ds, dds = np.zeros(len(t)), np.zeros(len(t)), np.zeros(len(t))
     else:
-        scale = np.abs(delta[moving])
-        shape = make_profile(profile, float(np.min(v_lim[moving] / scale)), float(np.min(a_lim[moving] / scale)),
-                             float(np.min(j_lim[moving] / scale)), duration)
         steps = max(1, _sample_count(shape.duration, dt, "a move", "raise dt or the limits vmax, amax, jmax"))
         local = np.linspace(0.0, shape.duration, steps + 1)
         s, ds, dds = shape.evaluate(local)
@@ -339,23 +337,68 @@ def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: s
     return Trajectory(t, q, np.outer(ds, delta), np.outer(dds, delta), names, coordinates, angular)
 
 
+def _shape(mech: Mechanism | None, start: NDArray[np.float64], end: NDArray[np.float64], profile: str,
+           vmax: ArrayLike | None, amax: ArrayLike | None, jmax: ArrayLike | None, duration: float | None
+           ) -> Profile | None:
+    """The profile of a move from ``start`` to ``end`` (None when nothing moves)."""
+    n = len(start)
+    delta = end - start
+    moving = np.abs(delta) > 0
+    if not moving.any():
+        return None
+    v_lim = _axis_limits(mech, n, vmax, 1.0, "velocity", "vmax")
+    a_lim = _axis_limits(mech, n, amax, 5.0, "acceleration", "amax")
+    j_lim = _axis_limits(mech, n, jmax, 50.0, "jerk", "jmax")
+    scale = np.abs(delta[moving])
+    return make_profile(profile, float(np.min(v_lim[moving] / scale)), float(np.min(a_lim[moving] / scale)),
+                        float(np.min(j_lim[moving] / scale)), duration)
+
+
+def _samples(shape: Profile | None, duration: float | None, dt: float) -> float:
+    """The samples of a move of ``shape`` (or a rest of ``duration``) at the step ``dt`` (a float: it may be huge)."""
+    T = shape.duration if shape is not None else (duration or 0.0)
+    return max(1.0, math.ceil(T / dt)) + 1.0 if T > 0 else 1.0
+
+
+#: Bytes a sample of a trajectory of n coordinates takes while it is built (t, the profile, q, q̇, q̈, the
+#: coordinates, with the copies of :func:`cycle`): 8 · (8 + 8 n), measured with tracemalloc (tests/test_bounded.py).
+def trajectory_bytes(n: int) -> float:
+    """Bytes per sample of a trajectory of ``n`` coordinates while it is built (an upper bound)."""
+    return 8.0 * (8 + 8 * n)
+
+
+def _sample_budget(dt: float, samples: float, n: int, shorter: str, name: str = "dt") -> None:
+    """Refuse (:func:`mechatron.io.budget.samples`) a trajectory of ``samples`` samples at the step ``dt``."""
+    from ..io.budget import samples as within_budget
+
+    larger = "{name}" if " " not in name else "dt"  # a file's field: "dt"
+    within_budget(name, dt, samples, trajectory_bytes(n), advice=f"use a larger {larger} or {shorter}")
+
+
 def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: float = 0.0,
           profile: str = "trapezoidal", vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
-          jmax: ArrayLike | None = None, dt: float = 0.005) -> Trajectory:
+          jmax: ArrayLike | None = None, dt: float = 0.005, dt_name: str = "dt") -> Trajectory:
     """Moves (:func:`move`) through ``waypoints`` (one coordinate per joint each: rad, m) one after another,
-    resting ``dwell`` seconds at every waypoint after the first."""
+    resting ``dwell`` seconds at every waypoint after the first. ``dt_name`` names ``dt`` in a refusal
+    (:mod:`mechatron.io.budget`: ``dt``, ``--dt`` on the command line, or a file's field)."""
     if len(waypoints) < 2:
         raise InputError("a cycle needs at least two waypoints")
-    dwell = number("dwell", dwell, minimum=0.0, unit="s")
-    dt = number("dt", dt, minimum=MIN_STEP, unit="s")
+    dwell = number(option("dwell"), dwell, minimum=0.0, unit="s")
+    dt = number(option(dt_name), dt, minimum=MIN_STEP, unit="s")
+    points = [np.asarray(w, dtype=float) for w in waypoints]
+    if all(p.ndim == 1 and p.shape == points[0].shape and np.all(np.isfinite(p)) for p in points):
+        # the whole cycle's samples, before any is made
+        total = sum(_samples(_shape(mech, a, b, profile, vmax, amax, jmax, None), None, dt)
+                    + (_samples(None, dwell, dt) if dwell > 0 else 0.0) for a, b in zip(points[:-1], points[1:]))
+        _sample_budget(dt, total, len(points[0]), "shorter moves" + (" and dwells" if dwell > 0 else ""), dt_name)
     parts: list[Trajectory] = []
     t = 0.0
     for a, b in zip(waypoints[:-1], waypoints[1:]):
-        m = move(mech, a, b, profile=profile, vmax=vmax, amax=amax, jmax=jmax, dt=dt, t0=t)
+        m = move(mech, a, b, profile=profile, vmax=vmax, amax=amax, jmax=jmax, dt=dt, t0=t, budget=False)
         parts.append(m if not parts else _drop_first(m))
         t = float(m.t[-1])
         if dwell > 0:
-            rest = move(mech, b, b, duration=dwell, dt=dt, t0=t)
+            rest = move(mech, b, b, duration=dwell, dt=dt, t0=t, budget=False)
             parts.append(_drop_first(rest))
             t = float(rest.t[-1])
     return Trajectory(*(np.concatenate([getattr(p, k) for p in parts]) for k in ("t", "q", "v", "a")),

@@ -226,7 +226,8 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     dt = reader.number("dt", 0.005, positive=True)
     limits = {k: _per_axis(reader, k, angular) for k in ("vmax", "amax", "jmax")}
     reader.finish()
-    trajectory = cycle(None if mech.closures else mech, points, dwell=dwell, profile=profile, dt=dt, **limits)
+    trajectory = cycle(None if mech.closures else mech, points, dwell=dwell, profile=profile, dt=dt,
+                       dt_name=f"{path}: field 'dt'", **limits)
     if mech.closures:
         trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names,
                                 angular=[bool(x) for x in angular])

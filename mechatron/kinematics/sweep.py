@@ -354,6 +354,32 @@ def _as_arrays(values: Mapping[str, object] | None, names: Sequence[str], n: int
     return out
 
 
+#: The least time one closed-loop position takes (assembly, velocity and acceleration analysis): s (measured: 3 to
+#: 6 ms on a desktop), and the bytes of its row in the results (an upper bound, tests/test_bounded.py).
+POSITION_SECONDS = 1e-3
+
+
+def position_bytes(mech: Mechanism) -> float:
+    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table)."""
+    return 4096.0 * mech.nq + 400.0 * mech.nq**2
+
+
+def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1) -> None:
+    """Refuse (:mod:`mechatron.io.budget`) ``count`` closed-loop positions (``per_position`` assemblies each)
+    asked for by ``name`` (``samples``: fewer samples; ``inputs``: fewer input values) past the memory or time
+    limit."""
+    from ..io.budget import count as shown
+    from ..io.budget import option, require, seconds
+
+    label = option(name)
+    what = f"{label} {shown(count)}" if name == "samples" else f"{shown(count)} values of the {label}"
+    what += f" gives {shown(count * per_position)} positions of {mech.name}" if per_position > 1 else \
+        f": positions of {mech.name}"
+    advice = f"use fewer {label}"
+    require(what, count, position_bytes(mech), advice=advice)
+    seconds(what, count * per_position, POSITION_SECONDS, advice=advice)
+
+
 def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, samples: int = 200,
           rates: Mapping[str, ArrayLike] | None = None, accelerations: Mapping[str, ArrayLike] | None = None,
           frames: Sequence[str] | None = None, links: Sequence[str] | None = None,
@@ -382,13 +408,17 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
         close, a singular position) are in its ``failures`` with the reason, not in its table.
     """
     base = loop_solver(mech)
-    if inputs is None:
+    given = inputs is not None
+    if not given:
         samples = number("samples", samples, integer=True, minimum=2)
+        positions_budget(mech, samples, "samples")
     inputs = dict(inputs) if inputs is not None else default_inputs(mech, samples)
     lengths = {len(np.atleast_1d(np.asarray(v))) for v in inputs.values()}
     if len(lengths) != 1:
         raise InputError("every swept input needs the same number of samples")
     n = lengths.pop()
+    if given:
+        positions_budget(mech, n, "inputs")
     names = list(mech.actuated)
     q = np.array(mech.reference_q if guess is None else guess, dtype=float)
     held = {name: q[base.index[name]] for name in names}

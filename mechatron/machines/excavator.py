@@ -755,6 +755,9 @@ def excavator_report(design: FrontShovelDesign | None = None, samples: int = 31,
     specs = cylinders or DEFAULT_CYLINDERS
     shovel = synthesize(design)
     mech = build_linkage(shovel_spec(shovel))
+    from ..kinematics.sweep import positions_budget
+
+    positions_budget(mech, samples, "samples", per_position=6 * samples + 1)  # 6 faces of samples² and a sweep
     deg = 1 / DEG
     special = {}
     for name, angles in special_positions(shovel).items():

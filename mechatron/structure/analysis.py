@@ -245,4 +245,10 @@ def analyse_structure(subject: StructuralDescription | Mechanism | str | Path) -
             raise InputError(f"{subject}: not a structural description file (a TOML file with [[pairs]]) nor a "
                              "shipped case")
         subject = read_structure(path)
+        try:
+            return analyse(subject)
+        except InputError as exc:  # the bounded group search: name the file
+            if exc.file is None:
+                raise InputError(exc.message, file=path, row=exc.row, field=exc.field) from None
+            raise
     return analyse(subject)

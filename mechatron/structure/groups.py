@@ -18,10 +18,15 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
+from ..errors import InputError
 from .description import Pair, StructuralDescription
 
 DYAD_TYPES = ("RRR", "RRP", "RPR", "PRP", "RPP")
 MAX_GROUP = 6  # frozen links per group tried
+#: The most candidate sets the group search builds in all (seconds of work): an open chain or a textbook linkage
+#: needs hundreds, a dense graph of dozens of links joined to one another millions (the search is polynomial, of
+#: degree MAX_GROUP).
+MAX_CANDIDATES = 50_000
 
 
 @dataclass(frozen=True)
@@ -94,10 +99,11 @@ def decompose(desc: StructuralDescription) -> Decomposition | None:
         incident[b].append(k)
     order = {root: k for k, root in enumerate(members)}
     groups = []
+    tried = [0]  # candidate sets built so far (bounded by MAX_CANDIDATES)
     while unknown:
         found = None
         for size, candidates in zip(range(1, min(MAX_GROUP, len(unknown)) + 1),
-                                    _connected_sets(unknown, placed, neighbours, order)):
+                                    _connected_sets(unknown, placed, neighbours, order, tried, desc.name)):
             for candidate in candidates:
                 inside = set(candidate)
                 touching = sorted({k for c in candidate for k in incident[c]})
@@ -119,16 +125,26 @@ def decompose(desc: StructuralDescription) -> Decomposition | None:
     return Decomposition(driving, tuple(groups), tuple(x for u in unknown for x in members[u]))
 
 
-def _connected_sets(unknown: list[str], placed: set[str], neighbours: dict[str, set[str]], order: dict[str, int]
-                    ) -> Iterator[list[tuple[str, ...]]]:
+def _connected_sets(unknown: list[str], placed: set[str], neighbours: dict[str, set[str]], order: dict[str, int],
+                    tried: list[int], name: str) -> Iterator[list[tuple[str, ...]]]:
     """The connected sets of unplaced links that touch a placed one, by size (1, 2, …): each size as a list of
-    tuples in the links' order, sorted as ``itertools.combinations`` would give them."""
+    tuples in the links' order, sorted as ``itertools.combinations`` would give them. ``tried[0]`` counts the sets
+    built; past :data:`MAX_CANDIDATES` the search stops with an :class:`~mechatron.errors.InputError`."""
     pool = set(unknown)
     level = {frozenset([u]) for u in unknown if neighbours[u] & placed}
     while level:
+        tried[0] += len(level)
         yield sorted((tuple(sorted(s, key=order.__getitem__)) for s in level),
                      key=lambda c: [order[x] for x in c])
-        level = {s | {n} for s in level for x in s for n in neighbours[x] & pool if n not in s}
+        grown: set[frozenset[str]] = set()
+        for s in level:
+            for x in s:
+                grown.update(s | {n} for n in neighbours[x] & pool if n not in s)
+            if tried[0] + len(grown) > MAX_CANDIDATES:
+                raise InputError(f"structure {name}: the search for structural groups would try more than "
+                                 f"{MAX_CANDIDATES:,} sets of links ({len(pool)} links left, joined to many others): "
+                                 "give each loop's closed_by, or describe fewer links")
+        level = grown
 
 
 def _attached(pairs: list[Pair], placed: set[str], find) -> bool:
