@@ -189,8 +189,8 @@ def test_group_search_is_bounded():
 
 # ---------------------------------------------------------------------------- the command line refuses cleanly
 CLI_REFUSALS = [
-    (["dynamics", "puma560", "--move", "0,0,0,0,0,0;1,1,1,1,1,1", "--dt", "1e-9"], ["--dt 1e-09 gives", "GiB",
-                                                                                    "use a larger --dt"]),
+    (["dynamics", "puma560", "--move", "0,0,0,0,0,0;1,1,1,1,1,1", "--dt", "1e-6", "--vmax", "1e-3"],
+     ["--dt 1e-06 gives", "GiB", "use a larger --dt"]),
     (["dynamics", "planar_2r", "--move", "0,0;1,1;0,0", "--dwell", "100", "--dt", "1e-6"],
      ["--dt 1e-06", "limit 2 GiB", "dwells"]),
     (["tolerance", "puma560", "--tolerances", TOLERANCES, "--samples", "1000000000"],
@@ -249,9 +249,10 @@ def test_cli_group_search_past_its_bound_names_the_file(capfd, tmp_path):
 
 
 def test_cli_task_file_dt_is_named_as_the_field(capfd, tmp_path, limit_gb):
-    (tmp_path / "task.toml").write_text('name = "t"\ndt = 1e-9\nwaypoints = [[0.0, 0.0], [1.0, 1.0]]\n')
+    (tmp_path / "task.toml").write_text('name = "t"\ndt = 1e-6\nvmax = [1e-3, 1e-3]\n'
+                                        'waypoints = [[0.0, 0.0], [1.0, 1.0]]\n')
     assert_clean_error(["size", "planar_2r", "--task", "task.toml"], capfd, tmp_path,
-                       ["task.toml: field 'dt' 1e-09 gives", "samples", "limit 2 GiB", "use a larger dt"])
+                       ["task.toml: field 'dt' 1e-06 gives", "samples", "limit 2 GiB", "use a larger dt"])
 
 
 def test_study_refuses_poses_past_the_limit(puma):
@@ -266,7 +267,7 @@ def test_simulation_steps_are_bounded(limit_gb):
     from mechatron.dynamics.integrate import time_steps
 
     assert time_steps(1.0, 1e-3) == 1000
-    with pytest.raises(budget.BudgetError, match=r"^dt 1e-12 gives 1.0e\+12 steps over 1 s \(1907349 GiB, limit "
+    with pytest.raises(budget.BudgetError, match=r"^dt 1e-12 gives 1.0e\+12 steps over 1 s \(1.9e\+06 GiB, limit "
                                                  r"2 GiB\): use a larger dt or a shorter duration$"):
         time_steps(1.0, 1e-12)
     with pytest.raises(budget.BudgetError, match=r"^dt 1e-06 gives 1.0e\+06 steps over 1 s \(at least 100 s, limit "

@@ -321,7 +321,7 @@ def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: s
     delta = end - start
     shape = _shape(mech, start, end, profile, vmax, amax, jmax, duration)
     if budget:
-        _sample_budget(dt, _samples(shape, duration, dt), n, "a shorter move")
+        _sample_budget(dt, _samples(shape, duration, dt), n, "a shorter or faster move (vmax, amax, jmax)")
     if shape is None:
         T = duration or 0.0
         _sample_count(T, dt, "a rest", "raise dt or shorten the rest (dwell)")
@@ -390,7 +390,8 @@ def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: floa
         # the whole cycle's samples, before any is made
         total = sum(_samples(_shape(mech, a, b, profile, vmax, amax, jmax, None), None, dt)
                     + (_samples(None, dwell, dt) if dwell > 0 else 0.0) for a, b in zip(points[:-1], points[1:]))
-        _sample_budget(dt, total, len(points[0]), "shorter moves" + (" and dwells" if dwell > 0 else ""), dt_name)
+        shorter = "shorter or faster moves (vmax, amax, jmax)" + (" and dwells" if dwell > 0 else "")
+        _sample_budget(dt, total, len(points[0]), shorter, dt_name)
     parts: list[Trajectory] = []
     t = 0.0
     for a, b in zip(waypoints[:-1], waypoints[1:]):

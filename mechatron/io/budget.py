@@ -122,8 +122,10 @@ def option(name: str) -> str:
 
 
 def gib(nbytes: float) -> str:
-    """``nbytes`` in GiB, two significant figures (``37 GiB``, ``0.52 GiB``)."""
+    """``nbytes`` in GiB, two significant figures (``37 GiB``, ``0.52 GiB``, ``3.6e+302 GiB``)."""
     value = nbytes / GIB
+    if value >= 1e6:
+        return f"{value:.1e} GiB"
     return f"{value:.2g} GiB" if value < 10 else f"{value:.0f} GiB"
 
 
