@@ -330,7 +330,7 @@ def _curve(function: Callable, x: np.ndarray) -> np.ndarray:
     """``function`` (a curve y(x) or a derivative) at a float or an array of x (m): a function that takes floats
     only is called once per element."""
     if np.ndim(x) == 0:
-        return function(x)
+        return np.asarray(function(x), dtype=float)
     try:
         y = np.asarray(function(x), dtype=float)
     except (TypeError, ValueError):
