@@ -200,7 +200,8 @@ class Slider(Closure):
     def jacobian(self, s: FrameStates) -> np.ndarray:
         kp, kl, d, n, r = self._geometry(s)
         Jp, Jl = s.jacobian[..., kp, :, :], s.jacobian[..., kl, :, :]
-        rows = [(n[..., None, :] @ (Jp[..., :2, :] - Jl[..., :2, :]))[..., 0, :] - _dot(d, r)[..., None] * Jl[..., 5, :]]
+        normal = (n[..., None, :] @ (Jp[..., :2, :] - Jl[..., :2, :]))[..., 0, :]  # n·(J_p − J_l), rows x and y
+        rows = [normal - _dot(d, r)[..., None] * Jl[..., 5, :]]
         if self.lock_angle:
             rows.append(Jp[..., 5, :] - Jl[..., 5, :])
         return np.stack(rows, axis=-2)

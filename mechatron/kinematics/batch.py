@@ -1,0 +1,127 @@
+r"""Position analysis of many samples at once: Newton's method batched over samples, from guesses interpolated between
+a few samples solved by continuation, checked sample by sample.
+
+A sweep asks for the assembly of N samples of the inputs on one assembly branch. The sequential continuation
+(:func:`mechatron.kinematics.sweep.sweep`) solves one sample after the other; here
+
+1. ``anchors`` — every m-th sample, m chosen so that the anchors' input step is at most four continuation steps
+   (:attr:`~mechatron.kinematics.loops.LoopSolver.max_step`) — are solved by that continuation (they keep the branch);
+2. every other sample starts from the cubic (Lagrange) interpolation in the sample index through the four nearest
+   anchors and is solved by Newton's method on all samples at once: Φ(q) and J(q) of a chunk of samples from
+   :class:`~mechatron.model.batched.BatchedFrames`, the steps J_d Δq_d = −Φ from one stacked ``np.linalg.solve``,
+   until every residual is below :data:`~mechatron.kinematics.loops.TOLERANCE`, then one more step (rounding level);
+3. each sample is checked against its predecessor: the change of the dependent coordinates must follow the velocity
+   maps, Δq_d ≈ ½ (S_{k−1} + S_k) Δu (trapezoidal rule, error O(Δu³)); a sample that did not converge, jumped (error
+   above a tenth of its change) or neighbours a failed sample is *doubtful*, and the caller solves it again by the
+   sequential continuation.
+
+Memory: the work is done in chunks of :data:`CHUNK` samples, so that it does not grow with N beyond the (N, nq)
+array of the solutions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.batched import BatchedFrames
+from ..model.closures import ClosureSystem
+from .loops import TOLERANCE
+
+#: Samples evaluated together (the working storage is a few kB per sample of a chunk).
+CHUNK = 2048
+#: Newton iterations of the batched solve before a sample counts as not converged.
+ITERATIONS = 12
+#: A sample whose change from its predecessor differs from the velocity maps' prediction by more than this fraction
+#: of the change (and more than :data:`JUMP_FLOOR`) is doubtful: it may have left the branch.
+JUMP_RATIO = 0.1
+JUMP_FLOOR = 1e-9
+
+
+def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Solve A_k x_k = b_k for a stack of matrices A (n, m, m) and vectors b (n, m) or matrices b (n, m, p) (least
+    squares when A_k is not square or some A_k is singular)."""
+    vector = b.ndim == 2
+    B = b[..., None] if vector else b
+    x = None
+    if A.shape[1] == A.shape[2]:
+        try:
+            x = np.linalg.solve(A, B)
+        except np.linalg.LinAlgError:
+            pass
+    if x is None:
+        x = np.linalg.pinv(A) @ B
+    return x[..., 0] if vector else x
+
+
+def chunks(n: int, size: int = CHUNK) -> list[slice]:
+    """Consecutive slices of at most ``size`` covering range(n)."""
+    return [slice(start, min(start + size, n)) for start in range(0, n, size)]
+
+
+def anchor_stride(U: np.ndarray, max_step: np.ndarray) -> int:
+    """Every how many samples an anchor is solved by continuation: its input step at most four times the
+    continuation's ``max_step`` (m or rad), for the largest input step between samples in U (n, n_act)."""
+    step = np.abs(np.diff(U, axis=0)).max(axis=0, initial=0.0) if len(U) > 1 else np.zeros(U.shape[1])
+    with np.errstate(divide="ignore"):
+        stride = np.min(np.where(step > 0, 4.0 * max_step / step, np.inf))
+    return int(max(1, min(stride, len(U)))) if np.isfinite(stride) else len(U)
+
+
+def interpolate(anchors: np.ndarray, values: np.ndarray, samples: np.ndarray) -> np.ndarray:
+    """Values at ``samples`` (indices) of the cubic through the four nearest ``anchors`` (sorted indices, their
+    ``values`` (n_anchors, nq)); fewer anchors give a lower degree."""
+    m = len(anchors)
+    order = min(4, m)
+    first = np.clip(np.searchsorted(anchors, samples) - order // 2, 0, m - order)
+    out = np.zeros((len(samples), values.shape[1]))
+    for i in range(order):  # Lagrange basis polynomial of the i-th of the `order` anchors
+        weight = np.ones(len(samples))
+        xi = anchors[first + i]
+        for j in range(order):
+            if j != i:
+                xj = anchors[first + j]
+                weight *= (samples - xj) / (xi - xj)
+        out += weight[:, None] * values[first + i]
+    return out
+
+
+def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, dep: np.ndarray) -> np.ndarray:
+    """Newton's method on the dependent coordinates ``dep`` of every row of Q (n, nq) at once, in place; returns
+    which rows converged (residual below :data:`TOLERANCE` within :data:`ITERATIONS`, then one more step)."""
+    converged = np.zeros(len(Q), dtype=bool)
+    active = np.arange(len(Q))
+    for _ in range(ITERATIONS + 1):
+        if not len(active):
+            break
+        phi, J = system.stack(frames.placements(Q[active]))
+        with np.errstate(invalid="ignore"):
+            below = np.abs(phi).max(axis=1, initial=0.0) < TOLERANCE
+            finite = np.isfinite(phi).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
+        rows = active[finite]
+        step = solve(J[finite][:, :, dep], -phi[finite])
+        Q[rows[:, None], dep] += step  # the converged rows take their last, polishing step too
+        converged[active[below]] = True
+        active = active[finite & ~below]
+    return converged
+
+
+def doubtful(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, U: np.ndarray, solved: np.ndarray,
+             act: np.ndarray, dep: np.ndarray) -> np.ndarray:
+    """Samples whose change from their predecessor (both ``solved``) does not follow the velocity maps,
+    Δq_d ≈ ½ (S_{k−1} + S_k) Δu (see the module docstring); chunk by chunk."""
+    out = np.zeros(len(Q), dtype=bool)
+    for part in chunks(len(Q)):
+        lo = max(part.start - 1, 0)  # one sample of overlap: the predecessor of the chunk's first
+        rows = np.arange(lo, part.stop)
+        _, J = system.stack(frames.placements(Q[rows]))
+        with np.errstate(all="ignore"):
+            Sd = -solve(J[:, :, dep], J[:, :, act])  # (rows, n_dep, n_act)
+            du = U[rows[1:]] - U[rows[:-1]]
+            predicted = 0.5 * np.einsum("kij,kj->ki", Sd[1:] + Sd[:-1], du)
+            change = Q[rows[1:]][:, dep] - Q[rows[:-1]][:, dep]
+            error = np.abs(change - predicted).max(axis=1, initial=0.0)
+            bad = ~(error <= JUMP_RATIO * np.abs(change).max(axis=1, initial=0.0) + JUMP_FLOOR)
+        pair = solved[rows[1:]] & solved[rows[:-1]]
+        out[rows[1:][pair & bad]] = True
+    return out
+
