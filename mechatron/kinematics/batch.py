@@ -85,10 +85,13 @@ def interpolate(anchors: np.ndarray, values: np.ndarray, samples: np.ndarray) ->
     return out
 
 
-def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, dep: np.ndarray) -> np.ndarray:
-    """Newton's method on the dependent coordinates ``dep`` of every row of Q (n, nq) at once, in place; returns
-    which rows converged (residual below :data:`TOLERANCE` within :data:`ITERATIONS`, then one more step)."""
+def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, act: np.ndarray, dep: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Newton's method on the dependent coordinates ``dep`` of every row of Q (n, nq) at once, in place: returns
+    which rows converged (residual below :data:`TOLERANCE` within :data:`ITERATIONS`, then one more step) and their
+    dependent velocity maps S_d = −J_d⁻¹ J_a (n, n_dep, n_act) at the last evaluation (NaN where not converged)."""
     converged = np.zeros(len(Q), dtype=bool)
+    maps = np.full((len(Q), len(dep), len(act)), np.nan)
     active = np.arange(len(Q))
     for _ in range(ITERATIONS + 1):
         if not len(active):
@@ -98,30 +101,23 @@ def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, dep: np.
             below = np.abs(phi).max(axis=1, initial=0.0) < TOLERANCE
             finite = np.isfinite(phi).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
         rows = active[finite]
-        step = solve(J[finite][:, :, dep], -phi[finite])
-        Q[rows[:, None], dep] += step  # the converged rows take their last, polishing step too
-        converged[active[below]] = True
-        active = active[finite & ~below]
-    return converged
+        # one solve for the step J_d Δq_d = −Φ and the maps J_d S_d = −J_a
+        X = solve(J[finite][:, :, dep], -np.concatenate([phi[finite][:, :, None], J[finite][:, :, act]], axis=2))
+        Q[rows[:, None], dep] += X[:, :, 0]  # the converged rows take their last, polishing step too
+        done = below[finite]
+        maps[rows[done]] = X[done, :, 1:]
+        converged[rows[done]] = True
+        active = rows[~done]
+    return converged, maps
 
 
-def doubtful(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, U: np.ndarray, solved: np.ndarray,
-             act: np.ndarray, dep: np.ndarray) -> np.ndarray:
-    """Samples whose change from their predecessor (both ``solved``) does not follow the velocity maps,
-    Δq_d ≈ ½ (S_{k−1} + S_k) Δu (see the module docstring); chunk by chunk."""
-    out = np.zeros(len(Q), dtype=bool)
-    for part in chunks(len(Q)):
-        lo = max(part.start - 1, 0)  # one sample of overlap: the predecessor of the chunk's first
-        rows = np.arange(lo, part.stop)
-        _, J = system.stack(frames.placements(Q[rows]))
-        with np.errstate(all="ignore"):
-            Sd = -solve(J[:, :, dep], J[:, :, act])  # (rows, n_dep, n_act)
-            du = U[rows[1:]] - U[rows[:-1]]
-            predicted = 0.5 * np.einsum("kij,kj->ki", Sd[1:] + Sd[:-1], du)
-            change = Q[rows[1:]][:, dep] - Q[rows[:-1]][:, dep]
-            error = np.abs(change - predicted).max(axis=1, initial=0.0)
-            bad = ~(error <= JUMP_RATIO * np.abs(change).max(axis=1, initial=0.0) + JUMP_FLOOR)
-        pair = solved[rows[1:]] & solved[rows[:-1]]
-        out[rows[1:][pair & bad]] = True
-    return out
-
+def jumps(Q: np.ndarray, U: np.ndarray, maps: np.ndarray, solved: np.ndarray) -> np.ndarray:
+    """Which samples 1 … n−1 of a run (Q (n, nq) of the dependent coordinates, inputs U (n, n_act), dependent maps
+    (n, n_dep, n_act)) changed from their predecessor (both ``solved``) otherwise than the velocity maps predict,
+    Δq_d ≈ ½ (S_{k−1} + S_k) Δu (see the module docstring); false for sample 0."""
+    with np.errstate(all="ignore"):
+        predicted = 0.5 * np.einsum("kij,kj->ki", maps[1:] + maps[:-1], np.diff(U, axis=0))
+        change = np.diff(Q, axis=0)
+        error = np.abs(change - predicted).max(axis=1, initial=0.0)
+        bad = ~(error <= JUMP_RATIO * np.abs(change).max(axis=1, initial=0.0) + JUMP_FLOOR)
+    return np.concatenate([[False], bad & solved[1:] & solved[:-1]])

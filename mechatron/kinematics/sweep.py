@@ -397,8 +397,9 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     # kinematics knows the joints, else by continuation from sample to sample
     kinematics = _batched_frames(solver) if BATCHED else None
     reported = [system.index[name] for name in wanted]
-    if kinematics is not None and n >= BATCH_MIN:
-        Q, ok = _batched_positions(solver, kinematics, U, q, failures, progress)
+    closing = _batched_frames(base) if kinematics is not None else None  # the closures' frames only
+    if closing is not None and n >= BATCH_MIN:
+        Q, ok = _batched_positions(base, closing, U, q, failures, progress)
     else:
         Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=kinematics is None).run(range(n))
     # velocities q̇ = S q̇_a, accelerations J_d q̈_d = −J_a q̈_a − J̇ q̇ and the reported frames, all samples at once
@@ -507,16 +508,23 @@ def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray,
     anchors = anchors[solved[anchors]]
     Q = np.zeros((n, solver.mech.nv))
     ok = np.zeros(n, dtype=bool)
+    doubtful = np.zeros(n, dtype=bool)
+    previous = np.zeros(0, dtype=int)  # the last sample of the previous chunk, the first one's predecessor
+    maps = np.zeros((0, len(dep), len(solver.act)))
     if len(anchors):
         for part in batch.chunks(n):
             rows = np.arange(part.start, part.stop)
             Q[part] = batch.interpolate(anchors, Qa[anchors], rows)
             Q[rows[:, None], solver.act] = U[part]
-            ok[part] = valid[part] & batch.newton(system, frames, Q[part], dep)
+            converged, chunk_maps = batch.newton(system, frames, Q[part], solver.act, dep)
+            ok[part] = valid[part] & converged
+            run = np.concatenate([previous, rows])
+            maps = np.concatenate([maps, chunk_maps])
+            doubtful[run] |= batch.jumps(Q[run][:, dep], U[run], maps, ok[run])
+            previous, maps = rows[-1:], maps[-1:]
             if progress is not None:
                 progress(part.stop, n)
-    doubtful = valid & ~ok
-    doubtful |= batch.doubtful(system, frames, Q, U, ok, solver.act, dep)
+    doubtful |= valid & ~ok
     doubtful[1:] |= valid[1:] & ~valid[:-1]  # after an input out of range the continuation starts again
     trusted = ok & ~doubtful
     redo = _Continuation(solver, U, q, failures)
