@@ -8,7 +8,7 @@ import pinocchio as pin
 import pytest
 
 import mechatron
-from mechatron.model.batched import BatchedFrames
+from mechatron.model.batched import BatchedFrames, PlanarFrames, batched_frames
 from mechatron.model.closures import ClosureSystem, FrameStates, _curve
 
 LWA = pin.LOCAL_WORLD_ALIGNED
@@ -34,6 +34,26 @@ def random_tree(seed: int = 3) -> pin.Model:
     return model
 
 
+def random_planar_tree(seed: int = 4) -> pin.Model:
+    """A planar tree (turns about z, slides in the xy plane, an axis along −z) with random placements in the plane."""
+    rng = np.random.default_rng(seed)
+
+    def placement():
+        return pin.SE3(pin.utils.rotate("z", rng.uniform(-3, 3)), rng.normal(size=3))
+
+    model = pin.Model()
+    kinds = [pin.JointModelRZ(), pin.JointModelPX(), pin.JointModelRevoluteUnaligned(0.0, 0.0, -1.0),
+             pin.JointModelPrismaticUnaligned(0.6, -0.8, 0.0), pin.JointModelPY(), pin.JointModelRZ()]
+    for k, joint in enumerate(kinds):
+        parent = 0 if k == 0 else int(rng.integers(0, k + 1))
+        jid = model.addJoint(parent, joint, placement(), f"j{k}")
+        model.addJointFrame(jid)
+        model.addFrame(pin.Frame(f"f{k}", jid, model.getFrameId(f"j{k}"), placement(), pin.FrameType.OP_FRAME))
+    model.lowerPositionLimit[:] = -2.0
+    model.upperPositionLimit[:] = 2.0
+    return model
+
+
 def random_states(model: pin.Model, n: int, seed: int = 0):
     """n configurations within the limits (±π where a limit is infinite), velocities and accelerations."""
     rng = np.random.default_rng(seed)
@@ -45,14 +65,16 @@ def random_states(model: pin.Model, n: int, seed: int = 0):
 
 def models():
     return [pytest.param(mechatron.load(name).model, id=name) for name in CLOSED_LOOPS] + \
-        [pytest.param(random_tree(), id="random_spatial_tree")]
+        [pytest.param(random_tree(), id="random_spatial_tree"), pytest.param(random_planar_tree(), id="random_planar")]
 
 
+@pytest.mark.parametrize("kind", [BatchedFrames, batched_frames])
 @pytest.mark.parametrize("model", models())
-def test_batched_frames_equal_pinocchio(model):
+def test_batched_frames_equal_pinocchio(model, kind):
+    """The spatial recursion for every model, and the planar one (by batched_frames) for the planar trees."""
     frames = list(range(model.nframes))
     Q, V, A = random_states(model, 6)
-    batched = BatchedFrames(model, frames)
+    batched = kind(model, frames)
     states = batched.motion(batched.placements(Q), V)
     with_acceleration = batched.motion(batched.placements(Q), V, A).acceleration0
     data = model.createData()
@@ -72,6 +94,13 @@ def test_batched_frames_equal_pinocchio(model):
         for j, f in enumerate(frames):
             np.testing.assert_allclose(with_acceleration[k, j],
                                        pin.getFrameClassicalAcceleration(model, data, f, LWA).vector, atol=1e-12)
+
+
+def test_planar_trees_are_recognized():
+    assert PlanarFrames.applies(random_planar_tree(), [1, 2])
+    assert not PlanarFrames.applies(random_tree(), [])
+    assert isinstance(batched_frames(mechatron.load("six_bar_bucket").model, [0]), PlanarFrames)
+    assert not isinstance(batched_frames(mechatron.load("delta").model, [0]), PlanarFrames)
 
 
 def test_other_joints_are_refused():

@@ -34,6 +34,7 @@ Units: m, rad, s throughout; twists and accelerations are (linear; angular) as i
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,18 +60,28 @@ def _skew(a: np.ndarray) -> np.ndarray:
 class BatchedStates:
     """The frames of :class:`BatchedFrames` at N configurations, with the attribute names of
     :class:`~mechatron.model.closures.FrameStates` and a leading sample axis: ``q`` (N, nq), ``position`` (N, F, 3),
-    ``rotation`` (N, F, 3, 3), ``angle`` (N, F) (about z, rad), ``jacobian`` (N, F, 6, nv); after
-    :meth:`BatchedFrames.motion` also ``velocity`` and ``acceleration0`` (N, F, 6)."""
+    ``angle`` (N, F) (about z, rad), ``jacobian`` (N, F, 6, nv), :attr:`rotation` (N, F, 3, 3); after
+    :meth:`BatchedFrames.motion` also ``velocity`` and ``acceleration0`` (N, F, 6). ``joints`` holds what the
+    motion needs of the joints (their origins and axes)."""
 
     q: np.ndarray
     position: np.ndarray
-    rotation: np.ndarray
     angle: np.ndarray
     jacobian: np.ndarray
-    origins: np.ndarray  # joint origins p_i (N, nj, 3), the universe first
-    axes: np.ndarray  # joint axes z_i in world (N, nj, 3)
+    joints: tuple
+    frame_rotation: np.ndarray | None = None
     velocity: np.ndarray | None = None
     acceleration0: np.ndarray | None = None
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """The frames' rotation matrices (N, F, 3, 3) (about z from ``angle`` for a planar tree)."""
+        if self.frame_rotation is None:
+            c, s = np.cos(self.angle), np.sin(self.angle)
+            R = np.zeros((*self.angle.shape, 3, 3))
+            R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1], R[..., 2, 2] = c, -s, s, c, 1.0
+            self.frame_rotation = R
+        return self.frame_rotation
 
 
 class BatchedFrames:
@@ -139,7 +150,7 @@ class BatchedFrames:
         rotation = Rj @ self.frame_rotation
         angle = np.arctan2(rotation[..., 1, 0], rotation[..., 0, 0])
         jacobian = self._jacobian(position, p, z) if jacobians else np.zeros((n, 0, 6, self.nv))
-        return BatchedStates(Q, position, rotation, angle, jacobian, p, z)
+        return BatchedStates(Q, position, angle, jacobian, (p, z), rotation)
 
     def _jacobian(self, position: np.ndarray, p: np.ndarray, z: np.ndarray) -> np.ndarray:
         """(N, F, 6, nv): column j of frame f is [z_j × (p_f − p_j); z_j] (revolute), [z_j; 0] (prismatic), zero
@@ -158,7 +169,7 @@ class BatchedFrames:
         """Fill ``states.velocity`` (twists, m/s and rad/s) and ``states.acceleration0`` (classical accelerations,
         m/s² and rad/s²) of the frames for joint velocities ``V`` (N, nv), at q̈ = 0 or at the joint accelerations
         ``A`` (N, nv)."""
-        p, z = states.origins, states.axes
+        p, z = states.joints
         n, nj = p.shape[:2]
         w, alpha, v, a = (np.zeros((n, nj, 3)) for _ in range(4))
         for i in range(1, nj):
@@ -187,3 +198,128 @@ class BatchedFrames:
         states.acceleration0 = np.concatenate([a[:, j] + cross(alpha[:, j], r) + cross(wf, turn), alpha[:, j]],
                                               axis=-1)
         return states
+
+
+class PlanarFrames(BatchedFrames):
+    r""":class:`BatchedFrames` for a planar tree — every revolute axis along the world z axis, every prismatic axis
+    in the xy plane, every joint and frame placement a turn about z — in the plane: a joint is its angle θ and
+    origin (x, y), z stays constant. With Rot(θ) the plane rotation, σ_i = ±1 the revolute axis' z and d_i the
+    slide direction:
+
+    .. math::
+
+        θ_i = θ_λ + θ_0 + σ_i q_i \;(\text{prismatic: } θ_λ + θ_0), \qquad
+        p_i = p_λ + \mathrm{Rot}(θ_λ) p_0 \;[+\, d_i q_i], \qquad d_i = \mathrm{Rot}(θ_λ) R_0 â,
+
+        ω_i = ω_λ + σ_i \dot q_i, \quad α_i = α_λ \;(+\, σ_i \ddot q_i), \qquad
+        v_i = v_λ + ω_λ e_z × r \;[+\, d_i \dot q_i], \qquad
+        a_i = a_λ + α_λ e_z × r − ω_λ^2 r \;[+\, 2 ω_λ e_z × d_i \dot q_i \;(+\, d_i \ddot q_i)]
+
+    (the brackets: prismatic), the special case of the spatial recursion with every ω and α along z.
+    """
+
+    @staticmethod
+    def applies(model: pin.Model, frame_ids: list[int]) -> bool:
+        """Whether the joints and the frames ``frame_ids`` of ``model`` form a planar tree (in the xy plane)."""
+        turns_about_z = [m.rotation for m in model.jointPlacements] + [model.frames[f].placement.rotation
+                                                                       for f in frame_ids]
+        if any(abs(R[2, 2] - 1.0) > 1e-12 for R in turns_about_z):
+            return False
+        frames = BatchedFrames(model, [])
+        return all(abs(abs(a[2]) - 1.0) < 1e-12 if r else abs(a[2]) < 1e-12
+                   for a, r in zip(frames.axis[1:], frames.revolute[1:]))
+
+    def __init__(self, model: pin.Model, frame_ids: list[int]) -> None:
+        super().__init__(model, frame_ids)
+        self.sign = self.axis[:, 2]  # σ of the revolute joints
+        self.turn = np.array([math.atan2(R[1, 0], R[0, 0]) for R, _ in self.placement])  # θ_0
+        self.slide = np.array([math.atan2(*(R @ a)[1::-1]) for (R, _), a in zip(self.placement, self.axis)])
+        self.offset = np.array([p[:2] for _, p in self.placement])  # p_0 (x, y)
+        self.frame_turn = np.arctan2(self.frame_rotation[:, 1, 0], self.frame_rotation[:, 0, 0])
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, pin.neutral(model))
+        self.frame_z = np.array([data.oMf[f].translation[2] for f in frame_ids])
+        pairs = np.argwhere(self.support)  # (frame, joint) pairs where the joint moves the frame
+        self.turning = pairs[self.revolute[pairs[:, 1]]]
+        self.sliding = pairs[~self.revolute[pairs[:, 1]]]
+
+    def placements(self, Q: np.ndarray, jacobians: bool = True) -> BatchedStates:
+        Q = np.asarray(Q, dtype=float)
+        n, nj = len(Q), len(self.parent)
+        q = np.ascontiguousarray(Q.T)
+        theta, x, y, dx, dy, s = (np.zeros((nj, n)) for _ in range(6))
+        c = np.ones((nj, n))
+        for i in range(1, nj):
+            lam, (px, py), qi = self.parent[i], self.offset[i], q[self.column[i]]
+            x[i] = x[lam] + c[lam] * px - s[lam] * py
+            y[i] = y[lam] + s[lam] * px + c[lam] * py
+            if self.revolute[i]:
+                theta[i] = theta[lam] + (self.turn[i] + self.sign[i] * qi)
+            else:
+                theta[i] = theta[lam] + self.turn[i]
+                dx[i], dy[i] = np.cos(theta[lam] + self.slide[i]), np.sin(theta[lam] + self.slide[i])
+                x[i] += dx[i] * qi
+                y[i] += dy[i] * qi
+            c[i], s[i] = np.cos(theta[i]), np.sin(theta[i])
+        j, (fx, fy) = self.frame_joint, self.frame_offset[:, :2].T[..., None]
+        X = x[j] + c[j] * fx - s[j] * fy  # (F, N)
+        Y = y[j] + s[j] * fx + c[j] * fy
+        turned = theta[j] + self.frame_turn[:, None]
+        angle = np.arctan2(np.sin(turned), np.cos(turned)).T
+        position = np.stack([X.T, Y.T, np.broadcast_to(self.frame_z, (n, len(j)))], axis=-1)
+        jacobian = np.zeros((n, len(j), 6, self.nv))
+        if jacobians:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
+            f, k = self.turning.T
+            sigma, column = self.sign[k][:, None], self.column[k]
+            jacobian[:, f, 0, column] = (-sigma * (Y[f] - y[k])).T
+            jacobian[:, f, 1, column] = (sigma * (X[f] - x[k])).T
+            jacobian[:, f, 5, column] = sigma.T
+            f, k = self.sliding.T
+            jacobian[:, f, 0, self.column[k]] = dx[k].T
+            jacobian[:, f, 1, self.column[k]] = dy[k].T
+        return BatchedStates(Q, position, angle, jacobian, (x, y, dx, dy, X, Y))
+
+    def motion(self, states: BatchedStates, V: np.ndarray, A: np.ndarray | None = None) -> BatchedStates:
+        x, y, dx, dy, X, Y = states.joints
+        nj, n = x.shape
+        v = np.ascontiguousarray(V.T)
+        a = None if A is None else np.ascontiguousarray(A.T)
+        w, alpha, vx, vy, ax, ay = (np.zeros((nj, n)) for _ in range(6))
+        for i in range(1, nj):
+            lam, qd = self.parent[i], v[self.column[i]]
+            rx, ry, wl = x[i] - x[lam], y[i] - y[lam], w[lam]
+            vx[i] = vx[lam] - wl * ry
+            vy[i] = vy[lam] + wl * rx
+            ax[i] = ax[lam] - alpha[lam] * ry - wl * wl * rx
+            ay[i] = ay[lam] + alpha[lam] * rx - wl * wl * ry
+            w[i], alpha[i] = wl, alpha[lam]
+            if self.revolute[i]:
+                w[i] = wl + self.sign[i] * qd
+                if a is not None:
+                    alpha[i] = alpha[lam] + self.sign[i] * a[self.column[i]]
+            else:
+                vx[i] += dx[i] * qd
+                vy[i] += dy[i] * qd
+                ax[i] -= 2.0 * wl * dy[i] * qd
+                ay[i] += 2.0 * wl * dx[i] * qd
+                if a is not None:
+                    ax[i] += dx[i] * a[self.column[i]]
+                    ay[i] += dy[i] * a[self.column[i]]
+        j = self.frame_joint
+        rx, ry, wf, af = X - x[j], Y - y[j], w[j], alpha[j]
+        states.velocity = np.zeros((n, len(j), 6))
+        states.acceleration0 = np.zeros((n, len(j), 6))
+        states.velocity[..., 0], states.velocity[..., 1], states.velocity[..., 5] = \
+            (vx[j] - wf * ry).T, (vy[j] + wf * rx).T, wf.T
+        states.acceleration0[..., 0], states.acceleration0[..., 1], states.acceleration0[..., 5] = \
+            (ax[j] - af * ry - wf * wf * rx).T, (ay[j] + af * rx - wf * wf * ry).T, af.T
+        return states
+
+
+def batched_frames(model: pin.Model, frame_ids: list[int]) -> BatchedFrames:
+    """:class:`PlanarFrames` for a planar tree, else :class:`BatchedFrames`.
+
+    Raises:
+        NotImplementedError: if the model has a joint other than revolute or prismatic about one fixed axis.
+    """
+    return (PlanarFrames if PlanarFrames.applies(model, frame_ids) else BatchedFrames)(model, frame_ids)

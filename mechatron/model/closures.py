@@ -379,9 +379,9 @@ class ClosureSystem:
         Raises:
             NotImplementedError: if the model has joints the batched kinematics does not know.
         """
-        from .batched import BatchedFrames
+        from .batched import batched_frames
 
-        return BatchedFrames(self.states.model, self.states.frame_ids)
+        return batched_frames(self.states.model, self.states.frame_ids)
 
     def evaluate(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(Φ(q), J(q)); also fills the frame states (positions, Jacobians) at q."""
