@@ -15,8 +15,8 @@ A sweep asks for the assembly of N samples of the inputs on one assembly branch.
    above a tenth of its change) or neighbours a failed sample is *doubtful*, and the caller solves it again by the
    sequential continuation.
 
-Memory: the work is done in chunks of :data:`CHUNK` samples, so that it does not grow with N beyond the (N, nq)
-array of the solutions.
+Memory: the work is done in chunks of at most :data:`CHUNK` samples (:func:`chunks`), so that it does not grow with N
+beyond the (N, nq) array of the solutions.
 """
 
 from __future__ import annotations
@@ -27,8 +27,9 @@ from ..model.batched import BatchedFrames
 from ..model.closures import ClosureSystem
 from .loops import TOLERANCE
 
-#: Samples evaluated together (the working storage is a few kB per sample of a chunk).
+#: Samples evaluated together (the working storage is a few kB per sample of a chunk), at most and at least.
 CHUNK = 2048
+SMALLEST_CHUNK = 256
 #: Newton iterations of the batched solve before a sample counts as not converged.
 ITERATIONS = 12
 #: A sample whose change from its predecessor differs from the velocity maps' prediction by more than this fraction
@@ -53,8 +54,11 @@ def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return x[..., 0] if vector else x
 
 
-def chunks(n: int, size: int = CHUNK) -> list[slice]:
-    """Consecutive slices of at most ``size`` covering range(n)."""
+def chunks(n: int, size: int | None = None) -> list[slice]:
+    """Consecutive slices of at most ``size`` covering range(n); by default :data:`CHUNK`, or an eighth of n (at
+    least :data:`SMALLEST_CHUNK`) when smaller, so that the working storage of a chunk (a few kB per sample) stays
+    below 1 kB per sample of the whole run."""
+    size = size or min(CHUNK, max(SMALLEST_CHUNK, n // 8))
     return [slice(start, min(start + size, n)) for start in range(0, n, size)]
 
 

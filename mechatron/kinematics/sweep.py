@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, MechatronError
-from ..model.batched import BatchedFrames
+from ..model.batched import BatchedFrames, batched_frames
 from ..model.mechanism import Measure, Mechanism
 from ..report.result import Result, frame_records, json_ready
 from . import batch
@@ -395,18 +395,18 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
 
     # positions: by batched Newton between anchors solved by continuation (kinematics/batch.py) when the batched
     # kinematics knows the joints, else by continuation from sample to sample
-    kinematics = _batched_frames(solver) if BATCHED else None
-    reported = [system.index[name] for name in wanted]
-    closing = _batched_frames(base) if kinematics is not None else None  # the closures' frames only
+    closing = _batched_frames(base) if BATCHED else None  # the closures' frames
+    reporting = _batched_frames(base, wanted) if closing is not None else None  # the reported ones
     if closing is not None and n >= BATCH_MIN:
         Q, ok = _batched_positions(base, closing, U, q, failures, progress)
     else:
-        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=kinematics is None).run(range(n))
+        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=reporting is None).run(range(n))
     # velocities q̇ = S q̇_a, accelerations J_d q̈_d = −J_a q̈_a − J̇ q̇ and the reported frames, all samples at once
-    if kinematics is not None:
-        good, V, Aq, columns = _analyse_batched(solver, kinematics, Q, ok, R, A, reported, wanted, points, links,
+    if reporting is not None:
+        good, V, Aq, columns = _analyse_batched(base, closing, reporting, Q, ok, R, A, wanted, points, links,
                                                 measures, U, failures)
     else:
+        reported = [system.index[name] for name in wanted]
         good, V, Aq, columns = _analyse_pinocchio(solver, Q, ok, saved, R, A, reported, wanted, points, links,
                                                   measures, U, failures)
     failure_rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
@@ -420,10 +420,14 @@ BATCHED = True
 BATCH_MIN = 16
 
 
-def _batched_frames(solver: LoopSolver) -> BatchedFrames | None:
-    """The batched kinematics of the solver's frames, or None for joints it does not know (then Pinocchio)."""
+def _batched_frames(solver: LoopSolver, names: Sequence[str] | None = None) -> BatchedFrames | None:
+    """The batched kinematics of the frames ``names`` (default: the solver's), or None for joints it does not know
+    (then Pinocchio)."""
+    mech = solver.mech
     try:
-        return solver.system.batched()
+        if names is None:
+            return solver.system.batched()
+        return batched_frames(mech.model, [mech.frame_id(name) for name in names])
     except NotImplementedError:
         return None
 
@@ -565,13 +569,14 @@ def _extrapolate(history: list[np.ndarray], q: np.ndarray) -> np.ndarray:
     return (history[-1] if m else q).copy()
 
 
-def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """S_k (n × nv × n_act) for a stack of closure Jacobians, and which samples are singular."""
+def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """S_k (n × nv × n_act) for a stack of closure Jacobians, which samples are singular, and J_d⁻¹ (None without
+    dependent coordinates)."""
     n, nv, na = len(Jc), solver.mech.nv, len(solver.act)
     S = np.broadcast_to(solver.selection, (n, nv, na)).copy()
     singular = np.zeros(n, dtype=bool)
     if not (len(solver.dep) and solver.nrows) or n == 0:
-        return S, singular
+        return S, singular, None
     Jd, Ja = Jc[:, :, solver.dep], Jc[:, :, solver.act]
     square = Jd.shape[1] == Jd.shape[2]
     with np.errstate(all="ignore"):
@@ -586,16 +591,16 @@ def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.n
                     pass
         singular = ~(np.abs(inverse).max(axis=(1, 2)) <= SINGULAR_RATIO)
         S[:, solver.dep] = -inverse @ Ja
-    return S, singular
+    return S, singular, inverse
 
 
-def _accelerations(solver: LoopSolver, S: np.ndarray, Jc: np.ndarray, A: np.ndarray, drift: np.ndarray
-                   ) -> np.ndarray:
-    """q̈ of a stack of samples: q̈ = S q̈_a with the dependent rows from J_d q̈_d = −J_a q̈_a − J̇ q̇."""
+def _accelerations(solver: LoopSolver, S: np.ndarray, Jc: np.ndarray, inverse: np.ndarray | None, A: np.ndarray,
+                   drift: np.ndarray) -> np.ndarray:
+    """q̈ of a stack of samples: q̈ = S q̈_a with the dependent rows q̈_d = −J_d⁻¹ (J_a q̈_a + J̇ q̇)."""
     Aq = np.einsum("kij,kj->ki", S, A)
-    if len(solver.dep) and solver.nrows:
+    if inverse is not None:
         rhs = np.einsum("kij,kj->ki", Jc[:, :, solver.act], A) + drift
-        Aq[:, solver.dep] = -batch.solve(Jc[:, :, solver.dep], rhs)
+        Aq[:, solver.dep] = -np.einsum("kij,kj->ki", inverse, rhs)
     return Aq
 
 
@@ -605,11 +610,12 @@ def _singular_reason(mech: Mechanism, names: list[str], u: np.ndarray) -> str:
             + "): the actuated coordinates do not determine the motion")
 
 
-def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, Q: np.ndarray, ok: np.ndarray, R: np.ndarray,
-                     A: np.ndarray, reported: list[int], wanted: list[str], points: list[str], links: list[str],
-                     measures: list[Measure], U: np.ndarray, failures: dict[int, str]):
+def _analyse_batched(solver: LoopSolver, closing: BatchedFrames, reporting: BatchedFrames, Q: np.ndarray,
+                     ok: np.ndarray, R: np.ndarray, A: np.ndarray, wanted: list[str], points: list[str],
+                     links: list[str], measures: list[Measure], U: np.ndarray, failures: dict[int, str]):
     """Velocities, accelerations and the reported frames' columns of the samples ``ok``, chunk by chunk with the
-    batched kinematics: (good samples, V, q̈, columns)."""
+    batched kinematics of the closures' frames (``closing``, with Jacobians and drifts) and of the reported ones
+    (``reporting``, their motion at q̇ and q̈): (good samples, V, q̈, columns)."""
     system, names = solver.system, list(solver.mech.actuated)
     rows = np.flatnonzero(ok)
     V, Aq = np.zeros((len(rows), solver.mech.nv)), np.zeros((len(rows), solver.mech.nv))
@@ -617,16 +623,14 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, Q: np.ndarray, o
     columns: dict[str, np.ndarray] = {}
     for part in batch.chunks(len(rows)):
         k = rows[part]
-        states = frames.placements(Q[k])
+        states = closing.placements(Q[k])
         _, Jc = system.stack(states)
-        S, singular[part] = _velocity_maps(solver, Jc)
+        S, singular[part], inverse = _velocity_maps(solver, Jc)
         V[part] = np.einsum("kij,kj->ki", S, R[k])
-        frames.motion(states, V[part])
-        Aq[part] = _accelerations(solver, S, Jc, A[k], system.stack_drift(states))
-        Jw = states.jacobian[:, reported]
-        twist = states.velocity[:, reported]
-        accel = states.acceleration0[:, reported] + np.einsum("kfij,kj->kfi", Jw, Aq[part])
-        chunk = _frame_columns(solver.mech, states.position[:, reported], states.angle[:, reported], twist, accel,
+        closing.motion(states, V[part])
+        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states))
+        frames = reporting.motion(reporting.placements(Q[k], jacobians=False), V[part], Aq[part])
+        chunk = _frame_columns(solver.mech, frames.position, frames.angle, frames.velocity, frames.acceleration0,
                                wanted, points, links, measures)
         for name, values in chunk.items():
             columns.setdefault(name, np.empty(len(rows)))[part] = values
@@ -647,14 +651,15 @@ def _analyse_pinocchio(solver: LoopSolver, Q: np.ndarray, ok: np.ndarray, saved:
     Jc, H, Jf = saved
     names = list(solver.mech.actuated)
     good = np.flatnonzero(ok)
-    S, singular = _velocity_maps(solver, Jc[good])
+    S, singular, inverse = _velocity_maps(solver, Jc[good])
     for k in good[singular]:
         failures[int(k)] = _singular_reason(solver.mech, names, U[k])
     good, S = good[~singular], S[~singular]
+    inverse = None if inverse is None else inverse[~singular]
     V = np.einsum("kij,kj->ki", S, R[good])
     # J̇ q̇ and the frames' accelerations at q̈ = 0 from Pinocchio, then q̈ of all samples at once
     drift, accel0 = _drifts(solver, Q[good], V, H[good], Jf[good])
-    Aq = _accelerations(solver, S, Jc[good], A[good], drift)
+    Aq = _accelerations(solver, S, Jc[good], inverse, A[good], drift)
     Jw = Jf[good][:, reported]
     twist = np.einsum("kfij,kj->kfi", Jw, V)
     accel = accel0[:, reported] + np.einsum("kfij,kj->kfi", Jw, Aq)  # classical acceleration: at q̈ = 0 plus J q̈
