@@ -11,11 +11,11 @@ import re
 
 import numpy as np
 import pytest
+from test_results_kinematics import rocker  # a cylinder-driven rocker: closes for s ≤ |OP| + |OR|
 
 import mechatron
 from mechatron.kinematics import batch
 from mechatron.kinematics.loops import loop_solver
-from mechatron.model.planar import GROUND, PlanarBuilder
 
 sweep_module = importlib.import_module("mechatron.kinematics.sweep")
 CLOSED_LOOPS = ["crank_slider", "six_bar_bucket", "front_shovel", "grab", "seven_bar", "scotch_yoke", "slotted_link",
@@ -67,19 +67,6 @@ def test_the_other_branch_and_inputs_out_of_range(monkeypatch):
     reference, result = both(monkeypatch, bucket, {"L1": strokes})
     assert len(result.failures) > 0 and "outside its range" in result.failures["reason"].iloc[0]
     assert_same(reference, result)
-
-
-def rocker():
-    """A rocker OR (0.3 m) about O pushed by a cylinder from P = (0.4, −0.1) to R: the loop closes for
-    s ≤ |OP| + |OR| (and is singular there, cylinder and rocker in line)."""
-    b = PlanarBuilder("rocker")
-    b.point("O", GROUND, (0.0, 0.0))
-    b.point("P", GROUND, (0.4, -0.1))
-    R = 0.3 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
-    arm = b.revolute("arm", "O", toward=R, coordinate="theta", mass=2.0, com=R / 2, inertia=0.015)
-    b.point("R", arm, R)
-    b.cylinder("s", "P", "R", stroke=(0.05, 0.9))
-    return b.build(actuated=["s"], description="cylinder-driven rocker")
 
 
 def test_loops_that_do_not_close(monkeypatch):
