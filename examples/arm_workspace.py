@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import mechatron  # noqa: E402
+from mechatron.io.output import save_figure  # noqa: E402
 
 
 def main() -> None:
@@ -40,7 +41,7 @@ def main() -> None:
     fig.colorbar(points, label="manipulability")
     ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{arm.name}: reachable tool positions (top view)", aspect="equal")
     fig.tight_layout()
-    fig.savefig(args.output, dpi=120)
+    save_figure(fig, args.output, dpi=120)  # whole or not at all
     reach = np.linalg.norm(positions[:, :2], axis=1)
     print(f"{arm.name}: {args.samples} configurations, horizontal reach {reach.min():.3f} … {reach.max():.3f} m, "
           f"max manipulability {manipulability.max():.4f}; plot written to {args.output}")

@@ -23,6 +23,7 @@ import mechatron
 from mechatron.drives.catalogs import default_catalog
 from mechatron.drives.ratio import motor_side_inertia, move_time, optimal_ratio, textbook_ratio
 from mechatron.dynamics.tree import mass_matrix
+from mechatron.io.output import save_figure
 from mechatron.model.payload import with_payload
 
 
@@ -83,7 +84,7 @@ def main() -> None:
           "[Egorov, 4.63] while the move reaches the motor's speed limit (J_h/(u² J_d) ≥ η) and √(J_h/(η J_d)) "
           "otherwise; the book switches at 1 and drops η from [Egorov, 4.69].")
     fig.suptitle(f"cylindrical robot, motor {args.motor}: move time against the ratio")
-    fig.savefig(args.plot, dpi=110)
+    save_figure(fig, args.plot)  # whole or not at all (110 dpi)
     print(f"wrote {args.plot}")
 
 

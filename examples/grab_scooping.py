@@ -17,6 +17,7 @@ import numpy as np
 
 import mechatron
 from mechatron.dynamics import constrained
+from mechatron.io.output import save_figure
 from mechatron.kinematics.loops import assemble
 from mechatron.machines.grab import ScoopingLoads, mechanism_loads, plot_scooping, scooping_forces
 
@@ -44,7 +45,7 @@ def main() -> None:
     print("largest pin forces (kN): " + ", ".join(f"{name.replace('_', ' ')} {values.max() / 1e3:.1f}"
                                                   for name, values in forces.items()))
     figure = plot_scooping(mech, sim, loads)
-    figure.savefig(args.plot)
+    save_figure(figure, args.plot, dpi=figure.dpi)  # whole or not at all
     print(f"wrote {args.plot}")
 
 

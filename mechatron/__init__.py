@@ -16,7 +16,7 @@ The top level holds the calls most work starts from; everything else is in the l
 """
 
 from ._exports import lazy_exports
-from .errors import InputError, MechatronError, SingularityError, UnreachableError
+from .errors import InputError, LimitWarning, MechatronError, MechatronWarning, SingularityError, UnreachableError
 
 __version__ = "0.1.0"
 
@@ -31,4 +31,5 @@ _EXPORTS = {
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)
 
-__all__ = ["InputError", "MechatronError", "SingularityError", "UnreachableError", "__version__", *_EXPORTS]
+__all__ = ["InputError", "LimitWarning", "MechatronError", "MechatronWarning", "SingularityError", "UnreachableError",
+           "__version__", *_EXPORTS]

@@ -79,3 +79,12 @@ class SingularityError(MechatronError):
         self.inputs = dict(inputs) if inputs is not None else None
         self.ratio = ratio
         super().__init__(message)
+
+
+class MechatronWarning(UserWarning):
+    """A warning about the input that does not stop the analysis; the command line prints it as one line
+    ``mechatron: warning: …``."""
+
+
+class LimitWarning(MechatronWarning):
+    """A joint coordinate outside its joint limits (the analysis goes on: limits are often conservative)."""

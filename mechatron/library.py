@@ -129,11 +129,15 @@ def load_file(path: str | Path) -> Mechanism:
     data = read_toml(path)
     if is_linkage_file(data):
         return build_mechanism(linkage_spec(data, file=path, default_name=path.stem))
+    links = data.get("links")
+    structural = "pairs" in data or (isinstance(links, list) and bool(links)
+                                     and all(isinstance(x, (str, int)) for x in links))
+    if structural:
+        lacks = "" if "pairs" in data else " (it lacks its [[pairs]])"
+        raise InputError(f"a structural description (moving links, pairs and loops){lacks}, not a mechanism: use "
+                         "'mechatron structure' with it; see docs/structure_file.md", file=path)
     if "links" in data:
         return read_robot_file(path).mechanism()
-    if "pairs" in data:
-        raise InputError("a structural description (pairs and loops), not a mechanism: use 'mechatron structure' "
-                         "with it", file=path)
     raise InputError("neither a robot file (a DH table: [[links]]) nor a mechanism file (a closed-loop linkage: "
                      "[points] and [[bodies]]); see docs/robot_file.md and docs/mechanism_file.md", file=path)
 

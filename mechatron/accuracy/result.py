@@ -20,6 +20,8 @@ from .sensitivity import Sensitivities
 from .sources import ErrorSource
 
 if TYPE_CHECKING:  # pragma: no cover
+    from pathlib import Path
+
     import pandas as pd
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -41,7 +43,9 @@ class StudyResult(Result):
         mechanism: The mechanism's name.
         frame: The frame whose position was studied.
         methods: The methods run (of ``given``, ``worst``, ``rss``, ``mc``); the first is the main one.
-        k: The coverage factor (σ = t/k for normal errors; results at ±kσ).
+        k: The coverage factor (σ = t/k for normal errors; results at ±kσ). The ``rss`` results are the k·σ
+            estimate |J b| + k·√Σ(∂r/∂e·σ)²: √Σ(∂r/∂e·t)², never above the worst case Σ|∂r/∂e|·t, when every error
+            is normal; up to k/√3 times that with uniform errors (one uniform source ±t: √3·t > t for k = 3).
         sources: The error sources.
         poses: The per-pose table: ``label``, the coordinates (rad, m), nominal ``x``, ``y``, ``z`` (m) and, per
             method, ``dx_<method>``, ``dy_<method>``, ``dz_<method>``, ``dr_<method>`` (m); with ``given`` also
@@ -260,6 +264,16 @@ class StudyResult(Result):
             out["monte_carlo"] = self.monte_carlo_chart()
         out["contributions"] = self.contribution_chart()
         return out
+
+    def save_charts(self, directory: str | Path) -> list[Path]:
+        """Every chart of :meth:`charts` as ``<directory>/<mechanism>_<name>.png`` (the directory created if
+        needed), whole and all together (:func:`mechatron.io.output.write_folder`); the charts an earlier call for
+        the same mechanism wrote there and this one does not draw are removed. Returns the files written."""
+        from ..io.output import write_folder
+
+        return write_folder(directory, {f"{self.mechanism}_{name}.png": (lambda f=figure: f)
+                                        for name, figure in self.charts().items()},
+                            owner=f"mechatron tolerance {self.mechanism}")
 
     # ---------------------------------------------------------------------------------------- the HTML report
     def report(self, mechanism: Mechanism | None = None, **context) -> Report:

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..io.tables import number, read_csv
+from ..io.values import number as check_number
 from ..kinematics.loops import loop_solver
 from ..model.mechanism import Mechanism, unknown_name_error
 from ..units import UNITS
@@ -46,6 +47,10 @@ DISTRIBUTIONS = ("normal", "uniform", "triangular")
 LENGTH_UNITS = UNITS["length"]
 ANGLE_UNITS = UNITS["angle"]
 VALUE_FIELDS = ("tolerance", "bias", "error")
+#: The range of a tolerance (SI: m, rad, or a ratio; 0 = exact): below a nanometre (or nanoradian) the Monte Carlo's
+#: perturbed positions cannot resolve the errors in double precision, and above 1000 m (rad) no mechanism is meant.
+SMALLEST_ERROR = 1e-9
+LARGEST_ERROR = 1e3
 
 
 @dataclass(frozen=True)
@@ -60,6 +65,20 @@ class ErrorSource:
     distribution: str = "normal"
     bias: float = 0.0
     error: float | None = None
+
+    def __post_init__(self) -> None:
+        t = self.tolerance
+        if not (isinstance(t, (int, float, np.floating)) and (t == 0 or SMALLEST_ERROR <= t <= LARGEST_ERROR)):
+            raise InputError(f"the tolerance of {self.name} must be 0 or from {SMALLEST_ERROR:g} to "
+                             f"{LARGEST_ERROR:g} {self.unit}, got {t!r}")
+        for what, value in (("bias", self.bias), ("error", self.error)):
+            if value is not None and not (isinstance(value, (int, float, np.floating)) and math.isfinite(value)
+                                          and abs(value) <= LARGEST_ERROR):
+                raise InputError(f"the {what} of {self.name} must be a finite number of magnitude <= "
+                                 f"{LARGEST_ERROR:g} {self.unit}, got {value!r}")
+        if self.distribution not in DISTRIBUTIONS:
+            raise InputError(f"unknown distribution {self.distribution!r} of {self.name}; expected one of: "
+                             f"{', '.join(DISTRIBUTIONS)}")
 
     def sigma(self, k: float = 3.0) -> float:
         """Standard deviation of the error: t/k (normal), t/√3 (uniform), t/√6 (triangular)."""
@@ -131,7 +150,7 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
     if need == "error" and not columns["error"]:
         raise InputError("missing column 'error' (the given errors of --method given)", file=path, field="error")
     sources, seen = [], {}
-    for i, row in enumerate(frame.to_dict(orient="records"), start=2):
+    for i, row in zip(frame.index, frame.to_dict(orient="records")):
         raw = row["parameter"]
         if not raw:
             raise InputError("missing value", file=path, row=i, field="parameter")
@@ -150,15 +169,20 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
             tolerance = _grade_tolerance(mech, name, unit, grade, row, path, i)
         if tolerance is None and need == "tolerance":
             raise InputError("missing tolerance (or grade)", file=path, row=i, field="tolerance")
-        if tolerance is not None and tolerance < 0:
-            raise InputError(f"a tolerance must be >= 0, got {tolerance:g}", file=path, row=i,
-                             field=next((c for c, _ in columns["tolerance"] if row[c]), "tolerance"))
+        if tolerance is not None and not (tolerance == 0 or SMALLEST_ERROR <= tolerance <= LARGEST_ERROR):
+            need = ">= 0" if tolerance < 0 else f"0 or from {SMALLEST_ERROR:g} to {LARGEST_ERROR:g} {unit} (in SI)"
+            raise InputError(f"a tolerance must be {need}, got {tolerance:g} {unit}", file=path, row=i,
+                             field=next((c for c, _ in columns["tolerance"] if row[c]), "grade"))
         distribution = row.get("distribution", "").lower() or "normal"
         if distribution not in DISTRIBUTIONS:
             raise InputError(f"unknown distribution {distribution!r}; expected one of: {', '.join(DISTRIBUTIONS)}",
                              file=path, row=i, field="distribution")
         bias = _value(row, columns["bias"], unit, path, i, "bias") or 0.0
         error = _value(row, columns["error"], unit, path, i, "error")
+        for what, value in (("bias", bias), ("error", error)):
+            if value is not None and abs(value) > LARGEST_ERROR:
+                raise InputError(f"a {what} must be of magnitude <= {LARGEST_ERROR:g} {unit} (in SI), got {value:g} "
+                                 f"{unit}", file=path, row=i, field=next(c for c, _ in columns[what] if row[c]))
         if error is None and need == "error":
             raise InputError("missing error", file=path, row=i, field="error")
         kind = "parameter" if name in mech.parameters else "coordinate"
@@ -232,14 +256,19 @@ def read_poses(path: str | Path, mech: Mechanism) -> tuple[NDArray[np.float64], 
     if missing:
         raise InputError(f"missing column(s) {', '.join(missing)}", file=path, field=missing[0])
     values = np.empty((len(frame), len(names)))
-    for i, row in enumerate(frame.to_dict(orient="records"), start=2):
+    for k, (i, row) in enumerate(zip(frame.index, frame.to_dict(orient="records"))):
         for j, name in enumerate(names):
             column, factor = lookup[name]
             if not row[column]:
                 raise InputError("missing value", file=path, row=i, field=column)
-            values[i - 2, j] = number(row[column], file=path, row=i, field=column) * factor
+            values[k, j] = number(row[column], file=path, row=i, field=column) * factor
     labels = [r or str(i + 1) for i, r in enumerate(frame["label"])] if "label" in frame.columns else \
         [str(i + 1) for i in range(len(frame))]
+    if mech.closures:
+        from ..dynamics.motion import check_input_ranges
+
+        check_input_ranges(mech, names, values, file=path, rows=[int(n) for n in frame.index],
+                           fields=[lookup[n][0] for n in names], labels=labels)
     return values, labels
 
 
@@ -269,8 +298,8 @@ def workspace_grid(mech: Mechanism, count: int, seed: int = 0) -> NDArray[np.flo
     """Poses (rad, m) over the coordinates' ranges: a full count^n grid for n ≤ 2 coordinates, else ``count``
     random poses (seeded). Unlimited revolute (and continuous) coordinates span one turn, unlimited prismatic ones
     ±0.5 m about the reference."""
-    if count < 1:
-        raise InputError(f"a grid needs at least 1 point per coordinate, got {count}")
+    count = check_number("count", count, integer=True, minimum=1)
+    seed = check_number("seed", seed, integer=True, minimum=0)
     names = coordinate_names(mech)
     reference = reference_pose(mech)[0]
     lower, upper = _coordinate_limits(mech)

@@ -6,8 +6,11 @@ t_i, biases b_i and standard deviations σ_i (:class:`~mechatron.accuracy.source
 - ``given`` — one set of signed errors e: Δr = J e [Egorov, 8.4], Δx, Δy, Δz [Egorov, 8.5], |Δr| [Egorov, 8.6];
   also the full nonlinear model's Δr for the same errors [Egorov, 8.2];
 - ``worst`` — worst case: Δ = |J b| + Σ_i |J_i| t_i, every error at the end of its tolerance that hurts most;
-- ``rss`` — statistical (root sum of squares): Δ = |J b| + k √(Σ_i (J_i σ_i)²) (k = 3: with normal errors σ = t/3
-  and Δ = √Σ(J t)²);
+- ``rss`` — statistical (root sum of squares): Δ = |J b| + k √(Σ_i (J_i σ_i)²), a k·σ estimate with σ_i the
+  standard deviation of each source (:meth:`~mechatron.accuracy.sources.ErrorSource.sigma`). With normal errors
+  (σ = t/k) it is √Σ(J t)², never above the worst case; with uniform (σ = t/√3) or triangular (σ = t/√6) errors
+  it is k/√3 resp. k/√6 times that and can exceed the worst case (one uniform source ±t, k = 3: √3·t > t), as the
+  worst case bounds the first-order error and RSS estimates its spread;
 - ``mc`` — Monte Carlo of the full nonlinear model: seeded samples of every error from its distribution, the
   point's position computed exactly (:mod:`~mechatron.accuracy.nonlinear`); per axis |mean| + k·std, |Δr| at the
   coverage of ±k σ of a normal (99.73 % for k = 3), mean, standard deviation, percentiles, the yield against a
@@ -28,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, SingularityError, UnreachableError
+from ..io.values import LARGEST, number, numbers
 from ..kinematics.loops import assemble
 from ..model.mechanism import Mechanism
 from .nonlinear import PerturbedLoop, perturbed_positions
@@ -97,16 +101,19 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
             raise InputError(f"unknown method {m!r}; expected one of: {', '.join(METHODS)} or all")
     if not sources:
         raise InputError("no error sources")
-    if not (k > 0 and math.isfinite(k)):
-        raise InputError(f"the coverage factor k must be > 0, got {k:g}")
-    if "mc" in methods and not samples >= 2:
-        raise InputError(f"the Monte Carlo needs at least 2 samples, got {samples}")
+    k = number("k", k, minimum=0.1, maximum=100.0)
+    if "mc" in methods:
+        samples = number("samples", samples, integer=True, minimum=2)
+    seed = number("seed", seed, integer=True, minimum=0)
+    limit = number("limit", limit, positive=True, unit="m", allow_none=True)
     if "given" in methods and any(s.error is None for s in sources):
         raise InputError("--method given needs an error for every source")
     frame = frame or mech.tool_frame
-    poses = np.atleast_2d(np.asarray(poses, dtype=float))
+    poses = np.atleast_2d(numbers("poses", poses, minimum=-LARGEST, unit="rad or m"))
     labels = list(labels) if labels is not None else [str(i + 1) for i in range(len(poses))]
     Q = configurations(mech, poses, labels)
+    if not mech.closures:
+        mech.warn_limits(Q, "poses", [f"pose {label}" for label in labels])
     parameters = [s.name for s in sources if s.kind == "parameter"]
     coordinates = [s.name for s in sources if s.kind == "coordinate"]
     sens = sensitivities(mech, Q, frame, parameters, coordinates)
@@ -132,6 +139,10 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
         results["worst"] = shift + np.abs(J) @ t
     if "rss" in methods:
         results["rss"] = shift + k * np.sqrt((J**2) @ sigma**2)
+        if any(s.distribution != "normal" for s in sources):
+            notes.append(f"rss is the k·σ estimate |J b| + k·√Σ(∂r/∂e·σ)² with σ = t/√3 (uniform), t/√6 (triangular), "
+                         f"t/k (normal): with uniform or triangular errors it can exceed the worst case "
+                         f"(one uniform ±t: {k:g}/√3·t)")
     variance = (J**2 * sigma**2).sum(axis=1)  # (N, n_e)
     for m, values in results.items():
         table[f"dx_{m}"], table[f"dy_{m}"], table[f"dz_{m}"] = values.T
@@ -193,15 +204,15 @@ def _coordinate_errors(mech: Mechanism, sources: Sequence[ErrorSource], errors: 
 
 def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Generator, k: float) -> Floats:
     """``count`` samples (count, n_e) of every source's error (SI): bias + normal(σ = t/k), uniform on ±t or
-    triangular on ±t (drawn in single precision: ample for errors, twice as fast)."""
+    triangular on ±t, drawn in double precision (single precision loses tolerances below its range: 1e-50 drew 0)."""
     out = np.empty((count, len(sources)))
     for j, s in enumerate(sources):
         if s.distribution == "normal":
-            out[:, j] = rng.standard_normal(count, dtype=np.float32) * s.sigma(k)
+            out[:, j] = rng.standard_normal(count) * s.sigma(k)
         elif s.distribution == "uniform":
-            out[:, j] = (2 * rng.random(count, dtype=np.float32) - 1) * s.tolerance
+            out[:, j] = (2 * rng.random(count) - 1) * s.tolerance
         else:
-            out[:, j] = (rng.random(count, dtype=np.float32) + rng.random(count, dtype=np.float32) - 1) * s.tolerance
+            out[:, j] = (rng.random(count) + rng.random(count) - 1) * s.tolerance
         out[:, j] += s.bias
     return out
 

@@ -10,10 +10,11 @@ import argparse
 import os
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
 
 from .. import __version__
-from ..errors import MechatronError
+from ..errors import MechatronError, MechatronWarning
 from . import (
     demo_command,
     dynamics,
@@ -28,7 +29,7 @@ from . import (
     structure,
     tolerance,
 )
-from .common import _join_negative_values, _Parser
+from .common import _join_negative_values, _Parser, outputs
 
 COMMANDS = (listing, show, pose, export, linkage, excavator, dynamics, reduced, size, tolerance, structure,
             demo_command)
@@ -46,12 +47,37 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class _Warnings:
+    """The :class:`~mechatron.errors.MechatronWarning` of a command, each shown as one line ``mechatron: warning: …``
+    on stderr when the command has run; a command that fails shows its error line alone. Other warnings are shown
+    as Python shows them, at once."""
+
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+
+    def show(self, message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
+        if issubclass(category, MechatronWarning):
+            self.lines.append(f"mechatron: warning: {message}")
+        else:
+            sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+
+    def flush(self) -> None:
+        for line in self.lines:
+            print(line, file=sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 error)."""
+    """Run the command line; returns the exit status (0 ok, 1 a design that fails its checks, 2 error)."""
     parser = build_parser()
     args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
+    shown = _Warnings()
     try:
-        return int(args.func(args) or 0)
+        with outputs(parser, args), warnings.catch_warnings():
+            warnings.simplefilter("always", MechatronWarning)
+            warnings.showwarning = shown.show
+            status = int(args.func(args) or 0)
+        shown.flush()
+        return status
     except MechatronError as exc:
         print(f"mechatron: error: {exc}", file=sys.stderr)
         return 2

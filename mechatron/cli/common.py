@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
@@ -18,7 +19,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..model import Mechanism
     from ..report.result import Result
 
-_NEGATIVE_VALUE = re.compile(r"^-\.?\d")
+_NEGATIVE_VALUE = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -27,29 +28,32 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
-
-def _floats(text: str, what: str) -> np.ndarray:
-    try:
-        values = np.array([float(x) for x in text.replace(" ", "").split(",") if x != ""])
-    except ValueError:
-        raise InputError(f"{what} must be comma-separated numbers, got {text!r}") from None
-    if not np.all(np.isfinite(values)):
-        raise InputError(f"{what} must be finite numbers, got {text!r}")
-    return values
+    def _get_values(self, action: argparse.Action, arg_strings: list[str]) -> Any:
+        # argparse drops a value "--" (``--dt=--``) and stores [] unchecked: refuse it as the value it is
+        if action.option_strings and action.nargs is None and arg_strings == ["--"]:
+            self.error(f"argument {'/'.join(action.option_strings)}: expected a value, got '--'")
+        return super()._get_values(action, arg_strings)
 
 
-def parse_assignments(items: Sequence[str] | None) -> dict[str, float]:
-    """``["a2=0.5,d3=0.1", ...]`` → {"a2": 0.5, "d3": 0.1} (values in SI units)."""
+def _floats(text: str, what: str, **bounds: Any) -> np.ndarray:
+    """Comma-separated numbers of an option (``what``: its name), each finite and within ``bounds`` (of
+    :func:`~mechatron.cli.values.number_list`)."""
+    from .values import number_list
+
+    return np.array(number_list(text, what, **bounds))
+
+
+def parse_assignments(items: Sequence[str] | None, option: str = "--set") -> dict[str, float]:
+    """``["a2=0.5,d3=0.1", ...]`` → {"a2": 0.5, "d3": 0.1} (values in SI units) of ``option``; every value finite."""
+    from ..io.values import LARGEST, number
+
     out: dict[str, float] = {}
     for item in items or ():
-        for part in filter(None, item.split(",")):
+        for part in filter(None, (p.strip() for p in item.split(","))):
             name, sep, value = part.partition("=")
             if not sep or not name.strip():
-                raise InputError(f"--set expects NAME=VALUE[,NAME=VALUE...], got {part!r}")
-            try:
-                out[name.strip()] = float(value)
-            except ValueError:
-                raise InputError(f"--set {name.strip()}: value must be a number, got {value!r}") from None
+                raise InputError(f"{option} expects NAME=VALUE[,NAME=VALUE...], got {part!r}")
+            out[name.strip()] = number(f"{option} {name.strip()}", value.strip(), minimum=-LARGEST)
     return out
 
 
@@ -69,8 +73,7 @@ def _configuration(mech: Mechanism, text: str, degrees: bool) -> np.ndarray:
     if degrees:
         values = np.where(_revolute_mask(mech), np.radians(values), values)
     q = mech.configuration(values)
-    for message in mech.limit_violations(q):
-        print(f"mechatron: warning: {message}", file=sys.stderr)
+    mech.warn_limits(q)
     return q
 
 
@@ -116,6 +119,27 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
 
 # ------------------------------------------------------------------------------------------- result outputs
 
+class OutputPath:
+    """The ``type=`` of an option naming an output (``kind``: a key of :data:`mechatron.io.output.SUFFIXES`,
+    ``"figure"``, ``"folder"`` or None): it marks the option, whose path :func:`outputs` checks before any work.
+    The value stays the string given."""
+
+    def __init__(self, kind: str | None = None) -> None:
+        self.kind = kind
+        self.__name__ = "file name"
+
+    def __call__(self, text: str) -> str:
+        if not text:
+            raise argparse.ArgumentTypeError("must be a file name, got ''")
+        return text
+
+
+def output_option(parser: argparse.ArgumentParser, *flags: str, kind: str | None, help: str,
+                  metavar: str = "FILE") -> None:
+    """Add an option naming an output file (``kind``: see :class:`OutputPath`), checked before any work."""
+    parser.add_argument(*flags, metavar=metavar, type=OutputPath(kind), help=help)
+
+
 def add_output_options(parser: argparse.ArgumentParser, *, csv: bool = True, plot: bool = True,
                        report: bool = False) -> None:
     """The options every analysis command has: ``--json`` (and ``--csv FILE``, ``--plot FILE``, ``--report
@@ -123,38 +147,86 @@ def add_output_options(parser: argparse.ArgumentParser, *, csv: bool = True, plo
     if not any(action.dest == "json" for action in parser._actions):
         parser.add_argument("--json", action="store_true", help="print the result as JSON")
     if csv:
-        parser.add_argument("--csv", metavar="FILE", help="write the result's table (CSV)")
+        output_option(parser, "--csv", kind="table", help="write the result's table (CSV)")
     if plot:
-        parser.add_argument("--plot", metavar="FILE", help="write the result's chart (.png, .pdf or .svg)")
+        output_option(parser, "--plot", kind="figure", help="write the result's chart (.png, .pdf or .svg)")
     if report:
-        parser.add_argument("--report", metavar="FILE.html",
-                            help="write the report as one self-contained HTML file (inputs, method, every check, "
-                                 "charts, the mechanism at its critical pose) that works offline")
+        output_option(parser, "--report", kind="html", metavar="FILE.html",
+                      help="write the report as one self-contained HTML file (inputs, method, every check, "
+                           "charts, the mechanism at its critical pose) that works offline")
         parser.set_defaults(report_parser=parser)
+
+
+def _output_actions(parser: argparse.ArgumentParser | None) -> list[argparse.Action]:
+    return [a for a in parser._actions if isinstance(a.type, OutputPath)] if parser is not None else []
+
+
+def _command_parser(parser: argparse.ArgumentParser, args: argparse.Namespace) -> argparse.ArgumentParser | None:
+    """The parser of the command ``args`` were parsed for (``parser``'s sub-parser), if any."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return action.choices.get(getattr(args, "command", None))
+    return None
+
+
+@contextlib.contextmanager
+def outputs(parser: argparse.ArgumentParser, args: argparse.Namespace) -> Iterator[None]:
+    """Run a command's work inside one output transaction (:func:`mechatron.io.output.transaction`): every file it
+    writes is staged and all of them are renamed together when it succeeds, none when it fails. Before any work,
+    each output option's path is checked (:func:`~mechatron.io.output.check_output`: not a directory, its folder
+    exists and is writable, a suffix of its kind; ``--plots``: :func:`~mechatron.io.output.check_directory`), and
+    two output options naming the same file, or an output naming one of the command's input files, is an error."""
+    from ..io.output import check_directory, check_output, transaction
+
+    command = _command_parser(parser, args) or parser
+    labels: dict[Path, str] = {}
+    for action in _output_actions(command):
+        path = getattr(args, action.dest, None)
+        if not path:
+            continue
+        label, key = "/".join(action.option_strings), Path(path).resolve()
+        if action.type.kind == "folder":
+            check_directory(path, where=f"{label} {path}")
+        else:
+            check_output(path, action.type.kind, where=f"{label} {path}")
+        if key in labels:
+            raise InputError(f"{labels[key]} and {label} both name {path}; give each output its own file")
+        labels[key] = label
+    inputs = [getattr(args, a.dest) for a in command._actions if not isinstance(a.type, OutputPath)
+              and isinstance(getattr(args, a.dest, None), str)
+              and (a.dest == "robot" or str(a.metavar).startswith(("FILE", "CSV")))]
+    for path in inputs:
+        if Path(path).is_file() and Path(path).resolve() in labels:
+            raise InputError(f"{labels[Path(path).resolve()]} {path} is an input of this command; write the output "
+                             "to another file")
+    with transaction(labels):
+        yield
 
 
 def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path] = (), **context: Any) -> None:
     """Write ``--csv`` (``result.to_frame()``), ``--plot`` (``result.plot()``) and ``--report``
     (``result.write_html()`` with the options given, the input files among them, and ``context``: the mechanism
     and what else the result's report uses) if asked, then print ``--json`` (``result.as_dict()``) or the text
-    report (``str(result)``). The files written are listed after the report, or on stderr with ``--json`` (so that
-    stdout stays one JSON document)."""
+    report (``str(result)``). Every file (``written`` too, in the command's transaction) is renamed into place
+    together before anything is printed, so a failed write prints nothing. The files written are listed after the
+    report, or on stderr with ``--json`` (so that stdout stays one JSON document)."""
+    from ..io.output import transaction, written_so_far
+
     files = [str(path) for path in written]
-    if getattr(args, "csv", None):
-        files.append(str(result.write_csv(args.csv)))
-    if getattr(args, "plot", None):
-        files.append(str(result.save_plot(args.plot)))
-    if getattr(args, "report", None):
-        options, named = _options(args)
-        outputs = {Path(path).resolve() for path in [*files, args.report]}
-        inputs = [path for path in named if Path(path).is_file() and Path(path).resolve() not in outputs]
-        files.append(str(result.write_html(args.report, inputs=options, files=inputs, **context)))
-    if getattr(args, "json", False):
-        print(result.to_json())
-        stream = sys.stderr
-    else:
-        print(result)
-        stream = sys.stdout
+    with transaction():
+        if getattr(args, "csv", None):
+            files.append(str(result.write_csv(args.csv)))
+        if getattr(args, "plot", None):
+            files.append(str(result.save_plot(args.plot)))
+        if getattr(args, "report", None):
+            options, named = _options(args)
+            outputs = {Path(path).resolve() for path in [*files, args.report]}
+            inputs = [path for path in named if Path(path).is_file() and Path(path).resolve() not in outputs]
+            files.append(str(result.write_html(args.report, inputs=options, files=inputs, **context)))
+        text = result.to_json() if getattr(args, "json", False) else str(result)
+        written_so_far()
+    print(text)
+    stream = sys.stderr if getattr(args, "json", False) else sys.stdout
     for path in files:
         print(f"wrote {path}", file=stream)
 
@@ -167,5 +239,6 @@ def _options(args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:
     options = {max(a.option_strings, key=len) if a.option_strings else a.dest: getattr(args, a.dest, None)
                for a in actions}
     named = [getattr(args, a.dest) for a in actions if isinstance(getattr(args, a.dest, None), str)
+             and not isinstance(a.type, OutputPath)
              and (a.dest == "robot" or str(a.metavar).startswith(("FILE", "CSV")))]
     return options, named

@@ -9,6 +9,10 @@ import numpy as np
 
 from ..errors import InputError
 from .common import _floats, _load, _revolute_mask, _robot_arguments, add_output_options, emit
+from .values import FILE, Number, Numbers
+
+#: The smallest sampling step (s), :data:`mechatron.dynamics.motion.MIN_STEP` (not imported: --help stays light).
+_MIN_STEP = 1e-6
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dynamics.motion import Trajectory
@@ -25,19 +29,32 @@ def _trajectory(mech: Mechanism, args: argparse.Namespace) -> Trajectory:
     if args.trajectory:
         return read_trajectory(args.trajectory, mech)
     n = len(mech.actuated) if mech.closures else mech.nv
+    angular = (np.array([mech.joint_kind(name) == "revolute" for name in mech.actuated], dtype=bool)
+               if mech.closures else _revolute_mask(mech))
     points = []
     for k, part in enumerate(filter(None, (p.strip() for p in args.move.split(";")))):
         values = _floats(part, f"--move point {k + 1}")
         if values.shape != (n,):
-            raise InputError(f"--move point {k + 1} needs {n} values, got {len(values)}")
-        points.append(np.where(_revolute_mask(mech), np.radians(values), values) if args.deg and not mech.closures
-                      else values)
+            raise InputError(f"--move point {k + 1} needs {n} values ({', '.join(_move_names(mech))}), "
+                             f"got {len(values)}")
+        points.append(np.where(angular, np.radians(values), values) if args.deg else values)
     if len(points) < 2:
         raise InputError("--move needs at least two points separated by ';'")
-    limits = {key: _floats(getattr(args, key), f"--{key}") if getattr(args, key) else None
-              for key in ("vmax", "amax", "jmax")}
+    limits = {}
+    for key in ("vmax", "amax", "jmax"):
+        value = getattr(args, key)
+        if value is not None and len(value) not in (1, n):
+            raise InputError(f"--{key} needs 1 value or {n} (one per coordinate: {', '.join(_move_names(mech))}), "
+                             f"got {len(value)}")
+        limits[key] = None if value is None else float(value[0]) if len(value) == 1 else np.array(value)
     return cycle(None if mech.closures else mech, points, dwell=args.dwell, profile=args.profile, dt=args.dt,
-                 **{k: (v if v is None or len(v) > 1 else float(v[0])) for k, v in limits.items()})
+                 **limits)
+
+
+def _move_names(mech: Mechanism) -> list[str]:
+    from ..dynamics.motion import coordinate_names
+
+    return list(mech.actuated) if mech.closures else coordinate_names(mech)
 
 
 def cmd_dynamics(args: argparse.Namespace) -> int:
@@ -45,7 +62,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
     from ..model.payload import with_payload
 
     mech = _load(args)
-    if args.payload:
+    if args.payload:  # > 0
         if mech.closures:
             raise InputError("--payload is for serial arms (it is carried at the tool)")
         mech = with_payload(mech, args.payload)
@@ -56,18 +73,25 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
 def register(sub) -> None:
     p = sub.add_parser("dynamics", help="joint torques or cylinder forces, speeds, power and energy along a motion")
     _robot_arguments(p)
-    p.add_argument("--trajectory", metavar="FILE",
+    p.add_argument("--trajectory", metavar="FILE", type=FILE,
                    help="CSV with t and one column per joint coordinate (or actuated input)")
     p.add_argument("--move", metavar="Q0;Q1[;Q2...]",
                    help="points to move through, each one coordinate per joint, comma-separated (rad, m); "
                         "closed loops: actuated inputs")
-    p.add_argument("--deg", action="store_true", help="revolute values of --move are in degrees")
+    p.add_argument("--deg", action="store_true", help="revolute values of --move are in degrees (closed loops: its "
+                                                      "revolute actuated inputs)")
     p.add_argument("--profile", default="trapezoidal", choices=["triangular", "trapezoidal", "scurve", "quintic"])
-    p.add_argument("--vmax", help="velocity limit(s), one value or one per axis (default: the model's or 1)")
-    p.add_argument("--amax", help="acceleration limit(s) (default 5)")
-    p.add_argument("--jmax", help="jerk limit(s) for --profile scurve (default 50)")
-    p.add_argument("--dwell", type=float, default=0.0, help="rest at every point after the first (s)")
-    p.add_argument("--dt", type=float, default=0.005, help="sampling step (s)")
-    p.add_argument("--payload", type=float, default=0.0, help="payload mass at the tool (kg)")
+    p.add_argument("--vmax", type=Numbers(positive=True, unit="rad/s or m/s"), metavar="V[,V...]",
+                   help="velocity limit(s), one value or one per axis (default: the model's or 1)")
+    p.add_argument("--amax", type=Numbers(positive=True, unit="rad/s² or m/s²"), metavar="A[,A...]",
+                   help="acceleration limit(s) (default 5)")
+    p.add_argument("--jmax", type=Numbers(positive=True, unit="rad/s³ or m/s³"), metavar="J[,J...]",
+                   help="jerk limit(s) for --profile scurve (default 50)")
+    p.add_argument("--dwell", type=Number(minimum=0.0, unit="s"), default=0.0,
+                   help="rest at every point after the first (s)")
+    p.add_argument("--dt", type=Number(minimum=_MIN_STEP, unit="s"), default=0.005,
+                   help=f"sampling step (s, >= {_MIN_STEP:g})")
+    p.add_argument("--payload", type=Number(minimum=0.0, unit="kg"), default=0.0,
+                   help="payload mass at the tool (kg)")
     add_output_options(p)
     p.set_defaults(func=cmd_dynamics)

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from .common import _floats, add_output_options, emit
+from ..errors import InputError
+from .common import _floats, add_output_options, emit, output_option
+from .values import FILE, Number
 
 
 def cmd_excavator(args: argparse.Namespace) -> int:
@@ -15,9 +17,14 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     from ..report.progress import progress_bar
 
     design = read_design(args.design) if args.design else None
-    tooth = tuple(_floats(args.tooth_force, "--tooth-force")) if args.tooth_force else (0.0, 0.0)
+    tooth = tuple(_floats(args.tooth_force, "--tooth-force", unit="N")) if args.tooth_force is not None else (0.0, 0.0)
+    if len(tooth) != 2:
+        raise InputError(f"--tooth-force needs two finite numbers FX,FY (N), got {len(tooth)} values")
     written = [write_shovel(design, args.output)] if args.output else []
     if written and not (args.json or args.csv or args.plot):
+        from ..io.output import written_so_far
+
+        written_so_far()
         print(f"wrote {written[0]}")
         return 0
     progress = progress_bar("working range", force=False) if not args.json else None
@@ -27,10 +34,11 @@ def cmd_excavator(args: argparse.Namespace) -> int:
 
 def register(sub) -> None:
     p = sub.add_parser("excavator", help="front-shovel working device: design table, special positions, envelope")
-    p.add_argument("--design", metavar="FILE", help="TOML file overriding fields of the design (see docs)")
-    p.add_argument("--samples", type=int, default=31, help="grid points per cylinder stroke (default 31)")
+    p.add_argument("--design", metavar="FILE", type=FILE, help="TOML file overriding fields of the design (see docs)")
+    p.add_argument("--samples", type=Number(integer=True, minimum=2), default=31, metavar="N",
+                   help="grid points per cylinder stroke (default 31)")
     p.add_argument("--tooth-force", metavar="FX,FY", help="force on the tooth tip for the holding loads (N)")
-    p.add_argument("-o", "--output", metavar="FILE",
-                   help="write the design's mechanism file (every command reads it) instead of the report")
+    output_option(p, "-o", "--output", kind="toml",
+                  help="write the design's mechanism file (.toml; every command reads it) instead of the report")
     add_output_options(p)
     p.set_defaults(func=cmd_excavator)

@@ -5,13 +5,11 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import (
-    _load,
-    _robot_arguments,
-)
+from .common import _load, _robot_arguments, output_option
 
 
 def cmd_export_urdf(args: argparse.Namespace) -> int:
+    from ..io.output import written_so_far
     from ..model.urdf import export_urdf
 
     mech = _load(args)
@@ -19,6 +17,7 @@ def cmd_export_urdf(args: argparse.Namespace) -> int:
         print(f"mechatron: warning: URDF has no closed loops; {len(mech.closures)} closure(s) of {mech.name} are "
               "not written (only its spanning tree)", file=sys.stderr)
     written = export_urdf(mech, args.output)
+    written_so_far()
     for path in written:
         print(f"wrote {path}")
     if len(written) > 1:
@@ -29,5 +28,5 @@ def cmd_export_urdf(args: argparse.Namespace) -> int:
 def register(sub) -> None:
     p = sub.add_parser("export-urdf", help="write a robot as URDF (plus SRDF rotor data)")
     _robot_arguments(p)
-    p.add_argument("-o", "--output", required=True, metavar="FILE", help="URDF file to write")
+    output_option(p, "-o", "--output", kind="urdf", help="URDF file to write (.urdf or .xml; the SRDF beside it)")
     p.set_defaults(func=cmd_export_urdf)

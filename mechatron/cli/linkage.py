@@ -7,7 +7,8 @@ import argparse
 import sys
 
 from ..errors import InputError
-from .common import _load, _robot_arguments, add_output_options, emit, parse_assignments
+from .common import _load, _robot_arguments, add_output_options, emit, output_option, parse_assignments
+from .values import Number
 
 
 def cmd_linkage(args: argparse.Namespace) -> int:
@@ -20,13 +21,11 @@ def cmd_linkage(args: argparse.Namespace) -> int:
     if not mech.closures:
         raise InputError(f"{mech.name} has no closed loops; 'mechatron linkage' analyses closed-loop mechanisms "
                          "(see 'mechatron list')")
-    if args.samples < 2:
-        raise InputError(f"--samples must be at least 2, got {args.samples}")
     result = sweep(mech, samples=args.samples, links=mech.link_names,
                    progress=progress_bar(f"{mech.name}: {args.samples} positions") if args.samples >= 2000 else None)
     written = []
     if args.plans:
-        q = assemble(mech, parse_assignments(args.at))
+        q = assemble(mech, parse_assignments(args.at, "--at"))
         v = joint_velocity(mech, q, {name: mech.input_rates.get(name, 1.0) for name in mech.actuated})
         written.append(plans(mech, q, v, joint_acceleration(mech, q, v)).save_plot(args.plans))
     emit(result, args, written, mechanism=mech)
@@ -40,10 +39,11 @@ def cmd_linkage(args: argparse.Namespace) -> int:
 def register(sub) -> None:
     p = sub.add_parser("linkage", help="analyse a closed-loop mechanism over the whole stroke of its inputs")
     _robot_arguments(p)
-    p.add_argument("--samples", type=int, default=200, help="number of positions (default 200)")
+    p.add_argument("--samples", type=Number(integer=True, minimum=2), default=200, metavar="N",
+                   help="number of positions (default 200)")
     add_output_options(p, report=True)
-    p.add_argument("--plans", metavar="FILE",
-                   help="write the velocity and acceleration plans at one position (.png, .pdf or .svg)")
+    output_option(p, "--plans", kind="figure",
+                  help="write the velocity and acceleration plans at one position (.png, .pdf or .svg)")
     p.add_argument("--at", action="append", metavar="INPUT=VALUE,...",
                    help="the position of --plans (actuated coordinates, SI units; default: the reference position)")
     p.set_defaults(func=cmd_linkage)

@@ -114,7 +114,7 @@ def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
     column (:data:`mechatron.units.UNITS`), and so are keys (unique) and relations between columns (peak ≥ rated…).
 
     Raises:
-        InputError: naming the file, the row (as in a spreadsheet: the header is row 1) and the column.
+        InputError: naming the file, the row (the file's line number) and the column.
     """
     if kind not in SCHEMAS:
         raise InputError(f"unknown catalog kind {kind!r}; expected one of: {', '.join(SCHEMAS)}")
@@ -139,15 +139,16 @@ def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
     out = {name: _column_values(raw[column], by_name[name], factor, path, column)
            for column, (name, factor) in columns.items()}
     table = pd.DataFrame(out)
+    lines = [int(n) for n in raw.index]  # the file's line number of each row
     for column in raw.columns:  # extra columns: kept as text, ignored by the sizing
         if column not in columns and column not in table:
             table[column] = raw[column].to_numpy()
     if "key" in table:
         duplicated = table["key"][table["key"].duplicated()]
         if len(duplicated):
-            row = int(duplicated.index[0]) + 2
+            row = lines[int(duplicated.index[0])]
             raise InputError(f"key {duplicated.iloc[0]!r} repeats an earlier row", file=path, row=row, field="key")
-    _check_consistency(table, kind, path, {name: column for column, (name, _) in columns.items()})
+    _check_consistency(table, kind, path, {name: column for column, (name, _) in columns.items()}, lines)
     return table
 
 
@@ -155,7 +156,7 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
     """The cells of one column (text, stripped) as the field's values: text as is, numbers × ``factor`` (SI), NaN for
     an empty optional cell."""
     values: list = []
-    for row, text in enumerate(cells, start=2):
+    for row, text in zip(cells.index, cells):
         if not text:
             if field.required:
                 raise InputError("missing value", file=path, row=row, field=column)
@@ -174,7 +175,8 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
     return values
 
 
-def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: dict[str, str]) -> None:
+def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: dict[str, str],
+                       lines: list[int]) -> None:
     """Relations between columns: peak ≥ rated, max speed ≥ rated speed, rod < bore (strictly: a rod as wide as
     the bore leaves no annulus to pull with), a screw's root diameter < its diameter, a known end fixing, and the
     electrical columns of a motor all or none."""
@@ -189,19 +191,19 @@ def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: di
         bad = table.index[table[high] <= table[low]] if strict else table.index[table[high] < table[low]]
         if len(bad):
             relation = "is not above" if strict else "is below"
-            raise InputError(f"{high} {relation} {low}", file=path, row=int(bad[0]) + 2, field=column_of[high])
+            raise InputError(f"{high} {relation} {low}", file=path, row=lines[int(bad[0])], field=column_of[high])
     if "end_fixing" in table:
-        for row, name in enumerate(table["end_fixing"], start=2):
+        for row, name in zip(lines, table["end_fixing"]):
             if name:
                 try:
                     end_fixing(name)
                 except InputError as error:
                     raise InputError(error.message, file=path, row=row, field=column_of["end_fixing"]) from None
     if kind == "motors":
-        _check_electrical(table, path, column_of)
+        _check_electrical(table, path, column_of, lines)
 
 
-def _check_electrical(table: pd.DataFrame, path: Path, column_of: dict[str, str]) -> None:
+def _check_electrical(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int]) -> None:
     """A motor that gives its resistance or supply voltage gives all of the torque constant, the resistance and the
     voltage (the voltage limit needs the three); else the row names the first one missing."""
     given = {name: table[name].notna().to_numpy() if name in table else np.zeros(len(table), dtype=bool)
@@ -213,7 +215,7 @@ def _check_electrical(table: pd.DataFrame, path: Path, column_of: dict[str, str]
         present = [name for name in ELECTRICAL_COLUMNS if given[name][i]]
         raise InputError(f"missing value: the electrical columns are half filled ({', '.join(present)} given); the "
                          f"voltage limit needs all of {', '.join(ELECTRICAL_COLUMNS)} (or none of resistance and "
-                         "voltage)", file=path, row=i + 2, field=column_of.get(missing, missing))
+                         "voltage)", file=path, row=lines[i], field=column_of.get(missing, missing))
 
 
 def default_catalog(kind: str) -> pd.DataFrame:

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from ..dynamics.motion import coordinate_names
+from ..dynamics.motion import coordinate_names, warn_limits
 from ..dynamics.series import UNITS, coordinate_columns, plot_lines, stacked_axes, text_table
 from ..dynamics.trajectory import actuator_forces
 from ..dynamics.tree import inverse_dynamics
@@ -142,6 +142,7 @@ def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = Non
     :class:`~mechatron.dynamics.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
     mechanism) under gravity and ``loads``: τ = M q̈ + h − Σ Jᵀ F (RNEA) or the constrained inverse dynamics, with
     the drives' motor side (:func:`~mechatron.drives.transmission.motor_loads`, [Egorov, 4.59])."""
+    warn_limits(mech, trajectory)
     t = np.asarray(trajectory.t, dtype=float)
     positions, speeds, accelerations = trajectory.coordinates, trajectory.v, trajectory.a
     if mech.closures:

@@ -31,7 +31,9 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from ..dynamics.motion import warn_limits
 from ..errors import InputError
+from ..io.values import number
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
 from ..report.result import Result, json_ready
@@ -394,6 +396,10 @@ def _rivals(evaluation: Evaluation, table: _Table, primary: np.ndarray, tie: np.
 # ------------------------------------------------------------------------------------------------ the system
 #: The most sizing passes of the fixed point (:func:`size_mechanism`) before it reports that it did not converge.
 MAX_ITERATIONS = 10
+#: The most passes a sizing may be allowed (``max_iterations``).
+MAX_PASSES = 1000
+#: The lowest efficiency of the rest of the chain (``chain_efficiency``): below it the drives' currents overflow.
+MIN_EFFICIENCY = 0.01
 
 
 @dataclass(frozen=True)
@@ -582,17 +588,16 @@ class SizingResult(Result):
     def save_plots(self, directory: str | Path) -> list[Path]:
         """Every joint's chart (:meth:`DriveSizing.plot`) as ``<directory>/<mechanism>_<joint>.png`` and its data
         (:meth:`DriveSizing.chart_frame`) as ``<directory>/<mechanism>_<joint>.csv``; the directory is created if
-        needed. Returns the files written."""
-        from ..io.output import output_directory, write_atomically
+        needed. The files are written whole and all together (:func:`mechatron.io.output.write_folder`), and the
+        charts (and their data) an earlier call for the same mechanism wrote there for joints no longer sized are
+        removed. Returns the files written."""
+        from ..io.output import write_folder
 
-        directory = output_directory(directory)
-        written = []
+        files: dict = {}
         for j in self.joints:
-            stem = directory / f"{self.mechanism}_{j.joint}"
-            frame = j.chart_frame()
-            written += [j.save_plot(stem.with_suffix(".png")),
-                        write_atomically(stem.with_suffix(".csv"), lambda fh, f=frame: f.to_csv(fh, index=False))]
-        return written
+            files[f"{self.mechanism}_{j.joint}.png"] = j.plot
+            files[f"{self.mechanism}_{j.joint}.csv"] = j.chart_frame
+        return write_folder(directory, files, owner=f"mechatron size {self.mechanism}")
 
     def _method_lines(self) -> list[str]:
         if self.single_pass:
@@ -769,8 +774,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     from .catalogs import default_catalog
     from .cylinders import cylinder_lengths, size_cylinder
 
-    if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
-        raise InputError(f"the most sizing passes must be a whole number >= 2, got {max_iterations!r}")
+    _check_arguments(inertia_ratio_max, pressure, chain_efficiency, max_iterations)
+    warn_limits(mech, trajectory, f"task '{task}'")
     bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
             if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
     if not bare:
@@ -870,6 +875,17 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                         mounts(chosen), cycle, duration)
 
 
+def _check_arguments(inertia_ratio_max: float, pressure: float, chain_efficiency: float, max_iterations: int
+                     ) -> None:
+    """The numeric arguments of :func:`size` and :func:`size_mechanism`, checked (one line naming the argument)."""
+    if isinstance(max_iterations, float):  # 3.0 is a count, 2.5 is not
+        raise InputError(f"max_iterations must be a whole number >= 2 and <= {MAX_PASSES}, got {max_iterations!r}")
+    number("max_iterations", max_iterations, integer=True, minimum=2, maximum=MAX_PASSES)
+    number("inertia_ratio_max", inertia_ratio_max, positive=True)
+    number("pressure", pressure, positive=True, maximum=1e10, unit="Pa")
+    number("chain_efficiency", chain_efficiency, minimum=MIN_EFFICIENCY, maximum=1.0)
+
+
 def _cylinder_passes(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, pressure: float,
                      length: np.ndarray | None = None) -> Callable[[float], bool]:
     from .cylinders import size_cylinder
@@ -928,6 +944,7 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     from ..model.loads import as_loads
     from .catalogs import read_catalog
 
+    _check_arguments(inertia_ratio_max, pressure, chain_efficiency, max_iterations)
     if task is None:
         task = default_task(mech)
     elif isinstance(task, Trajectory):

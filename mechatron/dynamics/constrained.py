@@ -30,6 +30,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.values import number
 from ..kinematics.loops import loop_solver
 from ..model.loads import Loads, as_loads
 from ..model.mechanism import Mechanism
@@ -290,8 +291,8 @@ def simulate(mech: Mechanism, q0: ArrayLike, v0: ArrayLike, duration: float, dt:
         loads_at: (t, q, v) → external loads [:class:`~mechatron.model.loads.Load`, …].
         stop: (t, q, v) → True to end the simulation early (e.g. a jaw closed).
     """
-    if not (duration > 0 and dt > 0 and np.isfinite(duration) and np.isfinite(dt)):
-        raise InputError("the duration and the time step of a simulation must be finite and > 0")
+    duration = number("duration", duration, positive=True, unit="s")
+    dt = number("dt", dt, positive=True, unit="s")
     v = np.asarray(v0, dtype=float)
     if v.shape != (mech.nv,):
         raise InputError(f"v0 must have {mech.nv} values for {mech.name}, got shape {v.shape}")

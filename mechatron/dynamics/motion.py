@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.values import LARGEST, number, numbers
 from ..model.mechanism import Mechanism
 from ..report.result import Result
 from .series import coordinate_columns, plot_lines, stacked_axes, text_table, unit_label
@@ -41,6 +42,11 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 PROFILES = ("triangular", "trapezoidal", "scurve", "quintic")
+
+#: The smallest sampling step of a move (s).
+MIN_STEP = 1e-6
+#: The most samples of one move (a larger count would not fit in memory).
+MAX_SAMPLES = 1e8
 
 
 # ------------------------------------------------------------------------------------------------ profiles
@@ -254,17 +260,30 @@ class Trajectory(Result):
         return write_atomically(path, lambda fh: frame.to_csv(fh, index=False, float_format="%.12g"))
 
 
-def _axis_limits(mech: Mechanism | None, n: int, value: ArrayLike | None, default: float, what: str) -> np.ndarray:
+_UNITS = {"velocity": "rad/s or m/s", "acceleration": "rad/s² or m/s²", "jerk": "rad/s³ or m/s³"}
+
+
+def _axis_limits(mech: Mechanism | None, n: int, value: ArrayLike | None, default: float, what: str,
+                 name: str = "") -> np.ndarray:
     if value is None:
         if what == "velocity" and mech is not None:
             limits = mech.model.velocityLimit.copy()
             limits[~np.isfinite(limits) | (limits <= 0) | (limits > 1e30)] = default
             return limits
         return np.full(n, default)
-    arr = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
-    if not np.all((arr > 0) & np.isfinite(arr)):
-        raise InputError(f"the {what} limits must be finite and > 0, got {value!r}")
-    return arr
+    arr = numbers(name or what, value, positive=True, unit=_UNITS[what])
+    if arr.ndim > 1 or arr.size not in (1, n):
+        raise InputError(f"{name or what} must be one number or {n} (one per coordinate), got shape {arr.shape}")
+    return np.broadcast_to(arr.reshape(-1), (n,)).copy()
+
+
+def _sample_count(duration: float, dt: float, what: str, fix: str = "raise dt or shorten it") -> int:
+    """⌈duration/dt⌉, or an InputError when that many samples (at most :data:`MAX_SAMPLES`) cannot be held."""
+    steps = duration / dt
+    if not steps <= MAX_SAMPLES:
+        raise InputError(f"{what} of {duration:.6g} s sampled every dt = {dt:g} s needs {steps:.3g} samples, more "
+                         f"than {MAX_SAMPLES:.0e}: {fix}")
+    return int(math.ceil(steps))
 
 
 def _names(mech: Mechanism | None, n: int) -> tuple[list[str], list[bool] | None]:
@@ -288,27 +307,30 @@ def move(mech: Mechanism | None, start: ArrayLike, end: ArrayLike, *, profile: s
         dt: Sampling step (s); the end point is always included.
         t0: Time of the first sample (s).
     """
-    start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
-    n = len(start)
+    start = numbers("start", start, minimum=-LARGEST, unit="rad or m")
+    end = numbers("end", end, minimum=-LARGEST, unit="rad or m")
+    n = len(start) if start.ndim == 1 else 0
     if start.ndim != 1 or end.shape != start.shape or (mech is not None and n != mech.nv):
         raise InputError(f"a move needs start and end with {mech.nv if mech else n} joint coordinates each")
-    if not (np.all(np.isfinite(start)) and np.all(np.isfinite(end))):
-        raise InputError("the start and end of a move must be finite")
+    dt = number("dt", dt, minimum=MIN_STEP, unit="s")
+    t0 = number("t0", t0, minimum=-LARGEST, unit="s")
+    duration = number("duration", duration, minimum=0.0, unit="s", allow_none=True)
     names, angular = _names(mech, n)
     delta = end - start
     moving = np.abs(delta) > 0
-    v_lim = _axis_limits(mech, n, vmax, 1.0, "velocity")
-    a_lim = _axis_limits(mech, n, amax, 5.0, "acceleration")
-    j_lim = _axis_limits(mech, n, jmax, 50.0, "jerk")
+    v_lim = _axis_limits(mech, n, vmax, 1.0, "velocity", "vmax")
+    a_lim = _axis_limits(mech, n, amax, 5.0, "acceleration", "amax")
+    j_lim = _axis_limits(mech, n, jmax, 50.0, "jerk", "jmax")
     if not moving.any():
         T = duration or 0.0
+        _sample_count(T, dt, "a rest", "raise dt or shorten the rest (dwell)")
         t = t0 + np.arange(0.0, T + dt / 2, dt) if T > 0 else np.array([t0])
         s, ds, dds = np.zeros(len(t)), np.zeros(len(t)), np.zeros(len(t))
     else:
         scale = np.abs(delta[moving])
         shape = make_profile(profile, float(np.min(v_lim[moving] / scale)), float(np.min(a_lim[moving] / scale)),
                              float(np.min(j_lim[moving] / scale)), duration)
-        steps = max(1, int(math.ceil(shape.duration / dt)))
+        steps = max(1, _sample_count(shape.duration, dt, "a move", "raise dt or the limits vmax, amax, jmax"))
         local = np.linspace(0.0, shape.duration, steps + 1)
         s, ds, dds = shape.evaluate(local)
         t = t0 + local
@@ -324,6 +346,8 @@ def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: floa
     resting ``dwell`` seconds at every waypoint after the first."""
     if len(waypoints) < 2:
         raise InputError("a cycle needs at least two waypoints")
+    dwell = number("dwell", dwell, minimum=0.0, unit="s")
+    dt = number("dt", dt, minimum=MIN_STEP, unit="s")
     parts: list[Trajectory] = []
     t = 0.0
     for a, b in zip(waypoints[:-1], waypoints[1:]):
@@ -341,6 +365,49 @@ def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: floa
 def _drop_first(trajectory: Trajectory) -> Trajectory:
     return Trajectory(trajectory.t[1:], trajectory.q[1:], trajectory.v[1:], trajectory.a[1:], trajectory.names,
                       trajectory.coordinates[1:], trajectory.angular)
+
+
+def input_ranges(mech: Mechanism, names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """(lower, upper) limits (rad, m) of the closed loop's input coordinates ``names`` (its cylinders' strokes, its
+    cranks' ranges); ±inf where a coordinate has none."""
+    from ..kinematics.loops import loop_solver
+
+    solver = loop_solver(mech)
+    index = [solver.index[n] for n in names]
+    return (np.asarray(mech.model.lowerPositionLimit, dtype=float)[index],
+            np.asarray(mech.model.upperPositionLimit, dtype=float)[index])
+
+
+def check_input_ranges(mech: Mechanism, names: Sequence[str], values: np.ndarray, *, file: str | Path,
+                       rows: Sequence[int | str], fields: Sequence[str], labels: Sequence[str] | None = None) -> None:
+    """Every row of ``values`` (rows × inputs, rad or m) of a closed loop inside its inputs' ranges (strokes), else an
+    :class:`InputError` naming ``file``, the row (``rows[i]``: a line number, or a name like ``waypoints[2]``) and the
+    field ``fields[j]`` (and the row's label, ``labels[i]``, if given: a pose's)."""
+    if not mech.closures or not len(values):
+        return
+    lower, upper = input_ranges(mech, names)
+    margin = 1e-9 * np.maximum(1.0, np.abs(upper - lower))
+    bad = (values < lower - margin) | (values > upper + margin)
+    if bad.any():
+        i, j = (int(x) for x in np.argwhere(bad)[0])
+        unit = "rad" if mech.joint_kind(names[j]) == "revolute" else "m"
+        what = "stroke" if unit == "m" else "range"
+        row = rows[i]
+        label = f"pose {labels[i]}: " if labels is not None else ""
+        raise InputError(f"{label}{names[j]} = {values[i, j]:.6g} {unit} is outside its {what} [{lower[j]:.6g}, "
+                         f"{upper[j]:.6g}] {unit} in {mech.name}", file=file,
+                         row=row if isinstance(row, int) else None,
+                         field=fields[j] if isinstance(row, int) else f"{row}")
+
+
+def warn_limits(mech: Mechanism, trajectory: Trajectory, what: str = "the motion") -> list[str]:
+    """Warn (:class:`~mechatron.errors.LimitWarning`, one line per joint: its farthest value, when, and how many
+    samples more) about the joint coordinates of a serial ``trajectory`` outside their joint limits. Returns the
+    messages. (A closed loop's actuated inputs outside their range are an error where the loops are solved.)"""
+    def labels(k: int) -> str:
+        return f"t = {trajectory.t[k]:g} s"
+
+    return [] if mech.closures else mech.warn_limits(trajectory.q, what, labels)
 
 
 def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
@@ -375,9 +442,10 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
         raise InputError("a trajectory needs at least two rows", file=path)
     steps = np.diff(t)
     if np.any(steps <= 0):
-        row = int(np.flatnonzero(steps <= 0)[0]) + 3
+        row = int(frame.index[int(np.flatnonzero(steps <= 0)[0]) + 1])
         raise InputError("times must increase", file=path, row=row, field="t")
     coordinates = np.column_stack([numeric(c) for c in columns])
+    check_input_ranges(mech, names, coordinates, file=path, rows=[int(n) for n in frame.index], fields=columns)
 
     def derivative(values: np.ndarray) -> np.ndarray:
         return np.gradient(values, t, axis=0, edge_order=2) if len(t) > 2 else np.gradient(values, t, axis=0)

@@ -29,6 +29,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.values import LARGEST, number
 from ..kinematics.loops import assemble, loop_solver
 from ..model.loads import Loads
 from ..model.mechanism import Mechanism
@@ -205,6 +206,8 @@ def reduced_table(mech: Mechanism, input: str | None = None, values: ArrayLike |
     in N or N·m, and ``loads``) over input ``values`` (rad or m; default :func:`default_values`, ``samples`` of
     them), assembled by continuation. ``input`` defaults to the actuated coordinate."""
     input = _one_dof(mech, input)
+    if values is None:
+        samples = number("samples", samples, integer=True, minimum=2)
     values = default_values(mech, input, samples) if values is None else np.atleast_1d(np.asarray(values, float))
     if values.ndim != 1 or len(values) < 2 or not np.all(np.isfinite(values)):
         raise InputError(f"the one-mass model needs at least two finite values of {input}, got {len(values)}")
@@ -325,6 +328,10 @@ def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, d
     the same forces.
     """
     input = _one_dof(mech, input)
+    phi0 = number("phi0", phi0, minimum=-LARGEST, unit="rad or m")
+    omega0 = number("omega0", omega0, minimum=-LARGEST, unit="rad/s or m/s")
+    duration = number("duration", duration, positive=True, unit="s")
+    dt = number("dt", dt, positive=True, unit="s")
     state = {"q": assemble(mech, {input: phi0}) if mech.closures else _serial_q(mech, input, phi0, None)}
     solver = loop_solver(mech) if mech.closures else None
 

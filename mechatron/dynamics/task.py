@@ -43,7 +43,15 @@ from ..io.schema import FieldReader
 from ..kinematics.loops import loop_solver
 from ..model.loads import Load
 from ..model.mechanism import Mechanism
-from .motion import PROFILES, Trajectory, coordinate_limits, coordinate_names, cycle, read_trajectory
+from .motion import (
+    PROFILES,
+    Trajectory,
+    check_input_ranges,
+    coordinate_limits,
+    coordinate_names,
+    cycle,
+    read_trajectory,
+)
 
 
 @dataclass
@@ -210,6 +218,9 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     points = _waypoints(reader, angular)
     if points is None:
         raise reader.error("waypoints", "missing the motion: give waypoints, waypoints_deg or trajectory")
+    key = "waypoints_deg" if reader.has("waypoints_deg") else "waypoints"
+    check_input_ranges(mech, names, np.array(points), file=path,
+                       rows=[reader.field(f"{key}[{k + 1}]") for k in range(len(points))], fields=names)
     profile = reader.string("profile", "trapezoidal", choices=PROFILES)
     dwell = reader.number("dwell", 0.0, minimum=0.0)
     dt = reader.number("dt", 0.005, positive=True)

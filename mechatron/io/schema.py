@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import UNITS
+from .values import LARGEST
 
 _MISSING: Any = object()
 #: Pass as ``default`` to make a field required.
@@ -78,6 +79,9 @@ class FieldReader:
         x = float(value)
         if not math.isfinite(x):
             raise self.error(key, f"expected a finite number, got {value!r}")
+        if abs(x) > LARGEST:
+            raise self.error(key, f"expected a finite number of magnitude <= {LARGEST:g} (in the field's unit), "
+                                  f"got {value!r}")
         return x
 
     def _pick_unit(self, key: str, units: Mapping[str, float], default: Any) -> tuple[str, float]:
@@ -110,6 +114,17 @@ class FieldReader:
         x = self._as_float(key, value)
         self._check_range(key, x, minimum=minimum, positive=positive, nonzero=nonzero)
         return x
+
+    def whole(self, key: str, default: Any = _MISSING, *, minimum: int | None = None) -> int:
+        """A whole number (a count), optionally bounded: ``2.5`` is an error, not 2."""
+        value = self._take(key, default)
+        if value is default and key not in self.data:
+            return value
+        x = self._as_float(key, value)
+        if x != math.floor(x):
+            raise self.error(key, f"expected a whole number, got {value!r}")
+        self._check_range(key, x, minimum=minimum)
+        return int(x)
 
     def _check_range(self, key: str, x: float, *, minimum=None, positive=False, nonzero=False) -> None:
         if positive and not x > 0:

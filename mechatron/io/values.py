@@ -27,9 +27,10 @@ LARGEST = 1e12
 
 def _requirement(*, minimum: float | None, maximum: float | None, positive: bool, integer: bool,
                  unit: str, exceeded: bool = False) -> str:
-    """The words of a requirement; the default bound :data:`LARGEST` is named only when it was exceeded."""
-    if maximum == LARGEST and not exceeded:
-        maximum = None
+    """The words of a requirement; the default bounds ±:data:`LARGEST` are named only when one was exceeded."""
+    if (maximum == LARGEST or minimum == -LARGEST) and not exceeded:
+        maximum = None if maximum == LARGEST else maximum
+        minimum = None if minimum == -LARGEST else minimum
     kind = "whole number" if integer else "finite number"
     parts = []
     if positive:
@@ -64,7 +65,7 @@ def number(name: str, value: Any, *, unit: str = "", minimum: float | None = Non
            or (maximum is not None and x > maximum) or (integer and x != math.floor(x)))
     if bad:
         need = _requirement(minimum=minimum, maximum=maximum, positive=positive, integer=integer, unit=unit,
-                            exceeded=maximum is not None and x > maximum)
+                            exceeded=abs(x) > LARGEST)
         shown = value if isinstance(value, (int, np.integer)) else f"{x:g}"
         raise InputError(f"{name} must be {need}, got {shown}")
     return int(x) if integer else x
@@ -94,6 +95,6 @@ def numbers(name: str, values: ArrayLike, *, unit: str = "", shape: tuple[int | 
         index = tuple(int(i) for i in np.argwhere(~ok)[0])
         where = f"{name}[{', '.join(map(str, index))}]" if index else name
         need = _requirement(minimum=minimum, maximum=maximum, positive=positive, integer=False, unit=unit,
-                            exceeded=maximum is not None and bool(array[index] > maximum))
+                            exceeded=bool(abs(array[index]) > LARGEST))
         raise InputError(f"{where} must be {need}, got {array[index]:g}")
     return array

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, MechatronError
+from ..io.values import number
 from ..model.batched import BatchedFrames, batched_frames
 from ..model.mechanism import Measure, Mechanism
 from ..report.result import Result, frame_records, json_ready
@@ -26,6 +27,8 @@ from .geometry import measure_values
 from .loops import SINGULAR_RATIO, LoopSolver, loop_solver
 
 if TYPE_CHECKING:  # pragma: no cover
+    from pathlib import Path
+
     import pandas as pd
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -100,6 +103,19 @@ class SweepResult(Result):
     def to_frame(self) -> pd.DataFrame:
         """:attr:`table`: one row per assembled sample (SI units; see the class docstring for the columns)."""
         return self.table.copy()
+
+    def write_csv(self, path: str | Path) -> Path:
+        """Write :meth:`to_frame` as CSV, whole or not at all; the ``<stem>.failures.csv`` that earlier versions
+        wrote beside it (the failures, now in :meth:`as_dict` and the text report) is removed with the same
+        commit (:func:`mechatron.io.output.stage_removal`)."""
+        from ..io.output import stage_removal, stale_failures, transaction
+
+        with transaction():
+            written = super().write_csv(path)
+            stale = stale_failures(written)
+            if stale is not None:
+                stage_removal(stale)
+        return written
 
     def as_dict(self) -> dict[str, Any]:
         """The sweep as plain data: ``mechanism, description, actuated, mobility, redundant_closure_equations``,
@@ -368,6 +384,8 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
         close, a singular position) are in its ``failures`` with the reason, not in its table.
     """
     base = loop_solver(mech)
+    if inputs is None:
+        samples = number("samples", samples, integer=True, minimum=2)
     inputs = dict(inputs) if inputs is not None else default_inputs(mech, samples)
     lengths = {len(np.atleast_1d(np.asarray(v))) for v in inputs.values()}
     if len(lengths) != 1:

@@ -41,6 +41,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.values import number
 from ..kinematics.frames import frame_placement, point_velocity
 from ..kinematics.loops import assemble, joint_velocity
 from ..model.linkage import BodySpec, JointSpec, LengthSpec, LinkageSpec, MeasureSpec, PointSpec, build_linkage
@@ -532,7 +533,7 @@ def read_design(path: str | Path) -> FrontShovelDesign:
         if f.name == "boom_foot":
             values[f.name] = tuple(float(x) for x in reader.vector(f.name, 2))
         elif f.name == "boom_cylinders":
-            values[f.name] = int(reader.number(f.name, minimum=1))
+            values[f.name] = reader.whole(f.name, minimum=1)
         else:
             values[f.name] = reader.number(f.name)
     reader.finish()
@@ -746,8 +747,10 @@ def excavator_report(design: FrontShovelDesign | None = None, samples: int = 31,
     tooth = np.asarray(tooth_force, dtype=float).reshape(-1)
     if tooth.shape != (2,) or not np.all(np.isfinite(tooth)):
         raise InputError(f"the tooth force needs two finite numbers Fx, Fy (N), got {tooth_force!r}")
-    if not (isinstance(samples, (int, np.integer)) and samples >= 2):
-        raise InputError(f"the working range needs at least 2 samples per stroke, got {samples!r}")
+    if isinstance(samples, float):  # a count: 31, not 31.0
+        raise InputError(f"samples must be a whole number >= 2, got {samples!r}")
+    samples = number("samples", samples, integer=True, minimum=2)
+    pressure = number("pressure", pressure, positive=True, maximum=1e10, unit="Pa")
     design = design or FrontShovelDesign()
     specs = cylinders or DEFAULT_CYLINDERS
     shovel = synthesize(design)

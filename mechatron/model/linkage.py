@@ -556,6 +556,15 @@ def curve_functions(c: ClosureSpec) -> tuple[Callable[[float], float], Callable[
     return (lambda x: spline(x)[()], lambda x: first(x)[()], lambda x: second(x)[()])  # floats, or arrays for arrays
 
 
+def _residual_text(spec: LinkageSpec, equation: str, value: float) -> str:
+    """A constraint's residual with its unit: rad for an angle (a guide's angle, a revolute input), else mm."""
+    angle = equation.endswith("(angle)")
+    if equation.startswith("input "):
+        name = equation[len("input "):]
+        angle = any(j.kind == "revolute" and joint_coordinate(j) == name for j in spec.joints)
+    return f"{value:.3g} rad" if angle else f"{value * 1e3:.3g} mm"
+
+
 def close_drawing(spec: LinkageSpec, max_iterations: int = 60) -> ClosedDrawing:
     """The consistent position nearest to the drawing (minimum-norm Gauss–Newton, see the module docstring).
 
@@ -594,8 +603,9 @@ def close_drawing(spec: LinkageSpec, max_iterations: int = 60) -> ClosedDrawing:
         phi = residual(x)
     if np.abs(phi).max(initial=0.0) >= 1e-9 * scale:
         k = int(np.argmax(np.abs(phi)))
-        raise spec.error(f"the drawing cannot be closed: {equations[k][0]} is off by {abs(phi[k]):.3g} "
-                         "(the lengths, guides and curves do not fit together near the drawing)", "points")
+        raise spec.error(f"the drawing cannot be closed: {equations[k][0]} is off by "
+                         f"{_residual_text(spec, equations[k][0], abs(float(phi[k])))} (the lengths, guides and "
+                         "curves do not fit together near the drawing)", "points")
     P = unpack(np.where(np.abs(x - x0) < 1e-12 * scale, x0, x))  # what did not move keeps its drawn value
     moves = {n: float(np.linalg.norm(P[n] - drawn[n])) for n in names}
     return ClosedDrawing({n: P[n].copy() for n in names}, moves, first_residual, worst)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
@@ -369,17 +369,50 @@ class Mechanism:
             raise InputError(f"{what} must be finite, got {arr}")
         return arr
 
-    def limit_violations(self, q: ArrayLike) -> list[str]:
+    def limit_violations(self, q: ArrayLike, labels: Sequence[str] | Callable[[int], str] | None = None
+                         ) -> list[str]:
         """Human-readable list of the joint coordinates of the configuration ``q`` (nq,) outside their limits
-        (rad, m; joints with one coordinate: continuous and free joints have none)."""
+        (rad, m; joints with one coordinate: continuous and free joints have none), one line per joint. For
+        configurations (N, nq) each joint's line gives its farthest value and where it is (``labels[k]``, default
+        ``sample k+1``; ``labels`` may be a function of k) and how many more configurations are outside."""
         q = self.check_configuration(q)
+        joints = [j for j in range(1, self.model.njoints) if self.model.joints[j].nq == 1]
+        names = [self.model.names[j] for j in joints]
+        return self._violations(names, q[..., [self.model.joints[j].idx_q for j in joints]], labels)
+
+    def _violations(self, names: Sequence[str], values: ArrayLike,
+                              labels: Sequence[str] | Callable[[int], str] | None = None) -> list[str]:
+        """:meth:`limit_violations` of the one-axis joints ``names`` at ``values`` (n,) or (N, n) (rad, m)."""
+        values = np.asarray(values, dtype=float)
+        batch = values.ndim == 2
+        rows = np.atleast_2d(values)
         out = []
-        lo, hi = self.model.lowerPositionLimit, self.model.upperPositionLimit
-        for j in range(1, self.model.njoints):
-            joint = self.model.joints[j]
-            if joint.nq != 1:
+        for i, name in enumerate(names):
+            index = self.model.joints[self.joint_id(name)].idx_q
+            lo, hi = self.model.lowerPositionLimit[index], self.model.upperPositionLimit[index]
+            column = rows[:, i]
+            outside = ~((column >= lo) & (column <= hi))
+            if not outside.any():
                 continue
-            i = joint.idx_q
-            if not lo[i] <= q[i] <= hi[i]:
-                out.append(f"{self.model.names[j]} = {q[i]:g} outside [{lo[i]:g}, {hi[i]:g}]")
+            k = int(np.argmax(np.where(outside, np.maximum(lo - column, column - hi), -np.inf)))
+            line = f"{name} = {column[k]:g} outside [{lo:g}, {hi:g}]"
+            if batch:
+                where = (f"sample {k + 1}" if labels is None else labels(k) if callable(labels) else labels[k])
+                more = int(outside.sum()) - 1
+                line += f" at {where}" + (f" (and {more} more of {len(column)})" if more else "")
+            out.append(line)
         return out
+
+    def warn_limits(self, q: ArrayLike, what: str = "", labels: Sequence[str] | Callable[[int], str] | None = None
+                    ) -> list[str]:
+        """Warn (:class:`~mechatron.errors.LimitWarning`, one warning per joint) about the coordinates of ``q``
+        outside their joint limits (:meth:`limit_violations`). ``what`` says where the values come from. Returns
+        the messages."""
+        import warnings
+
+        from ..errors import LimitWarning
+
+        messages = self.limit_violations(q, labels)
+        for message in messages:
+            warnings.warn(f"{what}: {message}" if what else message, LimitWarning, stacklevel=2)
+        return messages

@@ -9,6 +9,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..io.values import number
 from .dh import inertial_problem
 from .mechanism import Mechanism
 
@@ -22,8 +23,7 @@ def with_payload(mech: Mechanism, mass: float, frame: str | None = None, com: Ar
 
     The inertia must be a rigid body's: symmetric, zero or positive definite, its principal moments obeying
     I1 + I2 ≥ I3 (:func:`~mechatron.model.dh.inertial_problem`), and not without mass."""
-    if not mass >= 0:
-        raise InputError(f"payload mass must be >= 0 kg, got {mass:g}")
+    mass = number("payload mass", mass, minimum=0.0, unit="kg")
     frame = frame or mech.tool_frame
     fid = mech.frame_id(frame)
     model = pin.Model(mech.model)

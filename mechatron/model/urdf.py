@@ -24,6 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import InputError
+from ..io.values import LARGEST
 from .dh import Drive
 from .mechanism import Mechanism, Parameter, find_frame
 
@@ -52,6 +53,107 @@ def _captured_native_stderr() -> Iterator[list[str]]:
             os.close(saved)
             sink.seek(0)
             lines.extend(line.strip() for line in sink.read().decode(errors="replace").splitlines() if line.strip())
+
+
+def _attribute(path: Path, where: str, element, attribute: str, default: str | None = None, *, size: int = 1,
+               unit: str = "", minimum: float | None = None, largest: float = LARGEST) -> list[float]:
+    """The ``size`` numbers of ``attribute`` of ``element`` (``default`` if absent): finite, of magnitude <= LARGEST and
+    ``>= minimum``, else an error naming the file, the link or joint (``where``) and the attribute."""
+    field = f"{element.tag} {attribute}"
+    text = element.get(attribute, default)
+    if text is None:
+        raise InputError("missing attribute", file=path, row=where, field=field)
+    words = text.split()
+    need = (f"{size} finite numbers" if size > 1 else "a finite number") + \
+        (f" >= {minimum:g}" if minimum is not None else "") + (f" {unit}" if unit else "")
+    try:
+        values = [float(w) for w in words]
+    except ValueError:
+        values = []
+    if len(values) != size or not all(math.isfinite(v) and abs(v) <= largest for v in values) or \
+            (minimum is not None and any(v < minimum for v in values)):
+        bound = f" of magnitude <= {largest:g}" if any(math.isfinite(v) and abs(v) > largest for v in values) else ""
+        raise InputError(f"must be {need}{bound}, got {text!r}", file=path, row=where, field=field)
+    return values
+
+
+def _check_origin(path: Path, where: str, parent) -> None:
+    origin = parent.find("origin")
+    if origin is not None:
+        _attribute(path, where, origin, "xyz", "0 0 0", size=3, unit="m")
+        _attribute(path, where, origin, "rpy", "0 0 0", size=3, unit="rad")
+
+
+def _inertia_problem(inertia: np.ndarray, physical: bool) -> str | None:
+    """Why a URDF inertia tensor is no body's, or ``None``: a principal moment below zero (beyond rounding) or, with
+    ``physical``, principal moments breaking the triangle inequality I1 + I2 >= I3."""
+    moments = np.linalg.eigvalsh(inertia)
+    rounding = 1e-9 * float(np.abs(moments).max())
+    if moments[0] < -rounding:
+        return f"inertia tensor must be positive semidefinite (principal moments {moments.round(9).tolist()} kg·m²)"
+    if physical and moments[0] + moments[1] < moments[2] * (1 - 1e-9) - rounding:
+        return (f"principal moments {moments.round(9).tolist()} kg·m² violate the triangle inequality I1 + I2 >= I3 "
+                "(no rigid body has them)")
+    return None
+
+
+def check_urdf(path: str | Path, *, physical: bool = False) -> None:
+    """The physical checks a robot file has, on a URDF: every link's mass (>= 0 kg) and inertia (symmetric, positive
+    semidefinite; with ``physical`` its principal moments obeying the triangle inequality too — off by default, as
+    URDF has no field to switch it off and published files, and mechatron's export of an arm with
+    ``physical_inertia = false``, break it), every origin, and every joint's limits
+    (finite, lower <= upper, effort and velocity >= 0) are numbers a body can have; else :class:`InputError` naming
+    the file, the link or joint and the attribute."""
+    import xml.etree.ElementTree as ET
+
+    path = Path(path)
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise InputError(f"not valid XML: {exc}", file=path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror}", file=path) from None
+    if root.tag != "robot":
+        raise InputError(f"not a URDF: the top element is <{root.tag}>, not <robot>", file=path)
+    for link in root.iter("link"):
+        where = f"link {link.get('name', '?')!r}"
+        for visual in [*link.iter("visual"), *link.iter("collision")]:
+            _check_origin(path, where, visual)
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        _check_origin(path, where, inertial)
+        mass_element = inertial.find("mass")
+        if mass_element is not None:
+            _attribute(path, where, mass_element, "value", unit="kg", minimum=0.0)
+        tensor = inertial.find("inertia")
+        inertia = np.zeros((3, 3))
+        if tensor is not None:
+            ixx, ixy, ixz, iyy, iyz, izz = (_attribute(path, where, tensor, k, "0", unit="kg·m²")[0]
+                                            for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+            inertia = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+        problem = _inertia_problem(inertia, physical)
+        if problem is not None:
+            raise InputError(problem, file=path, row=where, field="inertia")
+    for joint in root.iter("joint"):
+        where = f"joint {joint.get('name', '?')!r}"
+        _check_origin(path, where, joint)
+        axis = joint.find("axis")
+        if axis is not None:
+            _attribute(path, where, axis, "xyz", "1 0 0", size=3)
+        limit = joint.find("limit")
+        if limit is None:
+            continue
+        kind = joint.get("type", "")
+        unit = "m" if kind == "prismatic" else "rad"
+        # limits: any finite value (1e16 stands for "none" in some published files)
+        lower = _attribute(path, where, limit, "lower", "0", unit=unit, largest=math.inf)[0]
+        upper = _attribute(path, where, limit, "upper", "0", unit=unit, largest=math.inf)[0]
+        for name in ("effort", "velocity"):
+            _attribute(path, where, limit, name, "0", minimum=0.0, largest=math.inf)
+        if kind in ("revolute", "prismatic") and lower > upper:
+            raise InputError(f"lower limit {lower:g} {unit} is above upper limit {upper:g} {unit}", file=path,
+                             row=where, field="limit lower")
 
 
 def _build(path: Path, locked_joints: Sequence[str]) -> pin.Model:
@@ -121,7 +223,7 @@ def _add_tool_frame(model: pin.Model, tool: str | None, path: Path) -> None:
 
 def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = None,
               locked_joints: Sequence[str] = (), description: str = "",
-              values: dict[str, float] | None = None) -> Mechanism:
+              values: dict[str, float] | None = None, physical: bool = False) -> Mechanism:
     """A :class:`Mechanism` of the URDF file ``path``.
 
     Every URDF joint kind Pinocchio reads is kept as it is: a ``continuous`` joint is Pinocchio's unbounded
@@ -136,10 +238,13 @@ def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = N
         locked_joints: Joints fixed at their neutral position (e.g. gripper fingers).
         description: One line for listings.
         values: Joint origin parameters to override (``{joint}_x``…, metres).
+        physical: Check the triangle inequality of the links' principal moments too (:func:`check_urdf`; off by
+            default: some published URDFs break it).
     """
     path = Path(path)
     if not path.is_file():
-        raise InputError("no such file", file=path)
+        raise InputError("is a directory, not a file" if path.is_dir() else "no such file", file=path)
+    check_urdf(path, physical=physical)
     model = _build(path, locked_joints)
     parameters = _origin_parameters(model)
     if values:
@@ -156,7 +261,7 @@ def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = N
 
     def rebuild(new_values: dict[str, float]) -> Mechanism:
         return load_urdf(path, name, tool=tool, locked_joints=locked_joints, description=description,
-                         values=new_values)
+                         values=new_values, physical=physical)
 
     return Mechanism(name=name, model=model, parameters=parameters, description=description or f"URDF {path.name}",
                      source=str(path), drives=drives, rebuild=rebuild)
@@ -250,6 +355,11 @@ def to_urdf(mechanism: Mechanism) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: The comment that opens every SRDF :func:`to_srdf` writes (how :func:`export_urdf` knows its own SRDF).
+SRDF_MARK = ("rotor inertia (attribute 'mass', kg m^2) and gear ratio of each drive; "
+             "pinocchio.loadRotorParameters sets armature = mass * gear_ratio^2")
+
+
 def to_srdf(mechanism: Mechanism) -> str | None:
     """SRDF ``<rotor_params>`` reproducing the model's armature, or ``None`` if every armature is zero."""
     model = mechanism.model
@@ -267,22 +377,38 @@ def to_srdf(mechanism: Mechanism) -> str | None:
     if not entries:
         return None
     return "\n".join(['<?xml version="1.0"?>',
-                      "<!-- rotor inertia (attribute 'mass', kg m^2) and gear ratio of each drive; "
-                      "pinocchio.loadRotorParameters sets armature = mass * gear_ratio^2 -->",
+                      f"<!-- {SRDF_MARK} -->",
                       f"<robot name={quoteattr(mechanism.name)}>", "  <rotor_params>", *entries, "  </rotor_params>",
                       "</robot>"]) + "\n"
 
 
 def export_urdf(mechanism: Mechanism, path: str | Path) -> list[Path]:
-    """Write ``mechanism`` as URDF to ``path`` (and its drives as ``path`` with suffix ``.srdf``); return the files."""
+    """Write ``mechanism`` as URDF to ``path`` (and its drives as ``path`` with suffix ``.srdf``), both whole and
+    together (:func:`mechatron.io.output.transaction`); return the files. Without drives, an SRDF an earlier export
+    wrote beside ``path`` (one holding mechatron's rotor data, :data:`SRDF_MARK`) is removed."""
+    from ..io.output import output_name, stage_removal, transaction, write_text
+
     path = Path(path)
-    try:
-        path.write_text(to_urdf(mechanism))
-        written = [path]
-        srdf = to_srdf(mechanism)
+    companion = path.with_suffix(".srdf")
+    if path.suffix.lower() == ".srdf" or Path(os.path.abspath(companion)) == Path(os.path.abspath(path)):
+        raise InputError("the URDF would be written over its own SRDF; name it .urdf", file=output_name(path))
+    srdf = to_srdf(mechanism)
+    if srdf is not None and path.exists() and not path.is_file():
+        raise InputError(f"{mechanism.name} has drives, whose SRDF goes beside the URDF: name a file, not a device",
+                         file=output_name(path))
+    with transaction():
+        written = [write_text(path, to_urdf(mechanism))]
         if srdf is not None:
-            path.with_suffix(".srdf").write_text(srdf)
-            written.append(path.with_suffix(".srdf"))
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror}", file=path) from None
+            written.append(write_text(companion, srdf))
+        elif _written_by_mechatron(companion):
+            stage_removal(companion)
     return written
+
+
+def _written_by_mechatron(path: Path) -> bool:
+    """Whether ``path`` is an SRDF of :func:`to_srdf` (its comment :data:`SRDF_MARK` in its first lines)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            return SRDF_MARK in fh.read(1000)
+    except OSError:
+        return False

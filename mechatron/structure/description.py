@@ -217,7 +217,7 @@ def read_structure(path: str | Path) -> StructuralDescription:
         if not isinstance(members, list) or not members:
             raise reader.error("pairs", "give the loop's pairs as a list of names")
         closed_by = reader.string("closed_by", "") or None
-        redundant = int(reader.number("redundant_links", 0, minimum=0))
+        redundant = reader.whole("redundant_links", 0, minimum=0)
         repeated = reader.boolean("repeated", False)
         reader.finish()
         loops.append(Loop(tuple(str(m) for m in members), closed_by, redundant, repeated))
