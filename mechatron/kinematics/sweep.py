@@ -1,10 +1,15 @@
 """Analysis of a mechanism over the strokes of its inputs: N samples into a table (pandas), with the assembly branch
 kept by continuation from sample to sample.
 
-Each sample is assembled by Newton's method from the polynomial through the last (up to four) solutions extrapolated
-one input step further, then analysed for velocities and accelerations, all samples at once. A sample that cannot be
-assembled (cylinder out of stroke, a loop that cannot close, a singular position) goes to ``failures`` with the
-reason instead of into the table; the sweep goes on from the last good sample.
+The sequential continuation assembles each sample by Newton's method from the polynomial through the last (up to
+four) solutions extrapolated one input step further. For many samples the same branch is found batched
+(:mod:`mechatron.kinematics.batch`): a few anchor samples by that continuation, all others by Newton's method on all
+samples at once from guesses interpolated between the anchors, each checked against its neighbour and the doubtful
+ones solved again by the continuation. Velocities and accelerations of all samples follow at once, with the frames
+from :mod:`mechatron.model.batched` (or from Pinocchio per sample for joints it does not know, and as the reference
+with ``BATCHED = False``), chunk by chunk. A sample that cannot be assembled (cylinder out of stroke, a loop that
+cannot close, a singular position) goes to ``failures`` with the reason instead of into the table; the sweep goes on
+from the last good sample.
 """
 
 from __future__ import annotations
