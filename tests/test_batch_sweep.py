@@ -94,5 +94,6 @@ def test_interpolation_and_stride():
     np.testing.assert_allclose(batch.interpolate(anchors, values, samples)[:, 0], samples**3 - 2.0 * samples,
                                atol=1e-9)
     U = 0.5 * np.arange(101.0)[:, None]
-    assert batch.anchor_stride(U, np.array([1.0])) == 8  # anchors 4 continuation steps apart
-    assert batch.anchor_stride(U[:1], np.array([1.0])) == 1
+    assert batch.anchor_stride(U, np.array([4.0])) == 8
+    assert batch.anchor_stride(U[:1], np.array([4.0])) == 1
+    np.testing.assert_array_equal(batch.every(np.arange(10), 4), [0, 4, 8, 9])

@@ -6,6 +6,8 @@ A sweep asks for the assembly of N samples of the inputs on one assembly branch.
 
 1. ``anchors`` — every m-th sample, m chosen so that the anchors' input step is at most four continuation steps
    (:attr:`~mechatron.kinematics.loops.LoopSolver.max_step`) — are solved by that continuation (they keep the branch);
+   a finer level of anchors, their input step a fiftieth of a continuation step, is solved as in 2. from them, so
+   that most samples start within the tolerance and need one evaluation;
 2. every other sample starts from the cubic (Lagrange) interpolation in the sample index through the four nearest
    anchors and is solved by Newton's method on all samples at once: Φ(q) and J(q) of a chunk of samples from
    :class:`~mechatron.model.batched.BatchedFrames`, the steps J_d Δq_d = −Φ from one stacked ``np.linalg.solve``,
@@ -62,13 +64,19 @@ def chunks(n: int, size: int | None = None) -> list[slice]:
     return [slice(start, min(start + size, n)) for start in range(0, n, size)]
 
 
-def anchor_stride(U: np.ndarray, max_step: np.ndarray) -> int:
-    """Every how many samples an anchor is solved by continuation: its input step at most four times the
-    continuation's ``max_step`` (m or rad), for the largest input step between samples in U (n, n_act)."""
-    step = np.abs(np.diff(U, axis=0)).max(axis=0, initial=0.0) if len(U) > 1 else np.zeros(U.shape[1])
+def anchor_stride(U: np.ndarray, step: np.ndarray) -> int:
+    """Every how many samples to take an anchor so that the anchors' input steps are at most ``step`` (m or rad, one
+    per input), for the largest input step between samples in U (n, n_act)."""
+    largest = np.abs(np.diff(U, axis=0)).max(axis=0, initial=0.0) if len(U) > 1 else np.zeros(U.shape[1])
     with np.errstate(divide="ignore"):
-        stride = np.min(np.where(step > 0, 4.0 * max_step / step, np.inf))
+        stride = np.min(np.where(largest > 0, step / largest, np.inf))
     return int(max(1, min(stride, len(U)))) if np.isfinite(stride) else len(U)
+
+
+def every(samples: np.ndarray, stride: int) -> np.ndarray:
+    """Every ``stride``-th of ``samples`` and the last one."""
+    out = samples[::stride]
+    return np.append(out, samples[-1]) if len(samples) and out[-1] != samples[-1] else out
 
 
 def interpolate(anchors: np.ndarray, values: np.ndarray, samples: np.ndarray) -> np.ndarray:

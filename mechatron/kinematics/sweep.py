@@ -528,22 +528,30 @@ def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray,
     valid = np.ones(n, dtype=bool)
     valid[list(failures)] = False
     candidates = np.flatnonzero(valid)
-    anchors = candidates[::batch.anchor_stride(U, solver.max_step)]
-    if len(candidates) and anchors[-1] != candidates[-1]:
-        anchors = np.append(anchors, candidates[-1])
+    act = solver.act
+    anchors = batch.every(candidates, batch.anchor_stride(U, 4.0 * solver.max_step))
     Qa, solved, _ = _Continuation(solver, U, q, dict(failures)).run(anchors)
     anchors = anchors[solved[anchors]]
+    values = Qa[anchors]
+    finer = batch.every(candidates, batch.anchor_stride(U, solver.max_step / 50.0))
+    if len(anchors) and len(finer) > len(anchors):  # the finer anchors by batched Newton from the coarse ones
+        values = batch.interpolate(anchors, values, finer)
+        values[:, act] = U[finer]
+        converged = np.zeros(len(finer), dtype=bool)
+        for part in batch.chunks(len(finer)):
+            converged[part] = batch.newton(system, frames, values[part], act, dep)[0]
+        anchors, values = finer[converged], values[converged]
     Q = np.zeros((n, solver.mech.nv))
     ok = np.zeros(n, dtype=bool)
     doubtful = np.zeros(n, dtype=bool)
     previous = np.zeros(0, dtype=int)  # the last sample of the previous chunk, the first one's predecessor
-    maps = np.zeros((0, len(dep), len(solver.act)))
+    maps = np.zeros((0, len(dep), len(act)))
     if len(anchors):
         for part in batch.chunks(n):
             rows = np.arange(part.start, part.stop)
-            Q[part] = batch.interpolate(anchors, Qa[anchors], rows)
-            Q[rows[:, None], solver.act] = U[part]
-            converged, chunk_maps = batch.newton(system, frames, Q[part], solver.act, dep)
+            Q[part] = batch.interpolate(anchors, values, rows)
+            Q[rows[:, None], act] = U[part]
+            converged, chunk_maps = batch.newton(system, frames, Q[part], act, dep)
             ok[part] = valid[part] & converged
             run = np.concatenate([previous, rows])
             maps = np.concatenate([maps, chunk_maps])
@@ -564,7 +572,7 @@ def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray,
         k += int(waiting[0])
         before = np.flatnonzero(ok[:k])
         redo.q = Q[before[-1]].copy() if len(before) else q.copy()
-        redo.history = [Q[j].copy() for j in range(max(0, k - 4), k) if ok[j]] if k and ok[k - 1] else []
+        redo.history = _history(Q, ok, equal, k)
         while k < n:
             solution = redo.solve(k, equal[k])
             ok[k] = solution is not None
@@ -576,6 +584,17 @@ def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray,
             k += 1
         k += 1
     return Q, ok
+
+
+def _history(Q: np.ndarray, ok: np.ndarray, equal: np.ndarray, k: int) -> list[np.ndarray]:
+    """The continuation's history before sample k: the solved samples before it (at most four, none before a
+    failure), each but the last two reached by the same input step as the next (``equal``)."""
+    history: list[np.ndarray] = []
+    for j in range(k - 1, max(k - 5, -1), -1):
+        if not ok[j] or (j + 2 < k and not equal[j + 2]):
+            break
+        history.insert(0, Q[j].copy())
+    return history
 
 
 def _extrapolate(history: list[np.ndarray], q: np.ndarray) -> np.ndarray:
