@@ -110,11 +110,13 @@ def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, act: np.
             break
         phi, J = system.stack(frames.placements(Q[active]))
         with np.errstate(invalid="ignore"):
-            below = np.abs(phi).max(axis=1, initial=0.0) < TOLERANCE
-            finite = np.isfinite(phi).all(axis=1) & np.isfinite(J).all(axis=(1, 2))
+            error = np.abs(phi).max(axis=1, initial=0.0)
+        below, finite = error < TOLERANCE, np.isfinite(error)
+        if not finite.all():
+            phi, J = phi[finite], J[finite]
         rows = active[finite]
         # one solve for the step J_d Δq_d = −Φ and the maps J_d S_d = −J_a
-        X = solve(J[finite][:, :, dep], -np.concatenate([phi[finite][:, :, None], J[finite][:, :, act]], axis=2))
+        X = solve(J[:, :, dep], -np.concatenate([phi[:, :, None], J[:, :, act]], axis=2))
         Q[rows[:, None], dep] += X[:, :, 0]  # the converged rows take their last, polishing step too
         done = below[finite]
         maps[rows[done]] = X[done, :, 1:]

@@ -533,8 +533,9 @@ def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray,
     Qa, solved, _ = _Continuation(solver, U, q, dict(failures)).run(anchors)
     anchors = anchors[solved[anchors]]
     values = Qa[anchors]
-    finer = batch.every(candidates, batch.anchor_stride(U, solver.max_step / 50.0))
-    if len(anchors) and len(finer) > len(anchors):  # the finer anchors by batched Newton from the coarse ones
+    stride = batch.anchor_stride(U, solver.max_step / 50.0)
+    finer = batch.every(candidates, stride)
+    if len(anchors) and stride >= 8 and len(finer) > len(anchors):  # finer anchors by batched Newton from these
         values = batch.interpolate(anchors, values, finer)
         values[:, act] = U[finer]
         converged = np.zeros(len(finer), dtype=bool)
@@ -747,7 +748,7 @@ def _frame_columns(mech: Mechanism, position: np.ndarray, angle: np.ndarray, twi
         columns[f"{p}_a"] = np.linalg.norm(accel[:, j, :len(axes)], axis=1)
     for link in links:
         j = index[link]
-        columns[f"{link}_angle"] = angle[:, j]
+        columns[f"{link}_angle"] = np.arctan2(np.sin(angle[:, j]), np.cos(angle[:, j]))  # in (−π, π], unwrapped later
         columns[f"{link}_omega"], columns[f"{link}_epsilon"] = twist[:, j, 5], accel[:, j, 5]
     for m in measures:
         columns[m.name] = measure_values(m, {p: position[:, index[p], :2] for p in m.points})

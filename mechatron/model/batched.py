@@ -60,7 +60,8 @@ def _skew(a: np.ndarray) -> np.ndarray:
 class BatchedStates:
     """The frames of :class:`BatchedFrames` at N configurations, with the attribute names of
     :class:`~mechatron.model.closures.FrameStates` and a leading sample axis: ``q`` (N, nq), ``position`` (N, F, 3),
-    ``angle`` (N, F) (about z, rad), ``jacobian`` (N, F, 6, nv), :attr:`rotation` (N, F, 3, 3); after
+    ``angle`` (N, F) (about z, rad; wrapped to (−π, π] or, in a planar tree, continuous), ``jacobian``
+    (N, F, 6, nv), :attr:`rotation` (N, F, 3, 3); after
     :meth:`BatchedFrames.motion` also ``velocity`` and ``acceleration0`` (N, F, 6). ``joints`` holds what the
     motion needs of the joints (their origins and axes)."""
 
@@ -264,8 +265,7 @@ class PlanarFrames(BatchedFrames):
         j, (fx, fy) = self.frame_joint, self.frame_offset[:, :2].T[..., None]
         X = x[j] + c[j] * fx - s[j] * fy  # (F, N)
         Y = y[j] + s[j] * fx + c[j] * fy
-        turned = theta[j] + self.frame_turn[:, None]
-        angle = np.arctan2(np.sin(turned), np.cos(turned)).T
+        angle = (theta[j] + self.frame_turn[:, None]).T  # not wrapped to (−π, π]
         position = np.stack([X.T, Y.T, np.broadcast_to(self.frame_z, (n, len(j)))], axis=-1)
         jacobian = np.zeros((n, len(j), 6, self.nv))
         if jacobians:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
