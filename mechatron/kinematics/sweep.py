@@ -742,10 +742,10 @@ def _frame_columns(mech: Mechanism, position: np.ndarray, angle: np.ndarray, twi
             columns[f"{p}_{axis}"] = position[:, j, k]
         for k, axis in enumerate(axes):
             columns[f"{p}_v{axis}"] = twist[:, j, k]
-        columns[f"{p}_v"] = np.linalg.norm(twist[:, j, :len(axes)], axis=1)
+        columns[f"{p}_v"] = _norm(twist[:, j, :len(axes)])
         for k, axis in enumerate(axes):
             columns[f"{p}_a{axis}"] = accel[:, j, k]
-        columns[f"{p}_a"] = np.linalg.norm(accel[:, j, :len(axes)], axis=1)
+        columns[f"{p}_a"] = _norm(accel[:, j, :len(axes)])
     for link in links:
         j = index[link]
         columns[f"{link}_angle"] = np.arctan2(np.sin(angle[:, j]), np.cos(angle[:, j]))  # in (−π, π], unwrapped later
@@ -753,6 +753,11 @@ def _frame_columns(mech: Mechanism, position: np.ndarray, angle: np.ndarray, twi
     for m in measures:
         columns[m.name] = measure_values(m, {p: position[:, index[p], :2] for p in m.points})
     return columns
+
+
+def _norm(vectors: np.ndarray) -> np.ndarray:
+    """The lengths of the rows of ``vectors`` (n, 2 or 3)."""
+    return np.hypot(vectors[:, 0], vectors[:, 1]) if vectors.shape[1] == 2 else np.sqrt((vectors**2).sum(axis=1))
 
 
 def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: np.ndarray, A: np.ndarray,

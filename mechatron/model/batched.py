@@ -267,7 +267,7 @@ class PlanarFrames(BatchedFrames):
         Y = y[j] + s[j] * fx + c[j] * fy
         angle = (theta[j] + self.frame_turn[:, None]).T  # not wrapped to (−π, π]
         position = np.stack([X.T, Y.T, np.broadcast_to(self.frame_z, (n, len(j)))], axis=-1)
-        jacobian = np.zeros((n, len(j), 6, self.nv))
+        jacobian = np.zeros((n, len(j) if jacobians else 0, 6, self.nv))
         if jacobians:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
             f, k = self.turning.T
             sigma, column = self.sign[k][:, None], self.column[k]
