@@ -4,18 +4,19 @@ a few samples solved by continuation, checked sample by sample.
 A sweep asks for the assembly of N samples of the inputs on one assembly branch. The sequential continuation
 (:func:`mechatron.kinematics.sweep.sweep`) solves one sample after the other; here
 
-1. ``anchors`` — every m-th sample, m chosen so that the anchors' input step is at most four continuation steps
-   (:attr:`~mechatron.kinematics.loops.LoopSolver.max_step`) — are solved by that continuation (they keep the branch);
-   a finer level of anchors, their input step a fiftieth of a continuation step, is solved as in 2. from them, so
-   that most samples start within the tolerance and need one evaluation;
+1. ``anchors`` — every m-th sample, m chosen so that the anchors' input step is at most :data:`ANCHOR_STEPS`
+   continuation steps (:attr:`~mechatron.kinematics.loops.LoopSolver.max_step`) — are solved by that continuation
+   (they keep the branch); a finer level of anchors, every :data:`FINER`-th sample or an input step of a fiftieth of
+   a continuation step, is solved as in 2. from them, so that most samples start within the tolerance and need one
+   evaluation;
 2. every other sample starts from the cubic (Lagrange) interpolation in the sample index through the four nearest
    anchors and is solved by Newton's method on all samples at once: Φ(q) and J(q) of a chunk of samples from
    :class:`~mechatron.model.batched.BatchedFrames`, the steps J_d Δq_d = −Φ from one stacked ``np.linalg.solve``,
    until every residual is below :data:`~mechatron.kinematics.loops.TOLERANCE`, then one more step (rounding level);
 3. each sample is checked against its predecessor: the change of the dependent coordinates must follow the velocity
    maps, Δq_d ≈ ½ (S_{k−1} + S_k) Δu (trapezoidal rule, error O(Δu³)); a sample that did not converge, jumped (error
-   above a tenth of its change) or neighbours a failed sample is *doubtful*, and the caller solves it again by the
-   sequential continuation.
+   above a tenth of its change) or follows an input out of range is *doubtful*, and the caller solves it again by
+   the sequential continuation, from the last good sample before it until its solution meets the batched one.
 
 Memory: the work is done in chunks of at most :data:`CHUNK` samples (:func:`chunks`), so that it does not grow with N
 beyond the (N, nq) array of the solutions.
@@ -32,6 +33,9 @@ from .loops import TOLERANCE
 #: Samples evaluated together (the working storage is a few kB per sample of a chunk), at most and at least.
 CHUNK = 2048
 SMALLEST_CHUNK = 256
+#: The anchors solved by continuation are this many continuation steps apart; the finer ones every FINER samples.
+ANCHOR_STEPS = 8.0
+FINER = 8
 #: Newton iterations of the batched solve before a sample counts as not converged.
 ITERATIONS = 12
 #: A sample whose change from its predecessor differs from the velocity maps' prediction by more than this fraction
@@ -40,20 +44,15 @@ JUMP_RATIO = 0.1
 JUMP_FLOOR = 1e-9
 
 
-def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Solve A_k x_k = b_k for a stack of matrices A (n, m, m) and vectors b (n, m) or matrices b (n, m, p) (least
-    squares when A_k is not square or some A_k is singular)."""
-    vector = b.ndim == 2
-    B = b[..., None] if vector else b
-    x = None
+def solve(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Solve A_k X_k = B_k for stacks of matrices A (n, m, m) and B (n, m, p) (least squares when A_k is not square
+    or some A_k is singular)."""
     if A.shape[1] == A.shape[2]:
         try:
-            x = np.linalg.solve(A, B)
+            return np.linalg.solve(A, B)
         except np.linalg.LinAlgError:
             pass
-    if x is None:
-        x = np.linalg.pinv(A) @ B
-    return x[..., 0] if vector else x
+    return np.linalg.pinv(A) @ B
 
 
 def chunks(n: int, size: int | None = None) -> list[slice]:

@@ -461,9 +461,10 @@ class _Continuation:
     gets its reason in ``failures`` and the next one starts again from the last solution."""
 
     def __init__(self, solver: LoopSolver, U: np.ndarray, q: np.ndarray, failures: dict[int, str],
-                 progress: ProgressCallback | None = None, keep: bool = False) -> None:
+                 progress: ProgressCallback | None = None, keep: bool = False, polish: bool = True) -> None:
         self.solver, self.U, self.q, self.failures, self.progress = solver, U, q, failures, progress
         self.keep = keep  # keep every sample's closure Jacobian and frame placements and Jacobians (for Pinocchio)
+        self.polish = polish  # one more Newton step after convergence (else the residual is only below TOLERANCE)
         self.history: list[np.ndarray] = []  # last good solutions, each reached by the same step as the next
 
     def solve(self, k: int, same_step: bool) -> tuple[np.ndarray, np.ndarray] | None:
@@ -477,7 +478,7 @@ class _Continuation:
         trial = _extrapolate(history, self.q)
         trial[solver.act] = self.U[k]
         try:
-            trial, J = solver.newton(trial, polish=True)  # polished: the residual at rounding level, no build-up
+            trial, J = solver.newton(trial, polish=self.polish)  # polished: the residual at rounding level
         except MechatronError as exc:
             self.failures[k] = str(exc)
             history.clear()
@@ -529,13 +530,14 @@ def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray,
     valid[list(failures)] = False
     candidates = np.flatnonzero(valid)
     act = solver.act
-    anchors = batch.every(candidates, batch.anchor_stride(U, 4.0 * solver.max_step))
-    Qa, solved, _ = _Continuation(solver, U, q, dict(failures)).run(anchors)
+    coarse = batch.anchor_stride(U, batch.ANCHOR_STEPS * solver.max_step)
+    anchors = batch.every(candidates, coarse)
+    Qa, solved, _ = _Continuation(solver, U, q, dict(failures), polish=False).run(anchors)
     anchors = anchors[solved[anchors]]
     values = Qa[anchors]
-    stride = batch.anchor_stride(U, solver.max_step / 50.0)
+    stride = max(batch.FINER, batch.anchor_stride(U, solver.max_step / 50.0))
     finer = batch.every(candidates, stride)
-    if len(anchors) and stride >= 8 and len(finer) > len(anchors):  # finer anchors by batched Newton from these
+    if len(anchors) and 4 * stride <= coarse:  # finer anchors by batched Newton from these
         values = batch.interpolate(anchors, values, finer)
         values[:, act] = U[finer]
         converged = np.zeros(len(finer), dtype=bool)
