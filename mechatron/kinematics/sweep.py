@@ -1,10 +1,15 @@
 """Analysis of a mechanism over the strokes of its inputs: N samples into a table (pandas), with the assembly branch
 kept by continuation from sample to sample.
 
-Each sample is assembled by Newton's method from the polynomial through the last (up to four) solutions extrapolated
-one input step further, then analysed for velocities and accelerations, all samples at once. A sample that cannot be
-assembled (cylinder out of stroke, a loop that cannot close, a singular position) goes to ``failures`` with the
-reason instead of into the table; the sweep goes on from the last good sample.
+The sequential continuation assembles each sample by Newton's method from the polynomial through the last (up to
+four) solutions extrapolated one input step further. For many samples the same branch is found batched
+(:mod:`mechatron.kinematics.batch`): a few anchor samples by that continuation, all others by Newton's method on all
+samples at once from guesses interpolated between the anchors, each checked against its neighbour and the doubtful
+ones solved again by the continuation. Velocities and accelerations of all samples follow at once, with the frames
+from :mod:`mechatron.model.batched` (or from Pinocchio per sample for joints it does not know, and as the reference
+with ``BATCHED = False``), chunk by chunk. A sample that cannot be assembled (cylinder out of stroke, a loop that
+cannot close, a singular position) goes to ``failures`` with the reason instead of into the table; the sweep goes on
+from the last good sample.
 """
 
 from __future__ import annotations
@@ -19,8 +24,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, MechatronError
 from ..io.values import number
+from ..model.batched import BatchedFrames, batched_frames
 from ..model.mechanism import Measure, Mechanism
 from ..report.result import Result, frame_records, json_ready
+from . import batch
 from .geometry import measure_values
 from .loops import SINGULAR_RATIO, LoopSolver, loop_solver
 
@@ -430,8 +437,7 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     measures = list(mech.measures if measures is None else measures)
     wanted = list(dict.fromkeys(points + [p for m in measures for p in m.points] + links))
     solver = LoopSolver(mech, extra_frames=wanted)  # evaluates the reported frames with the closures' frames
-    states = solver.system.states
-    nv = mech.nv
+    system = solver.system
 
     lower, upper = solver.lower[solver.act], solver.upper[solver.act]
     out_of_range = (U < lower - 1e-12) | (U > upper + 1e-12)
@@ -440,76 +446,188 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
         j = int(np.argmax(out_of_range[k]))
         failures[int(k)] = f"{names[j]} = {U[k, j]:.6g} is outside its range [{lower[j]:.6g}, {upper[j]:.6g}]"
 
-    # pass 1, positions: continuation from sample to sample (the only sequential part)
-    system, states = solver.system, solver.system.states
-    Q = np.zeros((n, nv))
-    Jc = np.zeros((n, system.nrows, nv))  # closure Jacobians
-    H = np.zeros((n, len(system.frame_names), 4, 4))  # placements of every evaluated frame
-    Jf = np.zeros((n, len(system.frame_names), 6, nv))  # their world-aligned Jacobians
-    ok = np.zeros(n, dtype=bool)
-    # equal input steps allow polynomial extrapolation through the previous solutions
-    steps = np.diff(U, axis=0)
-    scale = np.maximum(np.abs(steps).max(axis=1), 1e-300)
-    same_step = np.zeros(n, dtype=bool)  # same_step[k]: U[k] − U[k−1] equals U[k−1] − U[k−2]
-    same_step[2:] = np.abs(steps[1:] - steps[:-1]).max(axis=1) <= 1e-9 * scale[1:]
-    history: list[np.ndarray] = []  # last good solutions, each reached by the same step as the next
-    dep, act = solver.dep, solver.act
-    polish = len(dep) > 0 and system.nrows > 0
-    correction = None  # an approximate J_d⁻¹, refreshed every few samples, for one cheap extra Newton step
-    every = max(1, n // 100)
-    for k in range(n):
-        if k in failures:
-            history.clear()
-            continue
-        if history and not same_step[k]:
-            del history[:-1]  # the step changed: only the last solution is a good start
-        trial = _extrapolate(history, q)
-        trial[act] = U[k]
-        try:
-            trial, J = solver.newton(trial)
-        except MechatronError as exc:
-            failures[k] = str(exc)
-            history.clear()
-            continue
-        ok[k] = True
-        Q[k], Jc[k], H[k], Jf[k] = trial, J, states.homogeneous, states.jacobian
-        q = trial
-        if polish:  # remember q after one more (quasi-)Newton step, so that the tolerance does not build up
-            if correction is None or k % 16 == 0:
-                correction = np.linalg.pinv(J[:, dep])
-            q = trial.copy()
-            q[dep] -= correction @ solver.residual
-        history.append(q)
-        if len(history) > 4:
-            del history[0]
-        if progress is not None and (k % every == 0 or k == n - 1):
-            progress(k + 1, n)
-
-    # velocities of all samples at once: q̇ = S q̇_a with S = [I; −J_d⁻¹ J_a]
-    good = np.flatnonzero(ok)
-    S, singular = _velocity_maps(solver, Jc[good])
-    for k in good[singular]:
-        failures[int(k)] = (f"{mech.name} is at a singular position ("
-                            + ", ".join(f"{name} = {U[k, j]:.6g}" for j, name in enumerate(names))
-                            + "): the actuated coordinates do not determine the motion")
-    good, S = good[~singular], S[~singular]
-    V = np.einsum("kij,kj->ki", S, R[good])
-    # pass 2: J̇ q̇ and the frames' accelerations at q̈ = 0 from Pinocchio, then q̈ of all samples at once
-    drift, accel0 = _drifts(solver, Q[good], V, H[good], Jf[good])
-    Aq = np.einsum("kij,kj->ki", S, A[good])
-    if len(dep) and system.nrows:
-        Jg = Jc[good]
-        rhs = np.einsum("kij,kj->ki", Jg[:, :, act], A[good]) + drift
-        Aq[:, dep] = -_batched_solve(Jg[:, :, dep], rhs)
-
-    reported = [system.index[name] for name in wanted]
-    Jw = Jf[good][:, reported]
-    twist = np.einsum("kfij,kj->kfi", Jw, V)
-    accel = accel0[:, reported] + np.einsum("kfij,kj->kfi", Jw, Aq)  # classical acceleration: at q̈ = 0 plus J q̈
+    # positions: by batched Newton between anchors solved by continuation (kinematics/batch.py) when the batched
+    # kinematics knows the joints, else by continuation from sample to sample
+    closing = _batched_frames(base) if BATCHED else None  # the closures' frames
+    reporting = _batched_frames(base, wanted) if closing is not None else None  # the reported ones
+    if closing is not None and n >= BATCH_MIN:
+        Q, ok = _batched_positions(base, closing, U, q, failures, progress)
+    else:
+        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=reporting is None).run(range(n))
+    # velocities q̇ = S q̇_a, accelerations J_d q̈_d = −J_a q̈_a − J̇ q̇ and the reported frames, all samples at once
+    if reporting is not None:
+        good, V, Aq, columns = _analyse_batched(base, closing, reporting, Q, ok, R, A, wanted, points, links,
+                                                measures, U, failures)
+    else:
+        reported = [system.index[name] for name in wanted]
+        good, V, Aq, columns = _analyse_pinocchio(solver, Q, ok, saved, R, A, reported, wanted, points, links,
+                                                  measures, U, failures)
     failure_rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
                     for k in sorted(failures)]
-    return _result(mech, U, good, Q[good], V, Aq, H[good][:, reported], twist, accel, wanted, points, links,
-                   measures, failure_rows, names)
+    return _result(mech, U, good, Q[good], V, Aq, columns, links, measures, failure_rows, names, points)
+
+
+#: Use the batched position analysis and kinematics where the joints allow (False: the sequential reference).
+BATCHED = True
+#: Fewer samples than this are solved sequentially.
+BATCH_MIN = 16
+
+
+def _batched_frames(solver: LoopSolver, names: Sequence[str] | None = None) -> BatchedFrames | None:
+    """The batched kinematics of the frames ``names`` (default: the solver's), or None for joints it does not know
+    (then Pinocchio)."""
+    mech = solver.mech
+    try:
+        if names is None:
+            return solver.system.batched()
+        return batched_frames(mech.model, [mech.frame_id(name) for name in names])
+    except NotImplementedError:
+        return None
+
+
+class _Continuation:
+    """The sequential position analysis: sample after sample, Newton's method from the polynomial through the last
+    (up to four) solutions reached by equal input steps (:func:`_extrapolate`); a sample that cannot be assembled
+    gets its reason in ``failures`` and the next one starts again from the last solution."""
+
+    def __init__(self, solver: LoopSolver, U: np.ndarray, q: np.ndarray, failures: dict[int, str],
+                 progress: ProgressCallback | None = None, keep: bool = False, polish: bool = True) -> None:
+        self.solver, self.U, self.q, self.failures, self.progress = solver, U, q, failures, progress
+        self.keep = keep  # keep every sample's closure Jacobian and frame placements and Jacobians (for Pinocchio)
+        self.polish = polish  # one more Newton step after convergence (else the residual is only below TOLERANCE)
+        self.history: list[np.ndarray] = []  # last good solutions, each reached by the same step as the next
+
+    def solve(self, k: int, same_step: bool) -> tuple[np.ndarray, np.ndarray] | None:
+        """Sample k: (q, closure Jacobian) or None (the reason in ``failures``)."""
+        solver, history = self.solver, self.history
+        if k in self.failures:
+            history.clear()
+            return None
+        if history and not same_step:
+            del history[:-1]  # the step changed: only the last solution is a good start
+        trial = _extrapolate(history, self.q)
+        trial[solver.act] = self.U[k]
+        try:
+            trial, J = solver.newton(trial, polish=self.polish)  # polished: the residual at rounding level
+        except MechatronError as exc:
+            self.failures[k] = str(exc)
+            history.clear()
+            return None
+        history.append(trial)
+        if len(history) > 4:
+            del history[0]
+        self.q = trial
+        return trial, J
+
+    def run(self, samples: Sequence[int]) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...] | None]:
+        """Solve ``samples`` in turn: (Q (n, nv), which converged, and with ``keep`` the closure Jacobians,
+        placements and frame Jacobians of every sample)."""
+        samples = list(samples)
+        n, nv, states = len(self.U), self.solver.mech.nv, self.solver.system.states
+        Q, ok = np.zeros((n, nv)), np.zeros(n, dtype=bool)
+        if self.keep:
+            saved = (np.zeros((n, self.solver.nrows, nv)), np.zeros((n, len(states.frame_ids), 4, 4)),
+                     np.zeros((n, len(states.frame_ids), 6, nv)))
+        equal = _same_steps(self.U[samples])
+        every = max(1, len(samples) // 100)
+        for i, k in enumerate(samples):
+            solution = self.solve(k, equal[i])
+            if solution is not None:
+                Q[k], ok[k] = solution[0], True
+                if self.keep:
+                    saved[0][k], saved[1][k], saved[2][k] = solution[1], states.homogeneous, states.jacobian
+            if self.progress is not None and (i % every == 0 or i == len(samples) - 1):
+                self.progress(i + 1, len(samples))
+        return Q, ok, saved if self.keep else None
+
+
+def _same_steps(U: np.ndarray) -> np.ndarray:
+    """same[k]: U[k] − U[k−1] equals U[k−1] − U[k−2] (then the polynomial through earlier solutions extrapolates)."""
+    steps = np.diff(U, axis=0)
+    scale = np.maximum(np.abs(steps).max(axis=1, initial=0.0), 1e-300)
+    same = np.zeros(len(U), dtype=bool)
+    same[2:] = np.abs(steps[1:] - steps[:-1]).max(axis=1, initial=0.0) <= 1e-9 * scale[1:]
+    return same
+
+
+def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray, q: np.ndarray,
+                       failures: dict[int, str], progress: ProgressCallback | None) -> tuple[np.ndarray, np.ndarray]:
+    """Positions of all samples (see :mod:`mechatron.kinematics.batch`): anchors by continuation, the rest by
+    batched Newton from interpolated guesses; the doubtful samples again by the sequential continuation, from the
+    last good sample before them until its solution meets the batched one."""
+    n, system, dep = len(U), solver.system, solver.dep
+    valid = np.ones(n, dtype=bool)
+    valid[list(failures)] = False
+    candidates = np.flatnonzero(valid)
+    act = solver.act
+    coarse = batch.anchor_stride(U, batch.ANCHOR_STEPS * solver.max_step)
+    anchors = batch.every(candidates, coarse)
+    Qa, solved, _ = _Continuation(solver, U, q, dict(failures), polish=False).run(anchors)
+    anchors = anchors[solved[anchors]]
+    values = Qa[anchors]
+    stride = max(batch.FINER, batch.anchor_stride(U, solver.max_step / 50.0))
+    finer = batch.every(candidates, stride)
+    if len(anchors) and 4 * stride <= coarse:  # finer anchors by batched Newton from these
+        values = batch.interpolate(anchors, values, finer)
+        values[:, act] = U[finer]
+        converged = np.zeros(len(finer), dtype=bool)
+        for part in batch.chunks(len(finer)):
+            converged[part] = batch.newton(system, frames, values[part], act, dep)[0]
+        anchors, values = finer[converged], values[converged]
+    Q = np.zeros((n, solver.mech.nv))
+    ok = np.zeros(n, dtype=bool)
+    doubtful = np.zeros(n, dtype=bool)
+    previous = np.zeros(0, dtype=int)  # the last sample of the previous chunk, the first one's predecessor
+    maps = np.zeros((0, len(dep), len(act)))
+    if len(anchors):
+        for part in batch.chunks(n):
+            rows = np.arange(part.start, part.stop)
+            Q[part] = batch.interpolate(anchors, values, rows)
+            Q[rows[:, None], act] = U[part]
+            converged, chunk_maps = batch.newton(system, frames, Q[part], act, dep)
+            ok[part] = valid[part] & converged
+            run = np.concatenate([previous, rows])
+            maps = np.concatenate([maps, chunk_maps])
+            doubtful[run] |= batch.jumps(Q[run][:, dep], U[run], maps, ok[run])
+            previous, maps = rows[-1:], maps[-1:]
+            if progress is not None:
+                progress(part.stop, n)
+    doubtful |= valid & ~ok
+    doubtful[1:] |= valid[1:] & ~valid[:-1]  # after an input out of range the continuation starts again
+    trusted = ok & ~doubtful
+    redo = _Continuation(solver, U, q, failures)
+    equal = _same_steps(U)
+    k = 0
+    while True:
+        waiting = np.flatnonzero(doubtful[k:])
+        if not len(waiting):
+            break
+        k += int(waiting[0])
+        before = np.flatnonzero(ok[:k])
+        redo.q = Q[before[-1]].copy() if len(before) else q.copy()
+        redo.history = _history(Q, ok, equal, k)
+        while k < n:
+            solution = redo.solve(k, equal[k])
+            ok[k] = solution is not None
+            if solution is not None:
+                meets = trusted[k] and np.abs(solution[0] - Q[k]).max() < 1e-8
+                Q[k] = solution[0]
+                if meets:
+                    break
+            k += 1
+        k += 1
+    return Q, ok
+
+
+def _history(Q: np.ndarray, ok: np.ndarray, equal: np.ndarray, k: int) -> list[np.ndarray]:
+    """The continuation's history before sample k: the solved samples before it (at most four, none before a
+    failure), each but the last two reached by the same input step as the next (``equal``)."""
+    history: list[np.ndarray] = []
+    for j in range(k - 1, max(k - 5, -1), -1):
+        if not ok[j] or (j + 2 < k and not equal[j + 2]):
+            break
+        history.insert(0, Q[j].copy())
+    return history
 
 
 def _extrapolate(history: list[np.ndarray], q: np.ndarray) -> np.ndarray:
@@ -526,20 +644,14 @@ def _extrapolate(history: list[np.ndarray], q: np.ndarray) -> np.ndarray:
     return (history[-1] if m else q).copy()
 
 
-def _batched_solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Solve A_k x_k = b_k for a stack (least squares when A_k is not square)."""
-    if A.shape[1] == A.shape[2]:
-        return np.linalg.solve(A, b[..., None])[..., 0]
-    return np.einsum("kij,kj->ki", np.linalg.pinv(A), b)
-
-
-def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """S_k (n × nv × n_act) for a stack of closure Jacobians, and which samples are singular."""
+def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """S_k (n × nv × n_act) for a stack of closure Jacobians, which samples are singular, and J_d⁻¹ (None without
+    dependent coordinates)."""
     n, nv, na = len(Jc), solver.mech.nv, len(solver.act)
     S = np.broadcast_to(solver.selection, (n, nv, na)).copy()
     singular = np.zeros(n, dtype=bool)
     if not (len(solver.dep) and solver.nrows) or n == 0:
-        return S, singular
+        return S, singular, None
     Jd, Ja = Jc[:, :, solver.dep], Jc[:, :, solver.act]
     square = Jd.shape[1] == Jd.shape[2]
     with np.errstate(all="ignore"):
@@ -554,7 +666,82 @@ def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.n
                     pass
         singular = ~(np.abs(inverse).max(axis=(1, 2)) <= SINGULAR_RATIO)
         S[:, solver.dep] = -inverse @ Ja
-    return S, singular
+    return S, singular, inverse
+
+
+def _accelerations(solver: LoopSolver, S: np.ndarray, Jc: np.ndarray, inverse: np.ndarray | None, A: np.ndarray,
+                   drift: np.ndarray) -> np.ndarray:
+    """q̈ of a stack of samples: q̈ = S q̈_a with the dependent rows q̈_d = −J_d⁻¹ (J_a q̈_a + J̇ q̇)."""
+    Aq = np.einsum("kij,kj->ki", S, A)
+    if inverse is not None:
+        rhs = np.einsum("kij,kj->ki", Jc[:, :, solver.act], A) + drift
+        Aq[:, solver.dep] = -np.einsum("kij,kj->ki", inverse, rhs)
+    return Aq
+
+
+def _singular_reason(mech: Mechanism, names: list[str], u: np.ndarray) -> str:
+    return (f"{mech.name} is at a singular position (" + ", ".join(f"{name} = {u[j]:.6g}" for j, name in
+                                                                   enumerate(names))
+            + "): the actuated coordinates do not determine the motion")
+
+
+def _analyse_batched(solver: LoopSolver, closing: BatchedFrames, reporting: BatchedFrames, Q: np.ndarray,
+                     ok: np.ndarray, R: np.ndarray, A: np.ndarray, wanted: list[str], points: list[str],
+                     links: list[str], measures: list[Measure], U: np.ndarray, failures: dict[int, str]):
+    """Velocities, accelerations and the reported frames' columns of the samples ``ok``, chunk by chunk with the
+    batched kinematics of the closures' frames (``closing``, with Jacobians and drifts) and of the reported ones
+    (``reporting``, their motion at q̇ and q̈): (good samples, V, q̈, columns)."""
+    system, names = solver.system, list(solver.mech.actuated)
+    rows = np.flatnonzero(ok)
+    V, Aq = np.zeros((len(rows), solver.mech.nv)), np.zeros((len(rows), solver.mech.nv))
+    singular = np.zeros(len(rows), dtype=bool)
+    columns: dict[str, np.ndarray] = {}
+    for part in batch.chunks(len(rows)):
+        k = rows[part]
+        states = closing.placements(Q[k])
+        _, Jc = system.stack(states)
+        S, singular[part], inverse = _velocity_maps(solver, Jc)
+        V[part] = np.einsum("kij,kj->ki", S, R[k])
+        closing.motion(states, V[part])
+        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states))
+        frames = reporting.motion(reporting.placements(Q[k], jacobians=False), V[part], Aq[part])
+        chunk = _frame_columns(solver.mech, frames.position, frames.angle, frames.velocity, frames.acceleration0,
+                               wanted, points, links, measures)
+        for name, values in chunk.items():
+            columns.setdefault(name, np.empty(len(rows)))[part] = values
+    for k in rows[singular]:
+        failures[int(k)] = _singular_reason(solver.mech, names, U[k])
+    keep = ~singular
+    if not keep.all():
+        V, Aq = V[keep], Aq[keep]
+        columns = {name: values[keep] for name, values in columns.items()}
+    return rows[keep], V, Aq, columns
+
+
+def _analyse_pinocchio(solver: LoopSolver, Q: np.ndarray, ok: np.ndarray, saved: tuple[np.ndarray, ...],
+                       R: np.ndarray, A: np.ndarray, reported: list[int], wanted: list[str], points: list[str],
+                       links: list[str], measures: list[Measure], U: np.ndarray, failures: dict[int, str]):
+    """As :func:`_analyse_batched`, from the placements and Jacobians the continuation kept and Pinocchio's
+    drifts per sample (the reference, and the path for joints the batched kinematics does not know)."""
+    Jc, H, Jf = saved
+    names = list(solver.mech.actuated)
+    good = np.flatnonzero(ok)
+    S, singular, inverse = _velocity_maps(solver, Jc[good])
+    for k in good[singular]:
+        failures[int(k)] = _singular_reason(solver.mech, names, U[k])
+    good, S = good[~singular], S[~singular]
+    inverse = None if inverse is None else inverse[~singular]
+    V = np.einsum("kij,kj->ki", S, R[good])
+    # J̇ q̇ and the frames' accelerations at q̈ = 0 from Pinocchio, then q̈ of all samples at once
+    drift, accel0 = _drifts(solver, Q[good], V, H[good], Jf[good])
+    Aq = _accelerations(solver, S, Jc[good], inverse, A[good], drift)
+    Jw = Jf[good][:, reported]
+    twist = np.einsum("kfij,kj->kfi", Jw, V)
+    accel = accel0[:, reported] + np.einsum("kfij,kj->kfi", Jw, Aq)  # classical acceleration: at q̈ = 0 plus J q̈
+    Hw = H[good][:, reported]
+    angle = np.arctan2(Hw[..., 1, 0], Hw[..., 0, 0])
+    return good, V, Aq, _frame_columns(solver.mech, Hw[..., :3, 3], angle, twist, accel, wanted, points, links,
+                                       measures)
 
 
 def _drifts(solver: LoopSolver, Q: np.ndarray, V: np.ndarray, H: np.ndarray, Jf: np.ndarray
@@ -572,37 +759,54 @@ def _drifts(solver: LoopSolver, Q: np.ndarray, V: np.ndarray, H: np.ndarray, Jf:
     return drift, accel0
 
 
-def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: np.ndarray, A: np.ndarray,
-            H: np.ndarray, twist: np.ndarray, accel: np.ndarray, frame_names: list[str], points: list[str],
-            links: list[str], measures: list[Measure], failures: list[dict], names: list[str]) -> SweepResult:
-    """The table of the samples ``good`` (their q, v, a; frame placements H, twists and accelerations)."""
-    import pandas as pd
-
+def _frame_columns(mech: Mechanism, position: np.ndarray, angle: np.ndarray, twist: np.ndarray, accel: np.ndarray,
+                   frame_names: list[str], points: list[str], links: list[str], measures: list[Measure]
+                   ) -> dict[str, np.ndarray]:
+    """The table columns of the reported frames (positions (n, F, 3), angles about z (n, F), twists and classical
+    accelerations (n, F, 6)): points, links (the angle not yet unwrapped) and measures."""
     index = {name: j for j, name in enumerate(frame_names)}
-    columns: dict[str, np.ndarray] = {"sample": good}
-    for j, name in enumerate(names):
-        columns[name] = U[good, j]
-    for i, joint in enumerate(mech.joint_names):
-        columns[f"q_{joint}"], columns[f"v_{joint}"], columns[f"a_{joint}"] = Q[:, i], V[:, i], A[:, i]
-    position = H[:, :, :2, 3]
+    columns: dict[str, np.ndarray] = {}
     spatial = any(not getattr(c, "planar", True) for c in mech.closures)  # a spatial loop: z too
     axes = "xyz" if spatial else "xy"
     for p in points:
         j = index[p]
         for k, axis in enumerate(axes):
-            columns[f"{p}_{axis}"] = H[:, j, k, 3]
+            columns[f"{p}_{axis}"] = position[:, j, k]
         for k, axis in enumerate(axes):
             columns[f"{p}_v{axis}"] = twist[:, j, k]
-        columns[f"{p}_v"] = np.linalg.norm(twist[:, j, :len(axes)], axis=1)
+        columns[f"{p}_v"] = _norm(twist[:, j, :len(axes)])
         for k, axis in enumerate(axes):
             columns[f"{p}_a{axis}"] = accel[:, j, k]
-        columns[f"{p}_a"] = np.linalg.norm(accel[:, j, :len(axes)], axis=1)
+        columns[f"{p}_a"] = _norm(accel[:, j, :len(axes)])
     for link in links:
         j = index[link]
-        columns[f"{link}_angle"] = np.unwrap(np.arctan2(H[:, j, 1, 0], H[:, j, 0, 0]))
+        columns[f"{link}_angle"] = np.arctan2(np.sin(angle[:, j]), np.cos(angle[:, j]))  # in (−π, π], unwrapped later
         columns[f"{link}_omega"], columns[f"{link}_epsilon"] = twist[:, j, 5], accel[:, j, 5]
     for m in measures:
-        columns[m.name] = measure_values(m, {p: position[:, index[p]] for p in m.points})
+        columns[m.name] = measure_values(m, {p: position[:, index[p], :2] for p in m.points})
+    return columns
+
+
+def _norm(vectors: np.ndarray) -> np.ndarray:
+    """The lengths of the rows of ``vectors`` (n, 2 or 3)."""
+    return np.hypot(vectors[:, 0], vectors[:, 1]) if vectors.shape[1] == 2 else np.sqrt((vectors**2).sum(axis=1))
+
+
+def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: np.ndarray, A: np.ndarray,
+            frame_columns: dict[str, np.ndarray], links: list[str], measures: list[Measure], failures: list[dict],
+            names: list[str], points: list[str]) -> SweepResult:
+    """The table of the samples ``good`` (their q, v, a and the reported frames' :func:`_frame_columns`)."""
+    import pandas as pd
+
+    columns: dict[str, np.ndarray] = {"sample": good}
+    for j, name in enumerate(names):
+        columns[name] = U[good, j]
+    for i, joint in enumerate(mech.joint_names):
+        columns[f"q_{joint}"], columns[f"v_{joint}"], columns[f"a_{joint}"] = Q[:, i], V[:, i], A[:, i]
+    for link in links:
+        angle = frame_columns[f"{link}_angle"]
+        angle[:] = np.unwrap(angle)
+    columns.update(frame_columns)
     failure_columns = ["sample", *names, "reason"]
-    return SweepResult(mech, pd.DataFrame(columns), pd.DataFrame(failures, columns=failure_columns), Q, V, A,
-                       measures, points, links)
+    return SweepResult(mech, pd.DataFrame(columns, copy=False), pd.DataFrame(failures, columns=failure_columns), Q,
+                       V, A, measures, points, links)

@@ -11,6 +11,10 @@ derivative of Φ at q̈ = 0). All three come from Pinocchio frame placements, fr
 accelerations computed at q̈ = 0 for the frames the closures use (:class:`FrameStates`). Mechanisms are planar in the
 world xy plane unless a closure says otherwise: a pin then has the two in-plane rows only.
 
+Every closure's ``residual``, ``jacobian`` and ``drift`` broadcast over leading sample axes: given the
+:class:`~mechatron.model.batched.BatchedStates` of N configurations (arrays with a leading axis N) they return
+(N, nrows), (N, nrows, nv) and (N, nrows) — the same numbers as N calls with :class:`FrameStates`.
+
 Closures:
 
 - :class:`Pin` — two frame points coincide (a revolute pair that closes a loop);
@@ -138,15 +142,15 @@ class Pin(Closure):
 
     def residual(self, s: FrameStates) -> np.ndarray:
         ka, kb = self._k
-        return (s.position[ka] - s.position[kb])[self._rows]
+        return (s.position[..., ka, :] - s.position[..., kb, :])[..., self._rows]
 
     def jacobian(self, s: FrameStates) -> np.ndarray:
         ka, kb = self._k
-        return (s.jacobian[ka] - s.jacobian[kb])[self._rows]
+        return (s.jacobian[..., ka, :, :] - s.jacobian[..., kb, :, :])[..., self._rows, :]
 
     def drift(self, s: FrameStates) -> np.ndarray:
         ka, kb = self._k
-        return (s.acceleration0[ka] - s.acceleration0[kb])[self._rows]
+        return (s.acceleration0[..., ka, :] - s.acceleration0[..., kb, :])[..., self._rows]
 
     def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
         """λ on the body of ``a``, −λ on the body of ``b``: the pin force (N) that ``a`` receives from ``b``."""
@@ -180,37 +184,38 @@ class Slider(Closure):
 
     def _geometry(self, s: FrameStates):
         kp, kl = self._k
-        theta = s.angle[kl]
-        d = np.array([math.cos(theta), math.sin(theta)])
-        n = np.array([-d[1], d[0]])
-        r = (s.position[kp] - s.position[kl])[:2]
+        theta = s.angle[..., kl]
+        d = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+        n = np.stack([-d[..., 1], d[..., 0]], axis=-1)
+        r = (s.position[..., kp, :] - s.position[..., kl, :])[..., :2]
         return kp, kl, d, n, r
 
     def residual(self, s: FrameStates) -> np.ndarray:
         kp, kl, d, n, r = self._geometry(s)
-        rows = [n @ r]
+        rows = [_dot(n, r)]
         if self.lock_angle:
-            rows.append(_wrap(s.angle[kp] - s.angle[kl] - self.angle_offset))
-        return np.array(rows)
+            rows.append(_wrap(s.angle[..., kp] - s.angle[..., kl] - self.angle_offset))
+        return np.stack(rows, axis=-1)
 
     def jacobian(self, s: FrameStates) -> np.ndarray:
         kp, kl, d, n, r = self._geometry(s)
-        Jp, Jl = s.jacobian[kp], s.jacobian[kl]
-        rows = [n @ (Jp[:2] - Jl[:2]) - (d @ r) * Jl[5]]
+        Jp, Jl = s.jacobian[..., kp, :, :], s.jacobian[..., kl, :, :]
+        normal = (n[..., None, :] @ (Jp[..., :2, :] - Jl[..., :2, :]))[..., 0, :]  # n·(J_p − J_l), rows x and y
+        rows = [normal - _dot(d, r)[..., None] * Jl[..., 5, :]]
         if self.lock_angle:
-            rows.append(Jp[5] - Jl[5])
-        return np.array(rows)
+            rows.append(Jp[..., 5, :] - Jl[..., 5, :])
+        return np.stack(rows, axis=-2)
 
     def drift(self, s: FrameStates) -> np.ndarray:
         kp, kl, d, n, r = self._geometry(s)
-        w = s.velocity[kl][5]
-        wdot = s.acceleration0[kl][5]
-        rdot = (s.velocity[kp] - s.velocity[kl])[:2]
-        rddot = (s.acceleration0[kp] - s.acceleration0[kl])[:2]
-        rows = [n @ rddot - 2 * w * (d @ rdot) - (wdot * d + w * w * n) @ r]
+        w = s.velocity[..., kl, 5, None]
+        wdot = s.acceleration0[..., kl, 5, None]
+        rdot = (s.velocity[..., kp, :] - s.velocity[..., kl, :])[..., :2]
+        rddot = (s.acceleration0[..., kp, :] - s.acceleration0[..., kl, :])[..., :2]
+        rows = [_dot(n, rddot) - 2 * w[..., 0] * _dot(d, rdot) - _dot(wdot * d + w * w * n, r)]
         if self.lock_angle:
-            rows.append(s.acceleration0[kp][5] - s.acceleration0[kl][5])
-        return np.array(rows)
+            rows.append(s.acceleration0[..., kp, 5] - s.acceleration0[..., kl, 5])
+        return np.stack(rows, axis=-1)
 
     def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
         """λ₁·n (N) on the body of ``point`` at the point, −λ₁·n on the line's body at the same point (a force at
@@ -218,7 +223,7 @@ class Slider(Closure):
         −λ₂ (N·m) about z."""
         _, _, d, n, r = self._geometry(s)
         normal = multipliers[0] * np.array([n[0], n[1], 0.0])
-        out = [Load(self.point, normal), Load(self.line, -normal, (0.0, 0.0, -multipliers[0] * float(d @ r)))]
+        out = [Load(self.point, normal), Load(self.line, -normal, (0.0, 0.0, -multipliers[0] * float(_dot(d, r))))]
         if self.lock_angle:
             out += [Load(self.point, np.zeros(3), (0.0, 0.0, multipliers[1])),
                     Load(self.line, np.zeros(3), (0.0, 0.0, -multipliers[1]))]
@@ -248,20 +253,20 @@ class OnCurve(Closure):
         self.nrows = 1
 
     def residual(self, s: FrameStates) -> np.ndarray:
-        x, y = s.position[self._k[0]][:2]
-        return np.array([y - self.f(x)])
+        p = s.position[..., self._k[0], :]
+        return (p[..., 1] - _curve(self.f, p[..., 0]))[..., None]
 
     def jacobian(self, s: FrameStates) -> np.ndarray:
-        J = s.jacobian[self._k[0]]
-        x = s.position[self._k[0]][0]
-        return (J[1] - self.df(x) * J[0])[None, :]
+        J = s.jacobian[..., self._k[0], :, :]
+        x = s.position[..., self._k[0], 0]
+        return (J[..., 1, :] - _curve(self.df, x)[..., None] * J[..., 0, :])[..., None, :]
 
     def drift(self, s: FrameStates) -> np.ndarray:
         k = self._k[0]
-        x = s.position[k][0]
-        xdot = s.velocity[k][0]
-        a = s.acceleration0[k]
-        return np.array([a[1] - self.df(x) * a[0] - self.d2f(x) * xdot**2])
+        x = s.position[..., k, 0]
+        xdot = s.velocity[..., k, 0]
+        a = s.acceleration0[..., k, :]
+        return (a[..., 1] - _curve(self.df, x) * a[..., 0] - _curve(self.d2f, x) * xdot**2)[..., None]
 
     def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
         """The curve's reaction λ·(−f′(x), 1) (N) at the point: normal to the curve."""
@@ -292,16 +297,16 @@ class Gear(Closure):
 
     def residual(self, s: FrameStates) -> np.ndarray:
         q = s.q
-        return np.array([q[self.columns[1]] - self.ratio * q[self.columns[0]] - self.offset])
+        return (q[..., self.columns[1]] - self.ratio * q[..., self.columns[0]] - self.offset)[..., None]
 
     def jacobian(self, s: FrameStates) -> np.ndarray:
-        row = np.zeros((1, s.model.nv))
+        row = np.zeros((1, s.q.shape[-1]))
         row[0, self.columns[0]] -= self.ratio
         row[0, self.columns[1]] += 1.0
-        return row
+        return np.broadcast_to(row, (*s.q.shape[:-1], 1, s.q.shape[-1])).copy()
 
     def drift(self, s: FrameStates) -> np.ndarray:
-        return np.zeros(1)
+        return np.zeros((*s.q.shape[:-1], 1))
 
     def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
         """None: a gear's Jᵀλ is the joint torques −u·λ and λ on the two coordinates, which the joints' transmitted
@@ -312,9 +317,28 @@ class Gear(Closure):
         return f"gear {self.b} = {self.ratio:g}·{self.a}"
 
 
-def _wrap(angle: float) -> float:
-    """Angle wrapped to (−π, π]."""
-    return math.remainder(angle, 2 * math.pi)
+def _wrap(angle: np.ndarray) -> np.ndarray:
+    """Angle (rad) wrapped to [−π, π] (an array or a float)."""
+    return angle - 2 * math.pi * np.round(angle / (2 * math.pi))
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a · b along the last axis, broadcasting the others."""
+    return np.sum(a * b, axis=-1)
+
+
+def _curve(function: Callable, x: np.ndarray) -> np.ndarray:
+    """``function`` (a curve y(x) or a derivative) at a float or an array of x (m): a function that takes floats
+    only is called once per element."""
+    if np.ndim(x) == 0:
+        return np.asarray(function(x), dtype=float)
+    try:
+        y = np.asarray(function(x), dtype=float)
+    except (TypeError, ValueError):
+        y = None
+    if y is None or y.shape != np.shape(x):
+        y = np.array([function(value) for value in np.ravel(x)], dtype=float).reshape(np.shape(x))
+    return y
 
 
 class ClosureSystem:
@@ -348,6 +372,17 @@ class ClosureSystem:
     def __bool__(self) -> bool:
         return bool(self.closures)
 
+    def batched(self):
+        """A :class:`~mechatron.model.batched.BatchedFrames` of this system's frames (their states for N
+        configurations at once go to :meth:`stack` and :meth:`stack_drift`).
+
+        Raises:
+            NotImplementedError: if the model has joints the batched kinematics does not know.
+        """
+        from .batched import batched_frames
+
+        return batched_frames(self.states.model, self.states.frame_ids)
+
     def evaluate(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(Φ(q), J(q)); also fills the frame states (positions, Jacobians) at q."""
         if self.frame_names:
@@ -356,12 +391,17 @@ class ClosureSystem:
             self.states.q = q  # gear closures read the coordinates themselves
         if not self.closures:
             return self._empty
-        s = self.states
-        phi = (s.position[self._a, :2] - s.position[self._b, :2]).ravel()
-        J = (s.jacobian[self._a, :2] - s.jacobian[self._b, :2]).reshape(-1, self.nv)
+        return self.stack(self.states)
+
+    def stack(self, s: FrameStates) -> tuple[np.ndarray, np.ndarray]:
+        """(Φ, J) from frame states ``s``: one configuration (:class:`FrameStates`) or N at once
+        (:class:`~mechatron.model.batched.BatchedStates`, then Φ is (N, nrows) and J (N, nrows, nv))."""
+        lead = s.position.shape[:-2]
+        phi = (s.position[..., self._a, :2] - s.position[..., self._b, :2]).reshape(*lead, -1)
+        J = (s.jacobian[..., self._a, :2, :] - s.jacobian[..., self._b, :2, :]).reshape(*lead, -1, self.nv)
         if self._others:
-            phi = np.concatenate([phi, *(c.residual(s) for c in self._others)])
-            J = np.vstack([J, *(c.jacobian(s) for c in self._others)])
+            phi = np.concatenate([phi, *(c.residual(s) for c in self._others)], axis=-1)
+            J = np.concatenate([J, *(c.jacobian(s) for c in self._others)], axis=-2)
         return phi, J
 
     def jacobian_for(self, frame_motions: np.ndarray) -> np.ndarray:
@@ -386,10 +426,14 @@ class ClosureSystem:
             self.states.update_motion(q, v)
         if not self.closures:
             return self._empty[0]
-        s = self.states
-        drift = (s.acceleration0[self._a, :2] - s.acceleration0[self._b, :2]).ravel()
+        return self.stack_drift(self.states)
+
+    def stack_drift(self, s: FrameStates) -> np.ndarray:
+        """J̇ q̇ from frame states ``s`` with their motion: one configuration or N at once ((N, nrows))."""
+        lead = s.position.shape[:-2]
+        drift = (s.acceleration0[..., self._a, :2] - s.acceleration0[..., self._b, :2]).reshape(*lead, -1)
         if self._others:
-            drift = np.concatenate([drift, *(c.drift(s) for c in self._others)])
+            drift = np.concatenate([drift, *(c.drift(s) for c in self._others)], axis=-1)
         return drift
 
     def row_labels(self) -> list[str]:

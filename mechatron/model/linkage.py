@@ -553,7 +553,7 @@ def curve_functions(c: ClosureSpec) -> tuple[Callable[[float], float], Callable[
 
     spline = CubicSpline(np.asarray(c.x, dtype=float), np.asarray(c.y, dtype=float), bc_type="not-a-knot")
     first, second = spline.derivative(1), spline.derivative(2)
-    return (lambda x: float(spline(x)), lambda x: float(first(x)), lambda x: float(second(x)))
+    return (lambda x: spline(x)[()], lambda x: first(x)[()], lambda x: second(x)[()])  # floats, or arrays for arrays
 
 
 def _residual_text(spec: LinkageSpec, equation: str, value: float) -> str:

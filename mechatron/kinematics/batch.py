@@ -1,0 +1,136 @@
+r"""Position analysis of many samples at once: Newton's method batched over samples, from guesses interpolated between
+a few samples solved by continuation, checked sample by sample.
+
+A sweep asks for the assembly of N samples of the inputs on one assembly branch. The sequential continuation
+(:func:`mechatron.kinematics.sweep.sweep`) solves one sample after the other; here
+
+1. ``anchors`` — every m-th sample, m chosen so that the anchors' input step is at most :data:`ANCHOR_STEPS`
+   continuation steps (:attr:`~mechatron.kinematics.loops.LoopSolver.max_step`) — are solved by that continuation
+   (they keep the branch); a finer level of anchors, every :data:`FINER`-th sample or an input step of a fiftieth of
+   a continuation step, is solved as in 2. from them, so that most samples start within the tolerance and need one
+   evaluation;
+2. every other sample starts from the cubic (Lagrange) interpolation in the sample index through the four nearest
+   anchors and is solved by Newton's method on all samples at once: Φ(q) and J(q) of a chunk of samples from
+   :class:`~mechatron.model.batched.BatchedFrames`, the steps J_d Δq_d = −Φ from one stacked ``np.linalg.solve``,
+   until every residual is below :data:`~mechatron.kinematics.loops.TOLERANCE`, then one more step (rounding level);
+3. each sample is checked against its predecessor: the change of the dependent coordinates must follow the velocity
+   maps, Δq_d ≈ ½ (S_{k−1} + S_k) Δu (trapezoidal rule, error O(Δu³)); a sample that did not converge, jumped (error
+   above a tenth of its change) or follows an input out of range is *doubtful*, and the caller solves it again by
+   the sequential continuation, from the last good sample before it until its solution meets the batched one.
+
+Memory: the work is done in chunks of at most :data:`CHUNK` samples (:func:`chunks`), so that it does not grow with N
+beyond the (N, nq) array of the solutions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.batched import BatchedFrames
+from ..model.closures import ClosureSystem
+from .loops import TOLERANCE
+
+#: Samples evaluated together (the working storage is a few kB per sample of a chunk), at most and at least.
+CHUNK = 2048
+SMALLEST_CHUNK = 256
+#: The anchors solved by continuation are this many continuation steps apart; the finer ones every FINER samples.
+ANCHOR_STEPS = 8.0
+FINER = 8
+#: Newton iterations of the batched solve before a sample counts as not converged.
+ITERATIONS = 12
+#: A sample whose change from its predecessor differs from the velocity maps' prediction by more than this fraction
+#: of the change (and more than :data:`JUMP_FLOOR`) is doubtful: it may have left the branch.
+JUMP_RATIO = 0.1
+JUMP_FLOOR = 1e-9
+
+
+def solve(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Solve A_k X_k = B_k for stacks of matrices A (n, m, m) and B (n, m, p) (least squares when A_k is not square
+    or some A_k is singular)."""
+    if A.shape[1] == A.shape[2]:
+        try:
+            return np.linalg.solve(A, B)
+        except np.linalg.LinAlgError:
+            pass
+    return np.linalg.pinv(A) @ B
+
+
+def chunks(n: int, size: int | None = None) -> list[slice]:
+    """Consecutive slices of at most ``size`` covering range(n); by default :data:`CHUNK`, or an eighth of n (at
+    least :data:`SMALLEST_CHUNK`) when smaller, so that the working storage of a chunk (a few kB per sample) stays
+    below 1 kB per sample of the whole run."""
+    size = size or min(CHUNK, max(SMALLEST_CHUNK, n // 8))
+    return [slice(start, min(start + size, n)) for start in range(0, n, size)]
+
+
+def anchor_stride(U: np.ndarray, step: np.ndarray) -> int:
+    """Every how many samples to take an anchor so that the anchors' input steps are at most ``step`` (m or rad, one
+    per input), for the largest input step between samples in U (n, n_act)."""
+    largest = np.abs(np.diff(U, axis=0)).max(axis=0, initial=0.0) if len(U) > 1 else np.zeros(U.shape[1])
+    with np.errstate(divide="ignore"):
+        stride = np.min(np.where(largest > 0, step / largest, np.inf))
+    return int(max(1, min(stride, len(U)))) if np.isfinite(stride) else len(U)
+
+
+def every(samples: np.ndarray, stride: int) -> np.ndarray:
+    """Every ``stride``-th of ``samples`` and the last one."""
+    out = samples[::stride]
+    return np.append(out, samples[-1]) if len(samples) and out[-1] != samples[-1] else out
+
+
+def interpolate(anchors: np.ndarray, values: np.ndarray, samples: np.ndarray) -> np.ndarray:
+    """Values at ``samples`` (indices) of the cubic through the four nearest ``anchors`` (sorted indices, their
+    ``values`` (n_anchors, nq)); fewer anchors give a lower degree."""
+    m = len(anchors)
+    order = min(4, m)
+    first = np.clip(np.searchsorted(anchors, samples) - order // 2, 0, m - order)
+    out = np.zeros((len(samples), values.shape[1]))
+    for i in range(order):  # Lagrange basis polynomial of the i-th of the `order` anchors
+        weight = np.ones(len(samples))
+        xi = anchors[first + i]
+        for j in range(order):
+            if j != i:
+                xj = anchors[first + j]
+                weight *= (samples - xj) / (xi - xj)
+        out += weight[:, None] * values[first + i]
+    return out
+
+
+def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, act: np.ndarray, dep: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Newton's method on the dependent coordinates ``dep`` of every row of Q (n, nq) at once, in place: returns
+    which rows converged (residual below :data:`TOLERANCE` within :data:`ITERATIONS`, then one more step) and their
+    dependent velocity maps S_d = −J_d⁻¹ J_a (n, n_dep, n_act) at the last evaluation (NaN where not converged)."""
+    converged = np.zeros(len(Q), dtype=bool)
+    maps = np.full((len(Q), len(dep), len(act)), np.nan)
+    active = np.arange(len(Q))
+    for _ in range(ITERATIONS + 1):
+        if not len(active):
+            break
+        phi, J = system.stack(frames.placements(Q[active]))
+        with np.errstate(invalid="ignore"):
+            error = np.abs(phi).max(axis=1, initial=0.0)
+        below, finite = error < TOLERANCE, np.isfinite(error)
+        if not finite.all():
+            phi, J = phi[finite], J[finite]
+        rows = active[finite]
+        # one solve for the step J_d Δq_d = −Φ and the maps J_d S_d = −J_a
+        X = solve(J[:, :, dep], -np.concatenate([phi[:, :, None], J[:, :, act]], axis=2))
+        Q[rows[:, None], dep] += X[:, :, 0]  # the converged rows take their last, polishing step too
+        done = below[finite]
+        maps[rows[done]] = X[done, :, 1:]
+        converged[rows[done]] = True
+        active = rows[~done]
+    return converged, maps
+
+
+def jumps(Q: np.ndarray, U: np.ndarray, maps: np.ndarray, solved: np.ndarray) -> np.ndarray:
+    """Which samples 1 … n−1 of a run (Q (n, nq) of the dependent coordinates, inputs U (n, n_act), dependent maps
+    (n, n_dep, n_act)) changed from their predecessor (both ``solved``) otherwise than the velocity maps predict,
+    Δq_d ≈ ½ (S_{k−1} + S_k) Δu (see the module docstring); false for sample 0."""
+    with np.errstate(all="ignore"):
+        predicted = 0.5 * np.einsum("kij,kj->ki", maps[1:] + maps[:-1], np.diff(U, axis=0))
+        change = np.diff(Q, axis=0)
+        error = np.abs(change - predicted).max(axis=1, initial=0.0)
+        bad = ~(error <= JUMP_RATIO * np.abs(change).max(axis=1, initial=0.0) + JUMP_FLOOR)
+    return np.concatenate([[False], bad & solved[1:] & solved[:-1]])
