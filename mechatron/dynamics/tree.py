@@ -21,6 +21,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.values import number
 from ..kinematics.frames import samples
 from ..model.loads import Loads, as_loads
 from ..model.mechanism import Mechanism
@@ -86,29 +87,71 @@ def _below_diagonal(n: int) -> NDArray[np.bool_]:
     return np.tri(n, k=-1, dtype=bool)
 
 
-#: Batches at least this long go to Pinocchio's parallel RNEA/ABA (C++ loop over the samples, all cores).
-PARALLEL_BATCH = 64
+#: Environment variable fixing the thread count of batched RNEA/ABA/CRBA when no ``threads=`` is given: a whole
+#: number >= 1 (1 = serial); unset, the count is chosen by the batch size and the idle cores (:func:`thread_count`).
+THREADS_VARIABLE = "MECHATRON_THREADS"
+
+#: Samples each thread must get before a second thread is used. Measured on two cores (benchmarks/dynamics.py,
+#: PUMA 560 RNEA ≈ 1.3 µs a sample in Pinocchio's C++ loop): OpenMP's start-up and hand-over cost ~2 ms on a busy
+#: machine and ~30–100 µs on an idle one, so two threads pay only for tens of thousands of samples, and only when
+#: a core is idle.
+SAMPLES_PER_THREAD = 25_000
 
 
-def _model_pool(mech: Mechanism) -> pin.ModelPool:
-    """A pool of model/data copies for Pinocchio's parallel algorithms, kept in the mechanism's cache."""
-    return mech.cached("model_pool", lambda: pin.ModelPool(mech.model, _threads()))
+def available_cores() -> int:
+    """The cores this process may run on (``os.sched_getaffinity``; ``os.cpu_count()`` where that is missing)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - macOS, Windows
+        return max(1, os.cpu_count() or 1)
 
 
-def _threads() -> int:
-    return max(1, min(os.cpu_count() or 1, 16))
+def idle_cores(cores: int) -> int:
+    """Cores of ``cores`` that nobody else uses: ``cores`` minus the one-minute load average, which counts this
+    process too (hence + 1), rounded down, at least 1."""
+    try:
+        load = os.getloadavg()[0]
+    except (AttributeError, OSError):  # pragma: no cover - Windows
+        return 1
+    return max(1, min(cores, int(cores - load + 1)))
 
 
-def _parallel(algorithm, mech: Mechanism, Q: np.ndarray, V: np.ndarray, X: np.ndarray) -> np.ndarray:
-    """Run a batch through ``rneaInParallel``/``abaInParallel`` (arrays (N, n) in and out; Pinocchio takes the
-    transposed, column-major views)."""
+def thread_count(samples: int, threads: int | None = None) -> int:
+    """Threads for a batch of ``samples`` states: ``threads`` if given, else the environment variable
+    :data:`THREADS_VARIABLE`, else the idle cores, at most one per :data:`SAMPLES_PER_THREAD` samples; never more
+    than the available cores nor the samples, at least 1 (serial)."""
+    if threads is None and os.environ.get(THREADS_VARIABLE, "").strip():
+        threads = number(THREADS_VARIABLE, os.environ[THREADS_VARIABLE], minimum=1, integer=True)
+    cores = available_cores()
+    if threads is None:
+        threads = min(idle_cores(cores), samples // SAMPLES_PER_THREAD)
+    else:
+        threads = number("threads", threads, minimum=1, integer=True)
+    return max(1, min(threads, cores, samples))
+
+
+def _model_pool(mech: Mechanism, threads: int) -> pin.ModelPool:
+    """A pool of at least ``threads`` model/data copies for Pinocchio's parallel algorithms, kept in the mechanism's
+    cache."""
+    pool = mech.cached("model_pool", lambda: pin.ModelPool(mech.model, available_cores()))
+    if pool.size() < threads:
+        pool.resize(threads)
+    return pool
+
+
+def _compiled(algorithm, mech: Mechanism, threads: int, Q: np.ndarray, V: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """Run a batch through Pinocchio's C++ loop ``rneaInParallel``/``abaInParallel`` on ``threads`` OpenMP threads
+    (1: a plain compiled loop, no Python per sample). Arrays (N, n) in and out; Pinocchio takes the transposed,
+    column-major views. Each sample is the same C++ RNEA/ABA a single call runs, so the results are bit for bit
+    those of the loop over ``pin.rnea``/``pin.aba(..., Convention.WORLD)`` at any thread count."""
     out = np.empty((len(Q), mech.nv))
-    algorithm(_threads(), _model_pool(mech), np.ascontiguousarray(Q).T, np.ascontiguousarray(V).T,
+    algorithm(threads, _model_pool(mech, threads), np.ascontiguousarray(Q).T, np.ascontiguousarray(V).T,
               np.ascontiguousarray(X).T, out.T)
     return out
 
 
-def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, loads: Loads = None) -> Array:
+def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, loads: Loads = None,
+                     threads: int | None = None) -> Array:
     """Joint torques/forces τ = M q̈ + C q̇ + g − Σ J_pᵀ F_p (N·m, N; RNEA), reflected drive inertia included.
 
     Args:
@@ -116,15 +159,20 @@ def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, 
         v, a: Joint velocities (rad/s, m/s) and accelerations (rad/s², m/s²), (nv,) or (N, nv).
         loads: External loads acting on the mechanism (:class:`~mechatron.model.loads.Load`: force in N and moment
             in N·m, world axes, at a frame's origin).
+        threads: Threads for a batch (1 = serial); default: :func:`thread_count` (the environment variable
+            ``MECHATRON_THREADS``, else by size and idle cores).
 
     Returns:
-        (nv,) or (N, nv). Long batches without loads run in Pinocchio's parallel RNEA.
+        (nv,) or (N, nv). A batch without loads runs in Pinocchio's compiled loop ``rneaInParallel`` (one thread
+        unless the batch is long and cores are idle), bit for bit the loop over ``pin.rnea``; with loads, a Python
+        loop (the external forces depend on each configuration).
     """
     single, Q, (V, A) = samples(mech, q, v, a)
     model, data = mech.model, mech.data
     loads = as_loads(loads)
-    if not loads and len(Q) >= PARALLEL_BATCH:
-        return _parallel(pin.rneaInParallel, mech, Q, V, A)
+    threads = thread_count(len(Q), threads)
+    if not loads and len(Q) > 1:
+        return _compiled(pin.rneaInParallel, mech, threads, Q, V, A)
     out = np.empty((len(Q), mech.nv))
     rnea = pin.rnea
     if loads:
@@ -136,27 +184,37 @@ def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, 
     return out[0] if single else out
 
 
-def forward_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, tau: ArrayLike) -> Array:
+def forward_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, tau: ArrayLike,
+                     threads: int | None = None) -> Array:
     """Joint accelerations q̈ = M⁻¹(τ − C q̇ − g) (rad/s², m/s²; ABA) for joint torques/forces τ (N·m, N) at the
-    state (q, q̇): (nv,) or (N, nv)."""
+    state (q, q̇): (nv,) or (N, nv). A batch runs in Pinocchio's compiled ``abaInParallel`` on ``threads`` threads
+    (as :func:`inverse_dynamics`); every state is ABA in its world-frame convention, so one state and any thread
+    count give the same bits (within ~1e-13 relative of ``pin.aba``'s default local convention)."""
     single, Q, (V, T) = samples(mech, q, v, tau)
-    if len(Q) >= PARALLEL_BATCH:
-        return _parallel(pin.abaInParallel, mech, Q, V, T)
-    model, data = mech.model, mech.data
-    out = np.empty((len(Q), mech.nv))
-    for i in range(len(Q)):
-        out[i] = pin.aba(model, data, Q[i], V[i], T[i])
-    return out[0] if single else out
+    threads = thread_count(len(Q), threads)
+    if len(Q) > 1:
+        return _compiled(pin.abaInParallel, mech, threads, Q, V, T)
+    out = pin.aba(mech.model, mech.data, Q[0], V[0], T[0], pin.Convention.WORLD).copy()
+    return out if single else out[None]
 
 
-def mass_matrix(mech: Mechanism, q: ArrayLike) -> Array:
+def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Array:
     """Joint-space inertia matrix M(q) (kg, kg·m, kg·m²; CRBA, symmetrised), including the armature: (nv, nv) or
-    (N, nv, nv). ½ q̇ᵀ M q̇ is the kinetic energy [Egorov, 6.2]."""
+    (N, nv, nv). ½ q̇ᵀ M q̇ is the kinetic energy [Egorov, 6.2].
+
+    A batch is a loop over ``pin.crba`` (upper triangles) symmetrised at once. ``threads`` is checked as in
+    :func:`inverse_dynamics` but CRBA always runs on one thread: Pinocchio has no parallel CRBA, its Python
+    ``crba`` holds the GIL, and M from nv + 1 parallel RNEA columns costs more than a serial CRBA on fewer than
+    four idle cores (7 × 1.3 µs vs 2.1 µs a sample for the PUMA 560), so the result is the same at every count."""
     single, Q, _ = samples(mech, q)
+    thread_count(len(Q), threads)
     model, data = mech.model, mech.data
     out = np.empty((len(Q), mech.nv, mech.nv))
+    crba = pin.crba
     for i in range(len(Q)):
-        out[i] = joint_space_inertia(model, data, Q[i])
+        out[i] = crba(model, data, Q[i])
+    for i, j in zip(*np.triu_indices(mech.nv, 1)):  # lower triangle from the upper, no temporary copy
+        out[:, j, i] = out[:, i, j]
     return out[0] if single else out
 
 
