@@ -1,49 +1,138 @@
-"""Inverse dynamics over a 10,000-sample trajectory of the PUMA 560 and the UR5.
+"""Batched dynamics — RNEA, ABA, CRBA — of the PUMA 560 and the UR5 at N = 1, 64, 1,000 and 100,000 states.
 
-mechatron's batch ``inverse_dynamics`` (RNEA with the drives' reflected inertia; Pinocchio's parallel RNEA over
-the batch) against a bare loop of ``pinocchio.rnea`` on the same arrays (goal: at most 1.3x) and against the
-Robotics Toolbox for Python's DH dynamics (``DHRobot.rne`` of its Puma560 and UR5 models) on the same trajectory
-(goal: mechatron at least 10x faster). The toolbox is timed two ways: called per state, as its Python API is used
-in a loop over a trajectory, and with the whole (N, 6) arrays at once, which runs its C loop over the samples.
+Each mechatron call (``inverse_dynamics``, ``forward_dynamics``, ``mass_matrix``: argument checks included, threads
+chosen by size and idle cores unless ``--threads``) is timed against:
 
-It also times a closed-loop simulation (``mechatron.dynamics.constrained.simulate``: KKT system, RK4 on the
-configuration manifold, projection onto the closures) of the crank-slider, per integration step.
+- **plain loop** — what a competent Pinocchio user writes: a Python loop calling ``pin.rnea`` / ``pin.aba`` /
+  ``pin.crba`` on one preallocated ``Data``, writing rows of a preallocated output (CRBA: upper triangles,
+  symmetrised once at the end by precomputed indices). Goal: mechatron at most 1.0x at every N.
+- **compiled floor** — Pinocchio's own C++ batch loop, ``rneaInParallel`` / ``abaInParallel`` with one thread on a
+  ``ModelPool`` (no Python per state and no argument checks): what a Python API can approach at best. The wheel has
+  no compiled CRBA batch, so CRBA has no floor.
+- **Robotics Toolbox** (RNEA only) — ``DHRobot.rne`` called once with the whole (N, 6) arrays, its C loop over the
+  samples (not a per-state ``rne`` loop), on its own DH model of the same robot: a timing reference, not the same
+  numbers.
 
-    python benchmarks/dynamics.py [--samples N] [--repeats R]
+Times are per state, best of ``--repeats`` (each repeat loops over the call until ~20,000 states are done). The
+last block gives mechatron's peak memory at the largest N next to the output's size, and the time of a
+closed-loop simulation step (``mechatron.dynamics.constrained.simulate`` of the crank-slider).
+
+    python benchmarks/dynamics.py [--sizes 1 64 1000 100000] [--repeats R] [--threads T]
 """
 
 from __future__ import annotations
 
 import argparse
+import time
+import tracemalloc
 
 import numpy as np
 import pinocchio as pin
 from timing import best_time
 
 import mechatron
+from mechatron.dynamics import tree
 from mechatron.dynamics.constrained import simulate
-from mechatron.dynamics.tree import inverse_dynamics
 from mechatron.kinematics.loops import assemble, joint_velocity
 
 
-def bare_loop(model: pin.Model, data: pin.Data, Q: np.ndarray, V: np.ndarray, A: np.ndarray) -> np.ndarray:
-    return np.array([pin.rnea(model, data, q, v, a) for q, v, a in zip(Q, V, A)])
+def per_state(function, n: int, repeats: int) -> float:
+    """Best time (s) per state of ``function()`` on n states, each repeat calling it enough times for ~20,000."""
+    calls = max(1, 20_000 // n)
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(calls):
+            function()
+        best = min(best, (time.perf_counter() - start) / calls)
+    return best / n
 
 
-def trajectory(mech: mechatron.Mechanism, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A smooth multi-joint motion: q = q0 + A sin(ωt), sampled at n points."""
-    t = np.linspace(0.0, 10.0, n)[:, None]
-    rng = np.random.default_rng(0)
-    amplitude, omega = rng.uniform(0.2, 0.8, mech.nq), rng.uniform(0.5, 2.0, mech.nq)
-    Q = 0.5 * (mech.model.lowerPositionLimit.clip(-3, 3) + mech.model.upperPositionLimit.clip(-3, 3)) \
-        + amplitude * np.sin(omega * t)
-    return Q, amplitude * omega * np.cos(omega * t), -amplitude * omega**2 * np.sin(omega * t)
+def plain_rnea(model, data, Q, V, A, out):
+    for i in range(len(Q)):
+        out[i] = pin.rnea(model, data, Q[i], V[i], A[i])
+    return out
+
+
+def plain_aba(model, data, Q, V, T, out):
+    for i in range(len(Q)):
+        out[i] = pin.aba(model, data, Q[i], V[i], T[i])
+    return out
+
+
+def plain_crba(model, data, Q, out, upper):
+    for i in range(len(Q)):
+        out[i] = pin.crba(model, data, Q[i])
+    out[:, upper[1], upper[0]] = out[:, upper[0], upper[1]]
+    return out
+
+
+def compiled(algorithm, pool, Q, V, X, out):
+    algorithm(1, pool, Q.T, V.T, X.T, out.T)
+    return out
+
+
+def rows(name: str, mech, n: int, repeats: int, threads: int | None, toolbox) -> list[str]:
+    """One line per algorithm: times per state (µs) and ratios."""
+    rng = np.random.default_rng(n)
+    Q = mech.random_configuration(rng, size=n)
+    V, A = rng.normal(size=(n, mech.nv)), rng.normal(size=(n, mech.nv))
+    model, data, pool = mech.model, mech.model.createData(), pin.ModelPool(mech.model, 1)
+    out, M = np.empty((n, mech.nv)), np.empty((n, mech.nv, mech.nv))
+    upper = np.triu_indices(mech.nv, 1)
+    T = plain_rnea(model, data, Q, V, A, out).copy()
+    assert np.array_equal(tree.inverse_dynamics(mech, Q, V, A, threads=threads), T)
+    assert np.allclose(tree.forward_dynamics(mech, Q, V, T, threads=threads), A, atol=1e-9)
+    assert np.array_equal(tree.mass_matrix(mech, Q, threads=threads), plain_crba(model, data, Q, M, upper))
+    cases = {
+        "rnea": (lambda: tree.inverse_dynamics(mech, Q, V, A, threads=threads),
+                 lambda: plain_rnea(model, data, Q, V, A, out),
+                 lambda: compiled(pin.rneaInParallel, pool, Q, V, A, out)),
+        "aba": (lambda: tree.forward_dynamics(mech, Q, V, T, threads=threads),
+                lambda: plain_aba(model, data, Q, V, T, out),
+                lambda: compiled(pin.abaInParallel, pool, Q, V, T, out)),
+        "crba": (lambda: tree.mass_matrix(mech, Q, threads=threads),
+                 lambda: plain_crba(model, data, Q, M, upper), None),
+    }
+    lines = []
+    for algorithm, (ours, plain, floor) in cases.items():
+        t_ours, t_plain = per_state(ours, n, repeats), per_state(plain, n, repeats)
+        line = (f"{name:<8}{algorithm:<6}{n:>8}{tree.thread_count(n, threads):>4}{t_plain * 1e6:>9.2f}"
+                f"{t_ours * 1e6:>9.2f}{t_ours / t_plain:>7.2f} {'ok' if t_ours <= t_plain else 'SLOWER':<7}")
+        if floor is not None:
+            t_floor = per_state(floor, n, repeats)
+            line += f"{t_floor * 1e6:>9.2f}{t_ours / t_floor:>7.2f}"
+        else:
+            line += f"{'-':>9}{'-':>7}"
+        if algorithm == "rnea" and toolbox is not None:
+            t_rtb = per_state(lambda: toolbox.rne(Q, V, A), n, min(repeats, 3))
+            line += f"{t_rtb * 1e6:>10.2f}{t_rtb / t_ours:>8.1f}x"
+        lines.append(line)
+    return lines
+
+
+def peak_memory(mech, n: int, threads: int | None) -> str:
+    """tracemalloc peak (MB) of each call at n states, next to the output's size."""
+    rng = np.random.default_rng(1)
+    Q = mech.random_configuration(rng, size=n)
+    V, A = rng.normal(size=(n, mech.nv)), rng.normal(size=(n, mech.nv))
+    parts = []
+    for algorithm, call, size in (("rnea", lambda: tree.inverse_dynamics(mech, Q, V, A, threads=threads), mech.nv),
+                                  ("aba", lambda: tree.forward_dynamics(mech, Q, V, A, threads=threads), mech.nv),
+                                  ("crba", lambda: tree.mass_matrix(mech, Q, threads=threads), mech.nv**2)):
+        tracemalloc.start()
+        call()
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        parts.append(f"{algorithm} {peak / 1e6:.1f} MB (output {n * size * 8 / 1e6:.1f} MB)")
+    return ", ".join(parts)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--samples", type=int, default=10_000)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1, 64, 1_000, 100_000])
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--threads", type=int, default=None, help="force a thread count (default: chosen)")
     args = parser.parse_args()
     try:
         import roboticstoolbox as rtb
@@ -52,26 +141,18 @@ def main() -> None:
     except ImportError:
         toolbox = {}
         print("(roboticstoolbox-python is not installed: pip install '.[test]' for the comparison)")
-    print(f"inverse dynamics along a {args.samples}-sample trajectory, best of {args.repeats}")
-    print(f"{'robot':<9}{'bare rnea loop':>16}{'mechatron':>12}{'ratio':>8}  goal<=1.3"
-          f"{'RTB per state':>15}{'speed-up':>10}  goal>=10{'RTB arrays':>13}{'speed-up':>10}")
+    print(f"batched dynamics, µs per state, best of {args.repeats}; cores available "
+          f"{tree.available_cores()}, idle {tree.idle_cores(tree.available_cores())}")
+    print(f"{'robot':<8}{'algo':<6}{'N':>8}{'thr':>4}{'plain':>9}{'ours':>9}{'ratio':>7} {'<=1.0':<7}"
+          f"{'floor':>9}{'/floor':>7}{'RTB arr':>10}{'RTB/ours':>9}")
     for name in ("puma560", "ur5"):
         mech = mechatron.load(name)
-        Q, V, A = trajectory(mech, args.samples)
-        data = mech.model.createData()
-        assert np.allclose(inverse_dynamics(mech, Q, V, A), bare_loop(mech.model, data, Q, V, A), atol=1e-9)
-        t_bare = best_time(lambda: bare_loop(mech.model, data, Q, V, A), args.repeats)
-        t_ours = best_time(lambda: inverse_dynamics(mech, Q, V, A), args.repeats)
-        line = (f"{name:<9}{t_bare * 1e3:>13.1f} ms{t_ours * 1e3:>9.1f} ms{t_ours / t_bare:>8.2f}  "
-                f"{'ok' if t_ours / t_bare <= 1.3 else 'SLOWER':<9}")
-        if name in toolbox:
-            robot = toolbox[name]
-            t_state = best_time(lambda: [robot.rne(q, v, a) for q, v, a in zip(Q, V, A)], 1)
-            t_arrays = best_time(lambda: robot.rne(Q, V, A), args.repeats)
-            line += (f"{t_state * 1e3:>12.1f} ms{t_state / t_ours:>9.1f}x  "
-                     f"{'ok' if t_state / t_ours >= 10 else 'SLOWER':<7}"
-                     f"{t_arrays * 1e3:>10.1f} ms{t_arrays / t_ours:>9.1f}x")
-        print(line)
+        for n in args.sizes:
+            for line in rows(name, mech, n, args.repeats, args.threads, toolbox.get(name)):
+                print(line)
+    largest = max(args.sizes)
+    print(f"peak memory at N = {largest} (puma560): "
+          f"{peak_memory(mechatron.load('puma560'), largest, args.threads)}")
     crank = mechatron.load("crank_slider")
     q0 = assemble(crank, {"q1": 0.2})
     v0 = joint_velocity(crank, q0, {"q1": 8.0})

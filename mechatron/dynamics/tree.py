@@ -157,12 +157,16 @@ def _states(mech: Mechanism, q: ArrayLike, *rates: ArrayLike) -> tuple[bool, Arr
     entries; a sum that overflows falls back to the full check). One state then costs about a microsecond of checks
     instead of tens."""
     nq, nv = mech.nq, mech.nv
-    arrays = (q, *rates)
-    if (all(type(x) is np.ndarray and x.dtype == np.float64 for x in arrays) and q.ndim in (1, 2)
-            and q.shape[-1] == nq and all(x.shape == q.shape[:-1] + (nv,) for x in rates)
-            and all(math.isfinite(x.sum()) for x in arrays)):
-        return q.ndim == 1, q.reshape(-1, nq), [x.reshape(-1, nv) for x in rates]
-    return samples(mech, q, *rates)
+    if type(q) is not np.ndarray or q.dtype != np.float64 or q.ndim not in (1, 2) or q.shape[-1] != nq:
+        return samples(mech, q, *rates)
+    shape = q.shape[:-1] + (nv,)
+    for x in rates:
+        if type(x) is not np.ndarray or x.dtype != np.float64 or x.shape != shape:
+            return samples(mech, q, *rates)
+    for x in (q, *rates):
+        if not math.isfinite(sum(x.ravel().tolist()) if x.size <= 64 else x.sum()):  # small: Python floats
+            return samples(mech, q, *rates)
+    return q.ndim == 1, q.reshape(-1, nq), [x.reshape(-1, nv) for x in rates]
 
 
 def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, loads: Loads = None,
@@ -213,11 +217,16 @@ def forward_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, tau: ArrayLike
     return out if single else out[None]
 
 
+#: Samples per block of the batched CRBA's symmetrisation (~0.5 MB of temporary for six joints).
+SYMMETRISED_BLOCK = 4096
+
+
 def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Array:
     """Joint-space inertia matrix M(q) (kg, kg·m, kg·m²; CRBA, symmetrised), including the armature: (nv, nv) or
     (N, nv, nv). ½ q̇ᵀ M q̇ is the kinetic energy [Egorov, 6.2].
 
-    A batch is a loop over ``pin.crba`` (upper triangles) symmetrised at once. ``threads`` is checked as in
+    A batch is a loop over ``pin.crba`` (upper triangles) symmetrised every :data:`SYMMETRISED_BLOCK` samples (a
+    bounded temporary of 8·nv(nv−1)/2 bytes a sample, while the block is in cache). ``threads`` is checked as in
     :func:`inverse_dynamics` but CRBA always runs on one thread: Pinocchio has no parallel CRBA, its Python
     ``crba`` holds the GIL, and M from nv + 1 parallel RNEA columns costs more than a serial CRBA on fewer than
     four idle cores (7 × 1.3 µs vs 2.1 µs a sample for the PUMA 560), so the result is the same at every count."""
@@ -229,12 +238,13 @@ def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Ar
         M = joint_space_inertia(model, data, Q[0])
         return M if single else M[None]
     out = np.empty((len(Q), mech.nv, mech.nv))
-    crba = pin.crba
-    for i in range(len(Q)):
-        out[i] = crba(model, data, Q[i])
-    for i, j in zip(*np.triu_indices(mech.nv, 1)):  # lower triangle from the upper, no temporary copy
-        out[:, j, i] = out[:, i, j]
-    return out[0] if single else out
+    rows, columns = np.triu_indices(mech.nv, 1)
+    for start in range(0, len(Q), SYMMETRISED_BLOCK):
+        block = out[start:start + SYMMETRISED_BLOCK]
+        for i, q_i in enumerate(Q[start:start + SYMMETRISED_BLOCK]):
+            block[i] = pin.crba(model, data, q_i)
+        block[:, columns, rows] = block[:, rows, columns]  # lower triangle from the upper, block still in cache
+    return out
 
 
 def bias_forces(mech: Mechanism, q: ArrayLike, v: ArrayLike) -> Array:
