@@ -7,6 +7,10 @@ inertia of a drive is reflected into its joint once, as Pinocchio's ``armature``
 (:mod:`mechatron.drives.transmission`).
 
 Every function takes one state or a batch: q of shape (nq,) or (N, nq), v and a of shape (nv,) or (N, nv).
+Batched RNEA and ABA run in Pinocchio's compiled loops over the samples (``rneaInParallel``/``abaInParallel``), CRBA
+in a Python loop; the thread count is ``threads=``, else the environment variable ``MECHATRON_THREADS``, else
+chosen by the batch size and the idle cores (:func:`thread_count`: serial below :data:`SAMPLES_PER_THREAD` samples
+a thread). Every thread count gives the same bits.
 Units: N·m for revolute and N for prismatic joints, J for energies, SI everywhere.
 """
 
@@ -92,10 +96,10 @@ def _below_diagonal(n: int) -> NDArray[np.bool_]:
 #: number >= 1 (1 = serial); unset, the count is chosen by the batch size and the idle cores (:func:`thread_count`).
 THREADS_VARIABLE = "MECHATRON_THREADS"
 
-#: Samples each thread must get before a second thread is used. Measured on two cores (benchmarks/dynamics.py,
-#: PUMA 560 RNEA ≈ 1.3 µs a sample in Pinocchio's C++ loop): OpenMP's start-up and hand-over cost ~2 ms on a busy
-#: machine and ~30–100 µs on an idle one, so two threads pay only for tens of thousands of samples, and only when
-#: a core is idle.
+#: Samples each thread must get before a second thread is used. Measured on two cores under a load of 1.5–3.5
+#: (PUMA 560, compiled RNEA ≈ 1.3–2.3 µs a sample on one thread): two OpenMP threads cost ~2 ms at N = 1 (start-up
+#: and hand-over), 0.5–3.2× one thread at N = 1,000 and 0.9–1.2× from 30,000 to 300,000. From 25,000 samples a
+#: thread the worst start-up is under 5 % of the serial time, and a second thread is used only on an idle core.
 SAMPLES_PER_THREAD = 25_000
 
 
