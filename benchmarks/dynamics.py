@@ -13,9 +13,10 @@ chosen by size and idle cores unless ``--threads``) is timed against:
   samples (not a per-state ``rne`` loop), on its own DH model of the same robot: a timing reference, not the same
   numbers.
 
-Times are per state, best of ``--repeats`` (each repeat loops over the call until ~20,000 states are done). The
-last block gives mechatron's peak memory at the largest N next to the output's size, and the time of a
-closed-loop simulation step (``mechatron.dynamics.constrained.simulate`` of the crank-slider).
+Times are per state, best of ``--repeats``; the candidates take turns within each repeat, each looping over its
+call until ~20,000 states are done. The last block gives mechatron's peak memory at the largest N next to the
+output's size, and the time of a closed-loop simulation step (``mechatron.dynamics.constrained.simulate`` of the
+crank-slider).
 
     python benchmarks/dynamics.py [--sizes 1 64 1000 100000] [--repeats R] [--threads T]
 """
@@ -23,29 +24,16 @@ closed-loop simulation step (``mechatron.dynamics.constrained.simulate`` of the 
 from __future__ import annotations
 
 import argparse
-import time
 import tracemalloc
 
 import numpy as np
 import pinocchio as pin
-from timing import best_time
+from timing import best_time, interleaved
 
 import mechatron
 from mechatron.dynamics import tree
 from mechatron.dynamics.constrained import simulate
 from mechatron.kinematics.loops import assemble, joint_velocity
-
-
-def per_state(function, n: int, repeats: int) -> float:
-    """Best time (s) per state of ``function()`` on n states, each repeat calling it enough times for ~20,000."""
-    calls = max(1, 20_000 // n)
-    best = float("inf")
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            function()
-        best = min(best, (time.perf_counter() - start) / calls)
-    return best / n
 
 
 def plain_rnea(model, data, Q, V, A, out):
@@ -96,17 +84,18 @@ def rows(name: str, mech, n: int, repeats: int, threads: int | None, toolbox) ->
     }
     lines = []
     for algorithm, (ours, plain, floor) in cases.items():
-        t_ours, t_plain = per_state(ours, n, repeats), per_state(plain, n, repeats)
-        line = (f"{name:<8}{algorithm:<6}{n:>8}{tree.thread_count(n, threads):>4}{t_plain * 1e6:>9.2f}"
-                f"{t_ours * 1e6:>9.2f}{t_ours / t_plain:>7.2f} {'ok' if t_ours <= t_plain else 'SLOWER':<7}")
+        candidates = {"ours": ours, "plain": plain}
         if floor is not None:
-            t_floor = per_state(floor, n, repeats)
-            line += f"{t_floor * 1e6:>9.2f}{t_ours / t_floor:>7.2f}"
-        else:
-            line += f"{'-':>9}{'-':>7}"
+            candidates["floor"] = floor
         if algorithm == "rnea" and toolbox is not None:
-            t_rtb = per_state(lambda: toolbox.rne(Q, V, A), n, min(repeats, 3))
-            line += f"{t_rtb * 1e6:>10.2f}{t_rtb / t_ours:>8.1f}x"
+            candidates["rtb"] = lambda: toolbox.rne(Q, V, A)
+        t = interleaved(candidates, n, repeats)
+        verdict = "ok" if t["ours"] <= t["plain"] else "SLOWER"
+        line = (f"{name:<8}{algorithm:<6}{n:>8}{tree.thread_count(n, threads):>4}{t['plain'] * 1e6:>9.2f}"
+                f"{t['ours'] * 1e6:>9.2f}{t['ours'] / t['plain']:>7.2f} {verdict:<7}")
+        line += f"{t['floor'] * 1e6:>9.2f}{t['ours'] / t['floor']:>7.2f}" if "floor" in t else f"{'-':>9}{'-':>7}"
+        if "rtb" in t:
+            line += f"{t['rtb'] * 1e6:>10.2f}{t['rtb'] / t['ours']:>8.1f}x"
         lines.append(line)
     return lines
 

@@ -13,8 +13,8 @@ configuration in arrays (argument checks included). It is timed against:
   recursion in Python, the samples in NumPy), checked against Pinocchio to 1e-12 here: what vectorizing over the
   samples gives instead of calling Pinocchio per sample.
 
-Times are per configuration, best of ``--repeats`` (each repeat loops over the call until ~20,000 configurations
-are done).
+Times are per configuration, best of ``--repeats``; the candidates take turns within each repeat, each looping
+over its call until ~20,000 configurations are done.
 
     python benchmarks/kinematics.py [--sizes 1 64 1000 10000] [--repeats R]
 """
@@ -22,25 +22,13 @@ are done).
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 import pinocchio as pin
+from timing import interleaved
 
 import mechatron
 from mechatron.model.batched import batched_frames
-
-
-def per_configuration(function, n: int, repeats: int) -> float:
-    """Best time (s) per configuration of ``function()`` on n configurations (~20,000 a repeat)."""
-    calls = max(1, 20_000 // n)
-    best = float("inf")
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            function()
-        best = min(best, (time.perf_counter() - start) / calls)
-    return best / n
 
 
 def plain_loop(model: pin.Model, data: pin.Data, Q: np.ndarray, frame_id: int, out):
@@ -83,10 +71,11 @@ def main() -> None:
             assert np.allclose(batch.position[:, 0], ours[0], rtol=0, atol=1e-12)
             assert np.allclose(batch.rotation[:, 0], ours[1], rtol=0, atol=1e-12)
             assert np.allclose(batch.jacobian[:, 0], ours[2], rtol=0, atol=1e-12)
-            t_plain = per_configuration(lambda: plain_loop(model, data, Q, fid, out), n, args.repeats)
-            t_ours = per_configuration(lambda: mechatron.kinematics.fk_and_jacobian(mech, Q), n, args.repeats)
-            t_calls = per_configuration(lambda: calls_only(model, data, Q, fid), n, args.repeats)
-            t_numpy = per_configuration(lambda: numpy_batch.placements(Q), n, args.repeats)
+            t = interleaved({"plain": lambda: plain_loop(model, data, Q, fid, out),
+                                   "ours": lambda: mechatron.kinematics.fk_and_jacobian(mech, Q),
+                                   "calls": lambda: calls_only(model, data, Q, fid),
+                                   "numpy": lambda: numpy_batch.placements(Q)}, n, args.repeats)
+            t_plain, t_ours, t_calls, t_numpy = t["plain"], t["ours"], t["calls"], t["numpy"]
             verdict = "ok" if t_ours / t_plain <= 1.3 else "SLOWER"
             print(f"{name:<9}{n:>7}{t_plain * 1e6:>9.2f}{t_ours * 1e6:>9.2f}{t_ours / t_plain:>7.2f} {verdict:<7}"
                   f"{t_calls * 1e6:>9.2f}{t_ours / t_calls:>7.2f}{t_numpy * 1e6:>9.2f}{t_numpy / t_plain:>7.2f}")

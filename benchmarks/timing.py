@@ -19,3 +19,19 @@ def best_time_and_result(function: Callable[[], object], repeats: int) -> tuple[
         result = function()
         best = min(best, time.perf_counter() - start)
     return best, result
+
+
+def interleaved(functions: dict[str, Callable[[], object]], items: int, repeats: int,
+                per_repeat: int = 20_000) -> dict[str, float]:
+    """Best time (s) per item of each ``functions[key]()``, each call handling ``items`` items (states,
+    configurations). The candidates take turns within every one of ``repeats`` repeats, so a change of the
+    machine's load hits them alike; a repeat calls each enough times for ~``per_repeat`` items."""
+    calls = max(1, per_repeat // items)
+    best = dict.fromkeys(functions, float("inf"))
+    for _ in range(repeats):
+        for key, function in functions.items():
+            start = time.perf_counter()
+            for _ in range(calls):
+                function()
+            best[key] = min(best[key], (time.perf_counter() - start) / calls)
+    return {key: value / items for key, value in best.items()}
