@@ -80,3 +80,28 @@ def test_cores_and_idle_cores_are_bounded():
     cores = tree.available_cores()
     assert 1 <= cores <= (__import__("os").cpu_count() or 1)
     assert 1 <= tree.idle_cores(cores) <= cores
+
+
+def test_the_shortcut_check_refuses_what_the_full_check_refuses(rng):
+    """Float64 arrays take a shortcut check (a finite sum); anything else, and any non-finite entry, the full one."""
+    mech = mechatron.load("puma560")
+    Q, V, A = states(mech, rng, 3)
+    tau = tree.inverse_dynamics(mech, Q, V, A)
+    np.testing.assert_array_equal(tree.inverse_dynamics(mech, Q.tolist(), V.tolist(), A.tolist()), tau)
+    np.testing.assert_array_equal(tree.inverse_dynamics(mech, Q[0].tolist(), V[0], A[0]), tau[0])
+    for bad in (np.nan, np.inf, -np.inf):
+        for k in range(3):
+            args = [x.copy() for x in (Q, V, A)]
+            args[k][1, 2] = bad
+            with pytest.raises(InputError, match="finite"):
+                tree.inverse_dynamics(mech, *args)
+            with pytest.raises(InputError, match="finite"):
+                tree.forward_dynamics(mech, *(x[1] for x in args))
+        q = Q[1].copy()
+        q[0] = bad
+        with pytest.raises(InputError, match="finite"):
+            tree.mass_matrix(mech, q)
+    with pytest.raises(InputError):
+        tree.inverse_dynamics(mech, Q, V[:, :5], A)
+    huge = np.full(mech.nv, 1e308)  # finite entries whose sum overflows: the full check lets them through
+    assert tree.inverse_dynamics(mech, Q[0], huge, np.zeros(mech.nv)).shape == (mech.nv,)
