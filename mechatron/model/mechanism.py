@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
@@ -202,7 +202,8 @@ class Mechanism:
 
     def frame_id(self, name: str) -> int:
         """Index of the frame called ``name``; a clear error listing the frames if there is none."""
-        index = find_frame(self.model, name)
+        # cached by the frame count too: a frame added to the model in place is found
+        index = self.cached(("frame", self.model.nframes, name), lambda: find_frame(self.model, name))
         if index is None:
             raise unknown_name_error(f"frame of {self.name}", name, self.frame_names)
         return index
@@ -249,7 +250,7 @@ class Mechanism:
         """The same tree with other closures."""
         return replace(self, closures=list(closures))
 
-    def cached(self, key: str, build: Callable[[], T]) -> T:
+    def cached(self, key: Hashable, build: Callable[[], T]) -> T:
         """The value kept under ``key`` in this mechanism's cache, built by ``build()`` the first time.
 
         The cache belongs to this object: a mechanism derived from it (:meth:`with_parameters`, ``replace``) starts
