@@ -167,18 +167,17 @@ def _blocks(samples: int, converters: int) -> list[slice]:
     return [slice(start, min(start + size, samples)) for start in range(0, max(samples, 1), size)]
 
 
-class Evaluation:
-    """The checks of every motor × converter pair of one joint: ``values`` and ``limits`` (N_m, N_c,
-    len(ALL_CHECKS)).
+class PairChecks:
+    r"""The checks of one joint for any list of motor × converter pairs, without a (N_m, N_c) array.
 
-    The per-sample checks (peak torque, speed–torque curve, voltage limit) cost a pass over the samples per pair;
-    they start as lower bounds from a few decisive samples (:meth:`JointDuty.strong_samples`) and are made exact
-    for the pairs given to :meth:`refine` (``exact`` marks them) over the samples that can decide them
-    (:meth:`JointDuty.envelope`: the voltage k_t |n| + R |T_m| / k_t grows with |n| and |T_m| like the load on the
-    speed–torque curve). Every other check is exact from the start (time means over the samples per converter,
-    combined per motor). A lower bound never passes a pair that fails. The work goes a block of samples (of pairs in
-    :meth:`refine`) at a time, so that its memory stays within :data:`SAMPLE_BLOCK` elements per array however long
-    the task.
+    Built once per joint in O((N_m + N_c) · samples) work and memory (the time means per converter a block of
+    samples at a time, :data:`SAMPLE_BLOCK`); then :meth:`table` gives the values and limits of the pairs
+    (m[i], c[i]) in O(len(m)) and :meth:`screen` a pass/fail test of the checks that need no pass over the samples
+    for index arrays that broadcast (a block of motors × converters). The per-sample checks (peak torque,
+    speed–torque curve, voltage limit) come at three levels: 0 (none: 0, a lower bound), 1 (lower bounds from a
+    few decisive samples, :meth:`JointDuty.strong_samples`), 2 (exact over the samples that can decide them,
+    :meth:`JointDuty.envelope`). A lower bound never passes a pair that fails; each value is computed by the same
+    floating-point operations whatever the pairs asked for, so a pair's checks do not depend on its company.
     """
 
     def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
@@ -186,7 +185,8 @@ class Evaluation:
         limits = limits or DriveLimits()
         weights = duty.time_weights()
         u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
-        self._u, self._eta, self._Jc = u, eta, Jc
+        self._duty, self._u, self._eta, self._Jc = duty, u, eta, Jc
+        self.conv, self.shape = conv, (len(motors), len(conv))
         self.rotor = motors["rotor_inertia"].to_numpy()
         self.rated, self.peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
         self.rated_speed, self.top_speed = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
@@ -194,10 +194,9 @@ class Evaluation:
         checked = np.isfinite(voltage)  # motors with the voltage data
         # u = back_emf |n| + drop |T_m| (V): k_e = k_t, drop = R / k_t
         self.back_emf, self.drop = np.where(checked, kt, 0.0), np.where(checked, resistance / kt, 0.0)
-        shape = (len(motors), len(conv))
-        self.values, self.limits = np.empty(shape + (len(ALL_CHECKS),)), np.empty(shape + (len(ALL_CHECKS),))
-        self.exact = np.zeros(shape, dtype=bool)
-        values, lim, Jm = self.values, self.limits, self.rotor
+        self.voltage = np.where(checked, voltage, math.inf)
+        self.stop = limits.stop_torques(motors)
+        self.inertia_ratio_max = inertia_ratio_max
 
         # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩; the time means a block of samples at a time (memory
         # bounded by SAMPLE_BLOCK, whatever the length of the task)
@@ -211,36 +210,69 @@ class Evaluation:
             mean_speed += np.abs(n) @ w
             top_speed = np.maximum(top_speed, np.abs(n).max(axis=1))
             del n, accel, base
-        values[..., 2] = np.sqrt(np.maximum(np.outer(Jm**2, m_aa) + 2 * np.outer(Jm, m_ab) + m_bb, 0.0))
-        lim[..., 2] = continuous_torque(mean_speed[None, :], self.rated[:, None], self.rated_speed[:, None],
-                                        self.top_speed[:, None])
-        values[..., 3], lim[..., 3] = top_speed[None, :], self.top_speed[:, None]
-        values[..., 4] = (duty.load_inertia / conv.ratio**2 + conv.inertia)[None, :] / Jm[:, None]
-        lim[..., 4] = inertia_ratio_max
-        # transmission (output side)
+        self.m_aa, self.m_ab, self.m_bb, self.mean_speed, self.speed = m_aa, m_ab, m_bb, mean_speed, top_speed
+        self.load_inertia = duty.load_inertia / conv.ratio**2 + conv.inertia  # J_L/u² + J_c (kg·m²)
+        # transmission (output side): values of the duty alone, limits of the converter
         motion = np.abs(duty.speed) * weights
         if motion.sum() == 0:
             motion = weights
-        values[..., 5] = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
-        values[..., 6] = np.abs(duty.torque).max()
-        values[..., 7] = np.outer(limits.stop_torques(motors), conv.ratio)
-        values[..., 8], values[..., 9] = top_speed[None, :], mean_speed[None, :]
-        for k, limit in zip(range(5, 10), (conv.rated_torque, conv.peak_torque, conv.emergency_torque,
-                                           conv.max_input_speed, conv.rated_input_speed)):
-            lim[..., k] = limit[None, :]
-        lim[..., 0], lim[..., 1] = self.peak[:, None], 1.0
-        lim[..., _VOLTAGE] = np.where(checked, voltage, math.inf)[:, None]
-        screw_values, screw_limits = screw_checks(duty, conv, limits.screw_life)
-        values[..., _VOLTAGE + 1:], lim[..., _VOLTAGE + 1:] = screw_values[None], screw_limits[None]
-
-        # the per-sample checks: lower bounds now, exact on demand
-        self._duty = duty
-        strong = duty.strong_samples(2)
-        rows, cols = np.indices(shape)
-        bounds = self._per_sample(rows.ravel(), cols.ravel(), *motor_side(duty, u, eta, Jc, strong))
-        for k, bound in zip(PER_SAMPLE, bounds):
-            values[..., k] = bound.reshape(shape)
+        self.equivalent = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
+        self.peak_load = np.abs(duty.torque).max()
+        self.transmission = np.stack([conv.rated_torque, conv.peak_torque, conv.emergency_torque,
+                                      conv.max_input_speed, conv.rated_input_speed], axis=1)
+        self.screw_values, self.screw_limits = screw_checks(duty, conv, limits.screw_life)
+        # the converters that pass the checks of the converter alone (transmission and screw, but the emergency)
+        alone = np.column_stack([np.full(len(conv), self.equivalent), np.full(len(conv), self.peak_load),
+                                 top_speed, mean_speed, self.screw_values])
+        self.converter_passes = _passes(alone, np.column_stack([self.transmission[:, [0, 1, 3, 4]],
+                                                                self.screw_limits])).all(axis=1)
+        self._strong = motor_side(duty, u, eta, Jc, duty.strong_samples(2))
         self._keep = duty.envelope()
+
+    def table(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(values, limits) of every check (:data:`ALL_CHECKS`) of the pairs (m[i], c[i]), each (len(m),
+        len(ALL_CHECKS)), SI units; the per-sample checks at ``level`` (0: 0, 1: lower bounds, 2: exact)."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        values, lim = np.empty((len(m), len(ALL_CHECKS))), np.empty((len(m), len(ALL_CHECKS)))
+        Jm = self.rotor[m]
+        values[:, 2] = np.sqrt(np.maximum(Jm**2 * self.m_aa[c] + 2 * (Jm * self.m_ab[c]) + self.m_bb[c], 0.0))
+        lim[:, 2] = continuous_torque(self.mean_speed[c], self.rated[m], self.rated_speed[m], self.top_speed[m])
+        values[:, 3], lim[:, 3] = self.speed[c], self.top_speed[m]
+        values[:, 4], lim[:, 4] = self.load_inertia[c] / Jm, self.inertia_ratio_max
+        values[:, 5], values[:, 6], values[:, 7] = self.equivalent, self.peak_load, self.stop[m] * self.conv.ratio[c]
+        values[:, 8], values[:, 9] = self.speed[c], self.mean_speed[c]
+        lim[:, 5:10] = self.transmission[c]
+        lim[:, 0], lim[:, 1], lim[:, _VOLTAGE] = self.peak[m], 1.0, self.voltage[m]
+        values[:, _VOLTAGE + 1:], lim[:, _VOLTAGE + 1:] = self.screw_values[c], self.screw_limits[c]
+        if level == 0:
+            values[:, PER_SAMPLE] = 0.0
+        else:
+            values[:, PER_SAMPLE] = np.column_stack(self._per_sample(m, c, *self._strong)) if level == 1 else \
+                self.per_sample(m, c)
+        return values, lim
+
+    def worst(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> NDArray[np.float64]:
+        """The largest load factor (value/limit) of each pair (m[i], c[i]), the per-sample checks at ``level``."""
+        return _load_factor(*self.table(m, c, level)).max(axis=1)
+
+    def checks(self, m: int, c: int) -> list[Check]:
+        """The checks of one pair that apply (finite limit), exact."""
+        values, lim = self.table([m], [c])
+        return _check_list(values[0], lim[0])
+
+    def screen(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Whether the pairs (m, c) — index arrays that broadcast, e.g. a column of motors and a row of converters
+        — pass every check that needs no pass over the samples: those of the converter alone
+        (:attr:`converter_passes`), RMS torque, max speed, inertia ratio and emergency torque; and the peak
+        torque's bound RMS ≤ max |T_m| (with room for rounding). Necessary for a pass (never false for a pair
+        that passes every check), in the same floating-point operations as :meth:`table`."""
+        Jm = self.rotor[m]
+        ok = self.converter_passes[c] & _passes(self.speed[c], self.top_speed[m]) \
+            & _passes(self.load_inertia[c] / Jm, self.inertia_ratio_max) \
+            & _passes(self.stop[m] * self.conv.ratio[c], self.transmission[c, 2])
+        rms = np.sqrt(np.maximum(Jm**2 * self.m_aa[c] + 2 * (Jm * self.m_ab[c]) + self.m_bb[c], 0.0))
+        return ok & _passes(rms * (1 - 1e-6), self.peak[m]) & _passes(rms, continuous_torque(
+            self.mean_speed[c], self.rated[m], self.rated_speed[m], self.top_speed[m]))
 
     def _per_sample(self, m: NDArray[np.intp], c: NDArray[np.intp], n: NDArray[np.float64],
                     accel: NDArray[np.float64], base: NDArray[np.float64]
@@ -255,20 +287,62 @@ class Evaluation:
         voltage = self.back_emf[m, None] * np.abs(n[c]) + self.drop[m, None] * torque
         return torque.max(axis=1), _load_factor(torque, available).max(axis=1), voltage.max(axis=1)
 
-    def refine(self, m: ArrayLike, c: ArrayLike, batch: int = 512) -> None:
-        """Make the per-sample checks exact for the pairs (m[i], c[i])."""
+    def per_sample(self, m: ArrayLike, c: ArrayLike, batch: int = 512) -> NDArray[np.float64]:
+        """The exact per-sample checks (:data:`PER_SAMPLE`) of the pairs (m[i], c[i]), (len(m), 3), over the
+        samples that can decide them; ``batch`` pairs at a time, so that the (pairs, samples) arrays stay within
+        :data:`SAMPLE_BLOCK` elements."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
-        todo = ~self.exact[m, c]
-        m, c = m[todo], c[todo]
-        batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._keep))))  # (batch, samples) arrays stay bounded
+        out = np.empty((len(m), len(PER_SAMPLE)))
+        batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._keep))))
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
             used = np.unique(cb)  # the converters of the batch, at the samples that can decide
             side = motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], self._keep)
-            exact = self._per_sample(mb, np.searchsorted(used, cb), *side)
-            for k, value in zip(PER_SAMPLE, exact):
-                self.values[mb, cb, k] = value
-            self.exact[mb, cb] = True
+            out[start:start + batch] = np.column_stack(self._per_sample(mb, np.searchsorted(used, cb), *side))
+        return out
+
+
+def _passes(value: ArrayLike, limit: ArrayLike) -> NDArray[np.bool_]:
+    """Whether value/limit ≤ 1 + PASS_TOLERANCE, as :func:`_load_factor` counts it (0/0 passes, x/0 fails)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (value <= 0) | ((limit > 0) & (value / limit <= 1 + PASS_TOLERANCE))
+
+
+def _check_list(values: NDArray[np.float64], limits: NDArray[np.float64]) -> list[Check]:
+    """The checks of one pair whose limit is finite (they apply)."""
+    return [Check(name, float(values[k]), float(limits[k]), ALL_UNITS[k])
+            for k, name in enumerate(ALL_CHECKS) if math.isfinite(limits[k])]
+
+
+class Evaluation:
+    """The checks of every motor × converter pair of one joint as arrays: ``values`` and ``limits`` (N_m, N_c,
+    len(ALL_CHECKS)), for small catalogs and tests (the sizing itself goes through :class:`PairChecks` a chunk of
+    pairs at a time).
+
+    The per-sample checks (peak torque, speed–torque curve, voltage limit) start as lower bounds from a few decisive
+    samples (:meth:`JointDuty.strong_samples`) and are made exact for the pairs given to :meth:`refine` (``exact``
+    marks them) over the samples that can decide them (:meth:`JointDuty.envelope`). Every other check is exact from
+    the start. A lower bound never passes a pair that fails.
+    """
+
+    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
+                 limits: DriveLimits | None = None):
+        self.pairs = PairChecks(duty, motors, conv, inertia_ratio_max, limits)
+        shape = self.pairs.shape
+        rows, cols = np.indices(shape)
+        values, lim = self.pairs.table(rows.ravel(), cols.ravel(), level=1)
+        self.values, self.limits = values.reshape(shape + (-1,)), lim.reshape(shape + (-1,))
+        self.exact = np.zeros(shape, dtype=bool)
+
+    def refine(self, m: ArrayLike, c: ArrayLike) -> None:
+        """Make the per-sample checks exact for the pairs (m[i], c[i])."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        todo = ~self.exact[m, c]
+        m, c = m[todo], c[todo]
+        exact = self.pairs.per_sample(m, c)
+        for i, k in enumerate(PER_SAMPLE):
+            self.values[m, c, k] = exact[:, i]
+        self.exact[m, c] = True
 
     def refine_all(self) -> Evaluation:
         m, c = np.nonzero(~self.exact)
@@ -279,14 +353,6 @@ class Evaluation:
         """value/limit of every check, (N_m, N_c, len(ALL_CHECKS)); > 1 fails."""
         return _load_factor(self.values, self.limits)
 
-    def load_factors_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
-        """value/limit of every check of the pairs (m, c): (..., len(ALL_CHECKS))."""
-        return _load_factor(self.values[m, c], self.limits[m, c])
-
-    def worst_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
-        """The largest load factor of the pairs (m, c)."""
-        return self.load_factors_of(m, c).max(axis=-1)
-
     def worst(self) -> NDArray[np.float64]:
         """The largest load factor of every pair, (N_m, N_c): exact where :attr:`exact`, else a lower bound."""
         return self.load_factors().max(axis=2)
@@ -294,13 +360,7 @@ class Evaluation:
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), made exact first."""
         self.refine([m], [c])
-        return [Check(name, float(self.values[m, c, k]), float(self.limits[m, c, k]), ALL_UNITS[k])
-                for k, name in enumerate(ALL_CHECKS) if math.isfinite(self.limits[m, c, k])]
-
-    def failed(self, m: int, c: int) -> list[str]:
-        """The checks the pair (m, c) fails, as ``name ×load factor``."""
-        factors = self.load_factors_of(m, c)
-        return [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(ALL_CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
+        return _check_list(self.values[m, c], self.limits[m, c])
 
 
 def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
