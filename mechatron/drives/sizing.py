@@ -227,6 +227,8 @@ def fastest_scale(passes: Callable[[float], bool], k_min: float = 0.02, k_max: f
 #: Pairs evaluated at a time (a block of motors × every converter, or a slice of the ranking's order): the
 #: sizing's memory does not grow with the catalogs beyond this and the per-motor and per-converter arrays.
 CHUNK = 1 << 15
+#: Pairs in the first slice of the ranking's order (:func:`_first_in_order`; each next slice twice as many).
+FIRST_SLICE = 1 << 11
 
 
 def _motor_blocks(checks: PairChecks) -> list[slice]:
@@ -251,9 +253,9 @@ def _pairs_between(first: np.ndarray, second: np.ndarray, low: float, high: floa
     """The pairs (m, c) with low < first[m] + second[c] ≤ high, in catalog order (m, then c)."""
     order = np.argsort(second, kind="stable")
     ordered = second[order]
-    room = 1e-9 * (abs(high) + abs(low) + np.abs(first) + 1.0)  # the sums' rounding: filtered exactly below
-    lo = np.searchsorted(ordered, low - first - room, side="left") if math.isfinite(low) else np.zeros(len(first),
-                                                                                                        dtype=int)
+    room = 1e-9 * (abs(high) + np.abs(first) + 1.0)  # the sums' rounding: the pairs are filtered exactly below
+    lo = np.searchsorted(ordered, low - first - room, side="left") if math.isfinite(low) else \
+        np.zeros(len(first), dtype=int)
     hi = np.searchsorted(ordered, high - first + room, side="right")
     counts = np.maximum(hi - lo, 0)
     m = np.repeat(np.arange(len(first)), counts)
@@ -298,7 +300,7 @@ def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], 
     with about :data:`CHUNK` pairs, then twice as many, …; the pairs of a slice sorted), so that the memory stays
     with the slice and the work with the pairs before the ``count``-th feasible one."""
     found_m, found_c, tail_m, tail_c = [], [], np.zeros(0, dtype=int), np.zeros(0, dtype=int)
-    low, size, top = -math.inf, CHUNK, float(primary[0].max() + primary[1].max())
+    low, size, top = -math.inf, FIRST_SLICE, float(primary[0].max() + primary[1].max())
     prior: tuple[np.ndarray, np.ndarray] | None = None
     while low < top and sum(len(x) for x in found_m) < count:
         high = _threshold(*primary, low, size)
