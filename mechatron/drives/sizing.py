@@ -283,10 +283,13 @@ def _threshold(first: np.ndarray, second: np.ndarray, low: float, count: int) ->
     a, b = (float(first.min() + ordered[0]) if not math.isfinite(low) else low), top
     for _ in range(60):
         middle = 0.5 * (a + b)
-        if pairs_below(middle) - below < count:
+        found = pairs_below(middle) - below
+        if found < count:
             a = middle
         else:
             b = middle
+            if found <= 2 * count:
+                break
     return b
 
 
@@ -902,7 +905,18 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
 
     lengths = cylinder_lengths(mech, trajectory)
 
+    sized: dict[tuple, DriveSizing] = {}
+
     def size_one(duty: JointDuty, scale: float | None) -> DriveSizing:
+        """The sizing of one coordinate, once per duty and pace: a pass repeats the duties of the coordinates
+        whose load did not change (the same arrays give the same choice)."""
+        key = (duty.name, scale, duty.load_inertia, duty.stroke, *(None if x is None else x.tobytes() for x in (
+            duty.t, duty.speed, duty.acceleration, duty.torque, duty.static_torque, duty.moving)))
+        if key not in sized:
+            sized[key] = size_fresh(duty, scale)
+        return sized[key]
+
+    def size_fresh(duty: JointDuty, scale: float | None) -> DriveSizing:
         if duty.kind == "cylinder":
             spec, length = mech.cylinders[duty.name], lengths[duty.name]
             if objective == "time":
