@@ -65,6 +65,9 @@ UNITS = ("N·m", "-", "N·m", "rad/s", "-", "N·m", "N·m", "N·m", "rad/s", "ra
 ALL_CHECKS = CHECKS + ("voltage limit",) + SCREW_CHECKS
 ALL_UNITS = UNITS + ("V",) + SCREW_UNITS
 _VOLTAGE = len(CHECKS)
+#: Converters × samples up to which the time means of every converter are computed at once (small catalogs);
+#: beyond, only for the converters a step needs (:class:`PairChecks`).
+ALL_AT_ONCE = 1 << 18
 #: The checks evaluated sample by sample (lower bounds until refined).
 PER_SAMPLE = (0, 1, _VOLTAGE)
 #: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
@@ -198,19 +201,14 @@ class PairChecks:
         self.stop = limits.stop_torques(motors)
         self.inertia_ratio_max = inertia_ratio_max
 
-        # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩; the time means a block of samples at a time (memory
-        # bounded by SAMPLE_BLOCK, whatever the length of the task)
-        m_aa, m_ab, m_bb, mean_speed, top_speed = (np.zeros(len(conv)) for _ in range(5))
-        for block in _blocks(len(weights), len(conv)):
-            n, accel, base = motor_side(duty, u, eta, Jc, block)  # (N_c, samples of the block)
-            w = weights[block]
-            m_aa += (accel**2) @ w
-            m_ab += (accel * base) @ w
-            m_bb += (base**2) @ w
-            mean_speed += np.abs(n) @ w
-            top_speed = np.maximum(top_speed, np.abs(n).max(axis=1))
-            del n, accel, base
-        self.m_aa, self.m_ab, self.m_bb, self.mean_speed, self.speed = m_aa, m_ab, m_bb, mean_speed, top_speed
+        # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩ and the mean and top motor speeds of each converter:
+        # exact (sums over the samples) for the converters asked for (:meth:`_means`), every one at once for small
+        # catalogs; in closed form from moments of the duty for the screening (:meth:`_bounds`)
+        self._weights = weights
+        self._exact = np.full((5, len(conv)), math.nan)
+        if len(conv) * len(weights) <= ALL_AT_ONCE:
+            self._means(np.arange(len(conv)))
+        self._closed_form(duty, weights, conv)
         self.load_inertia = duty.load_inertia / conv.ratio**2 + conv.inertia  # J_L/u² + J_c (kg·m²)
         # transmission (output side): values of the duty alone, limits of the converter
         motion = np.abs(duty.speed) * weights
@@ -223,7 +221,7 @@ class PairChecks:
         self.screw_values, self.screw_limits = screw_checks(duty, conv, limits.screw_life)
         # the converters that pass the checks of the converter alone (transmission and screw, but the emergency)
         alone = np.column_stack([np.full(len(conv), self.equivalent), np.full(len(conv), self.peak_load),
-                                 top_speed, mean_speed, self.screw_values])
+                                 self._top_low, self._mean_low, self.screw_values])
         self.converter_passes = _passes(alone, np.column_stack([self.transmission[:, [0, 1, 3, 4]],
                                                                 self.screw_limits])).all(axis=1)
         self._strong = motor_side(duty, u, eta, Jc, duty.strong_samples(2))
@@ -235,12 +233,17 @@ class PairChecks:
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         values, lim = np.empty((len(m), len(ALL_CHECKS))), np.empty((len(m), len(ALL_CHECKS)))
         Jm = self.rotor[m]
-        values[:, 2] = np.sqrt(np.maximum(Jm**2 * self.m_aa[c] + 2 * (Jm * self.m_ab[c]) + self.m_bb[c], 0.0))
-        lim[:, 2] = continuous_torque(self.mean_speed[c], self.rated[m], self.rated_speed[m], self.top_speed[m])
-        values[:, 3], lim[:, 3] = self.speed[c], self.top_speed[m]
+        if level == 0:
+            rms, mean_speed, top_speed = self._bounds(m, c)
+        else:
+            m_aa, m_ab, m_bb, mean_speed, top_speed = self._means(c)[:, c]
+            rms = np.sqrt(np.maximum(Jm**2 * m_aa + 2 * (Jm * m_ab) + m_bb, 0.0))
+        values[:, 2] = rms
+        lim[:, 2] = continuous_torque(mean_speed, self.rated[m], self.rated_speed[m], self.top_speed[m])
+        values[:, 3], lim[:, 3] = top_speed, self.top_speed[m]
         values[:, 4], lim[:, 4] = self.load_inertia[c] / Jm, self.inertia_ratio_max
         values[:, 5], values[:, 6], values[:, 7] = self.equivalent, self.peak_load, self.stop[m] * self.conv.ratio[c]
-        values[:, 8], values[:, 9] = self.speed[c], self.mean_speed[c]
+        values[:, 8], values[:, 9] = top_speed, mean_speed
         lim[:, 5:10] = self.transmission[c]
         lim[:, 0], lim[:, 1], lim[:, _VOLTAGE] = self.peak[m], 1.0, self.voltage[m]
         values[:, _VOLTAGE + 1:], lim[:, _VOLTAGE + 1:] = self.screw_values[c], self.screw_limits[c]
@@ -266,13 +269,69 @@ class PairChecks:
         (:attr:`converter_passes`), RMS torque, max speed, inertia ratio and emergency torque; and the peak
         torque's bound RMS ≤ max |T_m| (with room for rounding). Necessary for a pass (never false for a pair
         that passes every check), in the same floating-point operations as :meth:`table`."""
-        Jm = self.rotor[m]
-        ok = self.converter_passes[c] & _passes(self.speed[c], self.top_speed[m]) \
-            & _passes(self.load_inertia[c] / Jm, self.inertia_ratio_max) \
+        rms, mean_speed, top_speed = self._bounds(m, c)
+        ok = self.converter_passes[c] & _passes(top_speed, self.top_speed[m]) \
+            & _passes(self.load_inertia[c] / self.rotor[m], self.inertia_ratio_max) \
             & _passes(self.stop[m] * self.conv.ratio[c], self.transmission[c, 2])
-        rms = np.sqrt(np.maximum(Jm**2 * self.m_aa[c] + 2 * (Jm * self.m_ab[c]) + self.m_bb[c], 0.0))
         return ok & _passes(rms * (1 - 1e-6), self.peak[m]) & _passes(rms, continuous_torque(
-            self.mean_speed[c], self.rated[m], self.rated_speed[m], self.top_speed[m]))
+            mean_speed, self.rated[m], self.rated_speed[m], self.top_speed[m]))
+
+    def _means(self, c: NDArray[np.intp]) -> NDArray[np.float64]:
+        """(⟨a²⟩, ⟨a b⟩, ⟨b²⟩, ⟨|n|⟩, max |n|) of every converter (5, N_c) (a, b, n of :func:`motor_side`;
+        trapezoidal time means), computed now for those of ``c`` not computed yet, all of them together, a block of
+        samples at a time (memory bounded by :data:`SAMPLE_BLOCK`, whatever the length of the task)."""
+        todo = np.unique(c[np.isnan(self._exact[0, c])])
+        if len(todo) == 0:
+            return self._exact
+        u, eta, Jc, weights = self._u[todo], self._eta[todo], self._Jc[todo], self._weights
+        m_aa, m_ab, m_bb, mean_speed, top_speed = (np.zeros(len(todo)) for _ in range(5))
+        for block in _blocks(len(weights), len(todo)):
+            n, accel, base = motor_side(self._duty, u, eta, Jc, block)  # (converters, samples of the block)
+            w = weights[block]
+            m_aa += (accel**2) @ w
+            m_ab += (accel * base) @ w
+            m_bb += (base**2) @ w
+            mean_speed += np.abs(n) @ w
+            top_speed = np.maximum(top_speed, np.abs(n).max(axis=1))
+            del n, accel, base
+        self._exact[:, todo] = m_aa, m_ab, m_bb, mean_speed, top_speed
+        return self._exact
+
+    def _closed_form(self, duty: JointDuty, weights: NDArray[np.float64], conv: Converters) -> None:
+        r"""The time means of every converter from seven moments of the duty, O(samples + N_c): with
+        T_m = K u ω̇ + L, K = J_m + J_c, L = τ/(u η) where the load takes power (τ ω ≥ 0) and τ η / u elsewhere,
+
+            ⟨T_m²⟩ = K² u² ⟨ω̇²⟩ + 2 K (⟨ω̇ τ⟩₊/η + η ⟨ω̇ τ⟩₋) + (⟨τ²⟩₊/η² + η² ⟨τ²⟩₋) / u²,
+
+        ⟨·⟩₊ and ⟨·⟩₋ the time means over the motoring and the braking samples; ⟨|n|⟩ = |u| ⟨|ω|⟩ and
+        max |n| = |u| max |ω|. They equal the sums over the samples up to rounding: relative to the same sum of
+        magnitudes, M = K² u² ⟨ω̇²⟩ + 2 K (⟨|ω̇ τ|⟩₊/η + η ⟨|ω̇ τ|⟩₋) + ⟨L²⟩, both differ by at most ~N ε (N
+        samples, ε the machine epsilon); the bounds of :meth:`_bounds` subtract ROUNDING = max(1e-9, 8 N ε) of it."""
+        motoring = duty.torque * duty.speed >= 0
+        product = duty.acceleration * duty.torque
+
+        def mean(x: NDArray[np.float64], where: NDArray[np.bool_]) -> float:
+            return float(weights @ np.where(where, x, 0.0))
+
+        u, eta = conv.ratio, conv.efficiency
+        self._aa = u**2 * float(weights @ duty.acceleration**2)
+        self._cross = mean(product, motoring) / eta + eta * mean(product, ~motoring)
+        self._cross_abs = mean(np.abs(product), motoring) / eta + eta * mean(np.abs(product), ~motoring)
+        self._load2 = (mean(duty.torque**2, motoring) / eta**2 + eta**2 * mean(duty.torque**2, ~motoring)) / u**2
+        self._rounding = max(1e-9, 8 * len(weights) * np.finfo(float).eps)
+        low = 1 - self._rounding
+        self._mean_low = np.abs(u) * float(weights @ np.abs(duty.speed)) * low
+        self._top_low = np.abs(u) * float(np.abs(duty.speed).max(initial=0.0)) * low
+
+    def _bounds(self, m: NDArray[np.intp], c: NDArray[np.intp]
+                ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Lower bounds of (RMS motor torque, mean motor speed, top motor speed) of the pairs (m, c) (index arrays
+        that broadcast), in closed form (:meth:`_closed_form`): the exact values are at least these."""
+        K = self.rotor[m] + self.conv.inertia[c]
+        square = K**2 * self._aa[c] + 2 * K * self._cross[c] + self._load2[c]
+        magnitude = K**2 * self._aa[c] + 2 * K * self._cross_abs[c] + self._load2[c]
+        rms = np.sqrt(np.maximum(square - self._rounding * magnitude, 0.0))
+        return rms, self._mean_low[c], self._top_low[c]
 
     def _per_sample(self, m: NDArray[np.intp], c: NDArray[np.intp], n: NDArray[np.float64],
                     accel: NDArray[np.float64], base: NDArray[np.float64]
