@@ -300,8 +300,8 @@ def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], 
     nearest first (all fail a check): (m, c) of the feasible ones and (m, c) of those before.
 
     The pairs are taken in slices of the order, each the pairs whose score lies in the next interval (an interval
-    with about :data:`CHUNK` pairs, then twice as many, …; the pairs of a slice sorted), so that the memory stays
-    with the slice and the work with the pairs before the ``count``-th feasible one."""
+    with about :data:`FIRST_SLICE` pairs, then twice as many, … up to :data:`CHUNK`; the pairs of a slice sorted),
+    so that the memory stays with the slice and the work with the pairs before the ``count``-th feasible one."""
     found_m, found_c, tail_m, tail_c = [], [], np.zeros(0, dtype=int), np.zeros(0, dtype=int)
     low, size, top = -math.inf, FIRST_SLICE, float(primary[0].max() + primary[1].max())
     prior: tuple[np.ndarray, np.ndarray] | None = None
@@ -322,7 +322,7 @@ def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], 
             found_c.append(c_part[ok])
             if sum(len(x) for x in found_m) >= count:
                 break
-        low, size = high, min(2 * size, 4 * CHUNK)
+        low, size = high, min(2 * size, CHUNK)
     m, c = np.concatenate(found_m)[:count], np.concatenate(found_c)[:count]
     return m, c, *(prior if prior is not None else (m[:0], c[:0]))
 
@@ -825,14 +825,27 @@ def sizing_bytes(nv: int) -> float:
     return 8.0 * (64 + 48 * nv)
 
 
-def sizing_fixed_bytes(samples: float = math.inf) -> float:
-    """Bytes of the blocks of the per-pair checks (converters × samples, at most
-    :data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few arrays of them at once; 512 converters counted)
-    and of the checks of every motor × converter pair of the example catalogs (32 MiB), for a task of ``samples``
-    samples: they stop growing with the task at the block's size."""
+def sizing_fixed_bytes(samples: float = math.inf, converters: int = 512, pairs: int = 2 * CHUNK) -> float:
+    """Bytes of the per-converter time means (converters × samples, a block of at most
+    :data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few arrays of them at once) and of the pairs evaluated
+    at a time (at most two :data:`CHUNK` of them, 160 bytes each: indices, scores, checks), for a task of
+    ``samples`` samples and a joint with ``converters`` converters and ``pairs`` motor × converter pairs: they stop
+    growing with the task at the block's size and with the catalogs at the chunk's."""
     from . import checks
 
-    return 8.0 * 8 * min(checks.SAMPLE_BLOCK, 512 * samples) + 32 * 2**20
+    return 8.0 * 8 * min(checks.SAMPLE_BLOCK, converters * samples) + 160.0 * min(pairs, 2 * CHUNK)
+
+
+def _catalog_counts(motors: pd.DataFrame | None, gearboxes: pd.DataFrame | None, linear: pd.DataFrame | None
+                    ) -> tuple[int, int]:
+    """(converters, pairs) of the largest joint the catalogs (the example ones where left out) can give."""
+    from .catalogs import default_catalog
+
+    def rows(catalog: pd.DataFrame | None, kind: str) -> int:
+        return len(catalog if catalog is not None else default_catalog(kind))
+
+    converters = max(rows(gearboxes, "gearboxes") + 1, rows(linear, "linear"))
+    return converters, rows(motors, "motors") * converters
 
 
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
@@ -888,7 +901,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     warn_limits(mech, trajectory, f"task '{task}'")
     require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
             sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
-            fixed=sizing_fixed_bytes(len(trajectory.t)),
+            fixed=sizing_fixed_bytes(len(trajectory.t), *_catalog_counts(motors, gearboxes, linear)),
             advice="use fewer samples (a larger time step of the trajectory)")
     bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
             if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
