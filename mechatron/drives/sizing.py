@@ -238,10 +238,11 @@ def _motor_blocks(checks: PairChecks) -> list[slice]:
     return [slice(start, min(start + step, motors)) for start in range(0, motors, step)]
 
 
-def _feasible(checks: PairChecks, m: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Which pairs (m[i], c[i]) pass every check: the checks without samples first (:meth:`PairChecks.screen`),
-    then lower bounds of the per-sample ones, then those exact, each on the pairs the one before let through."""
-    ok = checks.screen(m, c)
+def _feasible(checks: PairChecks, m: np.ndarray, c: np.ndarray, screened: bool = False) -> np.ndarray:
+    """Which pairs (m[i], c[i]) pass every check: the checks without samples first (:meth:`PairChecks.screen`;
+    ``screened``: the pairs passed it already), then lower bounds of the per-sample ones, then those exact, each on
+    the pairs the one before let through."""
+    ok = np.ones(len(m), dtype=bool) if screened else checks.screen(m, c)
     for level in (1, 2):
         index = np.flatnonzero(ok)
         ok[index] = checks.worst(m[index], c[index], level) <= 1 + PASS_TOLERANCE
@@ -293,6 +294,13 @@ def _threshold(first: np.ndarray, second: np.ndarray, low: float, count: int) ->
     return b
 
 
+def _in_order(m: np.ndarray, c: np.ndarray, primary: tuple[np.ndarray, np.ndarray],
+              tie: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs (m, c), given in catalog order, sorted by primary, then tie (stable: catalog order last)."""
+    order = np.lexsort((tie[0][m] + tie[1][c], primary[0][m] + primary[1][c]))
+    return m[order], c[order]
+
+
 def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray],
                     count: int, before: int = 2) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The first ``count`` feasible pairs in the order of the score primary[0][m] + primary[1][c], then of
@@ -300,31 +308,49 @@ def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], 
     nearest first (all fail a check): (m, c) of the feasible ones and (m, c) of those before.
 
     The pairs are taken in slices of the order, each the pairs whose score lies in the next interval (an interval
-    with about :data:`FIRST_SLICE` pairs, then twice as many, … up to :data:`CHUNK`; the pairs of a slice sorted),
-    so that the memory stays with the slice and the work with the pairs before the ``count``-th feasible one."""
-    found_m, found_c, tail_m, tail_c = [], [], np.zeros(0, dtype=int), np.zeros(0, dtype=int)
+    with about :data:`FIRST_SLICE` pairs, then twice as many, … up to :data:`CHUNK`), so that the memory stays with
+    the slice and the work with the pairs before the ``count``-th feasible one. In a slice the pairs that pass the
+    screening (:meth:`PairChecks.screen`) are sorted and checked in order; the pairs before the first feasible one
+    are found among all the pairs of its slice (and of the slice before)."""
+    found_m, found_c = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)]
     low, size, top = -math.inf, FIRST_SLICE, float(primary[0].max() + primary[1].max())
+    previous = (np.zeros(0, dtype=int), np.zeros(0, dtype=int))
     prior: tuple[np.ndarray, np.ndarray] | None = None
     while low < top and sum(len(x) for x in found_m) < count:
         high = _threshold(*primary, low, size)
         m, c = _pairs_between(*primary, low, high)
-        order = np.lexsort((tie[0][m] + tie[1][c], primary[0][m] + primary[1][c]))
-        for part in range(0, len(order), CHUNK):
-            m_part, c_part = m[order[part:part + CHUNK]], c[order[part:part + CHUNK]]
-            ok = np.flatnonzero(_feasible(checks, m_part, c_part))
+        alive = checks.screen(m, c)
+        ms, cs = _in_order(m[alive], c[alive], primary, tie)
+        for part in range(0, len(ms), FIRST_SLICE):
+            m_part, c_part = ms[part:part + FIRST_SLICE], cs[part:part + FIRST_SLICE]
+            ok = np.flatnonzero(_feasible(checks, m_part, c_part, screened=True))
             if prior is None and len(ok):
-                prior = (np.concatenate([tail_m, m_part[:ok[0]]])[::-1][:before],
-                         np.concatenate([tail_c, c_part[:ok[0]]])[::-1][:before])
-            elif prior is None:
-                tail_m = np.concatenate([tail_m, m_part])[-before:]
-                tail_c = np.concatenate([tail_c, c_part])[-before:]
+                prior = _just_before((m, c), previous, (m_part[ok[0]], c_part[ok[0]]), primary, tie, before)
             found_m.append(m_part[ok])
             found_c.append(c_part[ok])
             if sum(len(x) for x in found_m) >= count:
                 break
-        low, size = high, min(2 * size, CHUNK)
+        previous, low, size = (m, c), high, min(2 * size, CHUNK)
     m, c = np.concatenate(found_m)[:count], np.concatenate(found_c)[:count]
     return m, c, *(prior if prior is not None else (m[:0], c[:0]))
+
+
+def _just_before(pairs: tuple[np.ndarray, np.ndarray], previous: tuple[np.ndarray, np.ndarray],
+                 pair: tuple[int, int], primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray],
+                 count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` pairs just before ``pair`` in the order of :func:`_in_order`, nearest first, among ``pairs``
+    (its slice, catalog order) and, when these are too few, ``previous`` (the slice before)."""
+    m, c = pairs
+    size = len(primary[1])
+    score, tied = primary[0][m] + primary[1][c], tie[0][m] + tie[1][c]
+    f_score, f_tied = primary[0][pair[0]] + primary[1][pair[1]], tie[0][pair[0]] + tie[1][pair[1]]
+    earlier = (score < f_score) | ((score == f_score) & ((tied < f_tied) | ((tied == f_tied) & (
+        m * size + c < pair[0] * size + pair[1]))))
+    m, c = _in_order(m[earlier], c[earlier], primary, tie)
+    if len(m) < count:
+        pm, pc = _in_order(*previous, primary, tie)
+        m, c = np.concatenate([pm, m]), np.concatenate([pc, c])
+    return m[::-1][:count], c[::-1][:count]
 
 
 def _smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) -> tuple[np.ndarray, np.ndarray]:
