@@ -225,7 +225,7 @@ class PairChecks:
         self.converter_passes = _passes(alone, np.column_stack([self.transmission[:, [0, 1, 3, 4]],
                                                                 self.screw_limits])).all(axis=1)
         self._strong = motor_side(duty, u, eta, Jc, duty.strong_samples(2))
-        self._keep = duty.envelope()
+        self._keep: NDArray[np.intp] | None = None  # the envelope's samples, when first needed
 
     def table(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(values, limits) of every check (:data:`ALL_CHECKS`) of the pairs (m[i], c[i]), each (len(m),
@@ -275,6 +275,12 @@ class PairChecks:
             & _passes(self.stop[m] * self.conv.ratio[c], self.transmission[c, 2])
         return ok & _passes(rms * (1 - 1e-6), self.peak[m]) & _passes(rms, continuous_torque(
             mean_speed, self.rated[m], self.rated_speed[m], self.top_speed[m]))
+
+    def bounds_pass(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Whether the pairs (m[i], c[i]) pass the per-sample checks at the few decisive samples (level 1): necessary
+        for a pass, without the other checks."""
+        torque, curve, voltage = self._per_sample(m, c, *self._strong)
+        return _passes(torque, self.peak[m]) & _passes(curve, 1.0) & _passes(voltage, self.voltage[m])
 
     def _means(self, c: NDArray[np.intp]) -> NDArray[np.float64]:
         """(⟨a²⟩, ⟨a b⟩, ⟨b²⟩, ⟨|n|⟩, max |n|) of every converter (5, N_c) (a, b, n of :func:`motor_side`;
@@ -352,6 +358,8 @@ class PairChecks:
         :data:`SAMPLE_BLOCK` elements."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         out = np.empty((len(m), len(PER_SAMPLE)))
+        if self._keep is None:
+            self._keep = self._duty.envelope()
         batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._keep))))
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]

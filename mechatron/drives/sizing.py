@@ -243,9 +243,10 @@ def _feasible(checks: PairChecks, m: np.ndarray, c: np.ndarray, screened: bool =
     ``screened``: the pairs passed it already), then lower bounds of the per-sample ones, then those exact, each on
     the pairs the one before let through."""
     ok = np.ones(len(m), dtype=bool) if screened else checks.screen(m, c)
-    for level in (1, 2):
-        index = np.flatnonzero(ok)
-        ok[index] = checks.worst(m[index], c[index], level) <= 1 + PASS_TOLERANCE
+    index = np.flatnonzero(ok)
+    ok[index] = checks.bounds_pass(m[index], c[index])
+    index = np.flatnonzero(ok)
+    ok[index] = checks.worst(m[index], c[index]) <= 1 + PASS_TOLERANCE
     return ok
 
 
@@ -404,7 +405,7 @@ def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inert
             index = np.arange(block.start, block.stop)
             mm, cc = np.nonzero(checks.screen(index[:, None], usable[None, :]))
             m, c = index[mm], usable[cc]
-            ok = np.flatnonzero(_feasible(checks, m, c))
+            ok = np.flatnonzero(_feasible(checks, m, c, screened=True))
             if len(ok):
                 last[:] = [(int(m[ok[0]]), int(c[ok[0]]))]
                 return True
