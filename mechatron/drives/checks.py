@@ -420,9 +420,22 @@ class Evaluation:
         """value/limit of every check, (N_m, N_c, len(ALL_CHECKS)); > 1 fails."""
         return _load_factor(self.values, self.limits)
 
+    def load_factors_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
+        """value/limit of every check of the pairs (m, c): (..., len(ALL_CHECKS))."""
+        return _load_factor(self.values[m, c], self.limits[m, c])
+
+    def worst_of(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
+        """The largest load factor of the pairs (m, c)."""
+        return self.load_factors_of(m, c).max(axis=-1)
+
     def worst(self) -> NDArray[np.float64]:
         """The largest load factor of every pair, (N_m, N_c): exact where :attr:`exact`, else a lower bound."""
         return self.load_factors().max(axis=2)
+
+    def failed(self, m: int, c: int) -> list[str]:
+        """The checks the pair (m, c) fails, as ``name ×load factor``."""
+        factors = self.load_factors_of(m, c)
+        return [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(ALL_CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
 
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), made exact first."""
