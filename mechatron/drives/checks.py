@@ -65,6 +65,9 @@ UNITS = ("N·m", "-", "N·m", "rad/s", "-", "N·m", "N·m", "N·m", "rad/s", "ra
 ALL_CHECKS = CHECKS + ("voltage limit",) + SCREW_CHECKS
 ALL_UNITS = UNITS + ("V",) + SCREW_UNITS
 _VOLTAGE = len(CHECKS)
+#: Converters × samples up to which the time means of every converter are computed at once (small catalogs);
+#: beyond, only for the converters a step needs (:class:`PairChecks`).
+ALL_AT_ONCE = 1 << 18
 #: The checks evaluated sample by sample (lower bounds until refined).
 PER_SAMPLE = (0, 1, _VOLTAGE)
 #: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
@@ -167,18 +170,17 @@ def _blocks(samples: int, converters: int) -> list[slice]:
     return [slice(start, min(start + size, samples)) for start in range(0, max(samples, 1), size)]
 
 
-class Evaluation:
-    """The checks of every motor × converter pair of one joint: ``values`` and ``limits`` (N_m, N_c,
-    len(ALL_CHECKS)).
+class PairChecks:
+    r"""The checks of one joint for any list of motor × converter pairs, without a (N_m, N_c) array.
 
-    The per-sample checks (peak torque, speed–torque curve, voltage limit) cost a pass over the samples per pair;
-    they start as lower bounds from a few decisive samples (:meth:`JointDuty.strong_samples`) and are made exact
-    for the pairs given to :meth:`refine` (``exact`` marks them) over the samples that can decide them
-    (:meth:`JointDuty.envelope`: the voltage k_t |n| + R |T_m| / k_t grows with |n| and |T_m| like the load on the
-    speed–torque curve). Every other check is exact from the start (time means over the samples per converter,
-    combined per motor). A lower bound never passes a pair that fails. The work goes a block of samples (of pairs in
-    :meth:`refine`) at a time, so that its memory stays within :data:`SAMPLE_BLOCK` elements per array however long
-    the task.
+    Built once per joint in O((N_m + N_c) · samples) work and memory (the time means per converter a block of
+    samples at a time, :data:`SAMPLE_BLOCK`); then :meth:`table` gives the values and limits of the pairs
+    (m[i], c[i]) in O(len(m)) and :meth:`screen` a pass/fail test of the checks that need no pass over the samples
+    for index arrays that broadcast (a block of motors × converters). The per-sample checks (peak torque,
+    speed–torque curve, voltage limit) come at three levels: 0 (none: 0, a lower bound), 1 (lower bounds from a
+    few decisive samples, :meth:`JointDuty.strong_samples`), 2 (exact over the samples that can decide them,
+    :meth:`JointDuty.envelope`). A lower bound never passes a pair that fails; each value is computed by the same
+    floating-point operations whatever the pairs asked for, so a pair's checks do not depend on its company.
     """
 
     def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
@@ -186,7 +188,8 @@ class Evaluation:
         limits = limits or DriveLimits()
         weights = duty.time_weights()
         u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
-        self._u, self._eta, self._Jc = u, eta, Jc
+        self._duty, self._u, self._eta, self._Jc = duty, u, eta, Jc
+        self.conv, self.shape = conv, (len(motors), len(conv))
         self.rotor = motors["rotor_inertia"].to_numpy()
         self.rated, self.peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
         self.rated_speed, self.top_speed = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
@@ -194,16 +197,102 @@ class Evaluation:
         checked = np.isfinite(voltage)  # motors with the voltage data
         # u = back_emf |n| + drop |T_m| (V): k_e = k_t, drop = R / k_t
         self.back_emf, self.drop = np.where(checked, kt, 0.0), np.where(checked, resistance / kt, 0.0)
-        shape = (len(motors), len(conv))
-        self.values, self.limits = np.empty(shape + (len(ALL_CHECKS),)), np.empty(shape + (len(ALL_CHECKS),))
-        self.exact = np.zeros(shape, dtype=bool)
-        values, lim, Jm = self.values, self.limits, self.rotor
+        self.voltage = np.where(checked, voltage, math.inf)
+        self.stop = limits.stop_torques(motors)
+        self.inertia_ratio_max = inertia_ratio_max
 
-        # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩; the time means a block of samples at a time (memory
-        # bounded by SAMPLE_BLOCK, whatever the length of the task)
-        m_aa, m_ab, m_bb, mean_speed, top_speed = (np.zeros(len(conv)) for _ in range(5))
-        for block in _blocks(len(weights), len(conv)):
-            n, accel, base = motor_side(duty, u, eta, Jc, block)  # (N_c, samples of the block)
+        # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩ and the mean and top motor speeds of each converter:
+        # exact (sums over the samples) for the converters asked for (:meth:`_means`), every one at once for small
+        # catalogs; in closed form from moments of the duty for the screening (:meth:`_bounds`)
+        self._weights = weights
+        self._exact = np.full((5, len(conv)), math.nan)
+        if len(conv) * len(weights) <= ALL_AT_ONCE:
+            self._means(np.arange(len(conv)))
+        self._closed_form(duty, weights, conv)
+        self.load_inertia = duty.load_inertia / conv.ratio**2 + conv.inertia  # J_L/u² + J_c (kg·m²)
+        # transmission (output side): values of the duty alone, limits of the converter
+        motion = np.abs(duty.speed) * weights
+        if motion.sum() == 0:
+            motion = weights
+        self.equivalent = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
+        self.peak_load = np.abs(duty.torque).max()
+        self.transmission = np.stack([conv.rated_torque, conv.peak_torque, conv.emergency_torque,
+                                      conv.max_input_speed, conv.rated_input_speed], axis=1)
+        self.screw_values, self.screw_limits = screw_checks(duty, conv, limits.screw_life)
+        # the converters that pass the checks of the converter alone (transmission and screw, but the emergency)
+        alone = np.column_stack([np.full(len(conv), self.equivalent), np.full(len(conv), self.peak_load),
+                                 self._top_low, self._mean_low, self.screw_values])
+        self.converter_passes = _passes(alone, np.column_stack([self.transmission[:, [0, 1, 3, 4]],
+                                                                self.screw_limits])).all(axis=1)
+        self._strong = motor_side(duty, u, eta, Jc, duty.strong_samples(2))
+        self._keep: NDArray[np.intp] | None = None  # the envelope's samples, when first needed
+
+    def table(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(values, limits) of every check (:data:`ALL_CHECKS`) of the pairs (m[i], c[i]), each (len(m),
+        len(ALL_CHECKS)), SI units; the per-sample checks at ``level`` (0: 0, 1: lower bounds, 2: exact)."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        values, lim = np.empty((len(m), len(ALL_CHECKS))), np.empty((len(m), len(ALL_CHECKS)))
+        Jm = self.rotor[m]
+        if level == 0:
+            rms, mean_speed, top_speed = self._bounds(m, c)
+        else:
+            m_aa, m_ab, m_bb, mean_speed, top_speed = self._means(c)[:, c]
+            rms = np.sqrt(np.maximum(Jm**2 * m_aa + 2 * (Jm * m_ab) + m_bb, 0.0))
+        values[:, 2] = rms
+        lim[:, 2] = continuous_torque(mean_speed, self.rated[m], self.rated_speed[m], self.top_speed[m])
+        values[:, 3], lim[:, 3] = top_speed, self.top_speed[m]
+        values[:, 4], lim[:, 4] = self.load_inertia[c] / Jm, self.inertia_ratio_max
+        values[:, 5], values[:, 6], values[:, 7] = self.equivalent, self.peak_load, self.stop[m] * self.conv.ratio[c]
+        values[:, 8], values[:, 9] = top_speed, mean_speed
+        lim[:, 5:10] = self.transmission[c]
+        lim[:, 0], lim[:, 1], lim[:, _VOLTAGE] = self.peak[m], 1.0, self.voltage[m]
+        values[:, _VOLTAGE + 1:], lim[:, _VOLTAGE + 1:] = self.screw_values[c], self.screw_limits[c]
+        if level == 0:
+            values[:, PER_SAMPLE] = 0.0
+        else:
+            values[:, PER_SAMPLE] = np.column_stack(self._per_sample(m, c, *self._strong)) if level == 1 else \
+                self.per_sample(m, c)
+        return values, lim
+
+    def worst(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> NDArray[np.float64]:
+        """The largest load factor (value/limit) of each pair (m[i], c[i]), the per-sample checks at ``level``."""
+        return _load_factor(*self.table(m, c, level)).max(axis=1)
+
+    def checks(self, m: int, c: int) -> list[Check]:
+        """The checks of one pair that apply (finite limit), exact."""
+        values, lim = self.table([m], [c])
+        return _check_list(values[0], lim[0])
+
+    def screen(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Whether the pairs (m, c) — index arrays that broadcast, e.g. a column of motors and a row of converters
+        — pass every check that needs no pass over the samples: those of the converter alone
+        (:attr:`converter_passes`), RMS torque, max speed, inertia ratio and emergency torque; and the peak
+        torque's bound RMS ≤ max |T_m| (with room for rounding). Necessary for a pass (never false for a pair
+        that passes every check), in the same floating-point operations as :meth:`table`."""
+        rms, mean_speed, top_speed = self._bounds(m, c)
+        ok = self.converter_passes[c] & _passes(top_speed, self.top_speed[m]) \
+            & _passes(self.load_inertia[c] / self.rotor[m], self.inertia_ratio_max) \
+            & _passes(self.stop[m] * self.conv.ratio[c], self.transmission[c, 2])
+        return ok & _passes(rms * (1 - 1e-6), self.peak[m]) & _passes(rms, continuous_torque(
+            mean_speed, self.rated[m], self.rated_speed[m], self.top_speed[m]))
+
+    def bounds_pass(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Whether the pairs (m[i], c[i]) pass the per-sample checks at the few decisive samples (level 1): necessary
+        for a pass, without the other checks."""
+        torque, curve, voltage = self._per_sample(m, c, *self._strong)
+        return _passes(torque, self.peak[m]) & _passes(curve, 1.0) & _passes(voltage, self.voltage[m])
+
+    def _means(self, c: NDArray[np.intp]) -> NDArray[np.float64]:
+        """(⟨a²⟩, ⟨a b⟩, ⟨b²⟩, ⟨|n|⟩, max |n|) of every converter (5, N_c) (a, b, n of :func:`motor_side`;
+        trapezoidal time means), computed now for those of ``c`` not computed yet, all of them together, a block of
+        samples at a time (memory bounded by :data:`SAMPLE_BLOCK`, whatever the length of the task)."""
+        todo = np.unique(c[np.isnan(self._exact[0, c])])
+        if len(todo) == 0:
+            return self._exact
+        u, eta, Jc, weights = self._u[todo], self._eta[todo], self._Jc[todo], self._weights
+        m_aa, m_ab, m_bb, mean_speed, top_speed = (np.zeros(len(todo)) for _ in range(5))
+        for block in _blocks(len(weights), len(todo)):
+            n, accel, base = motor_side(self._duty, u, eta, Jc, block)  # (converters, samples of the block)
             w = weights[block]
             m_aa += (accel**2) @ w
             m_ab += (accel * base) @ w
@@ -211,36 +300,44 @@ class Evaluation:
             mean_speed += np.abs(n) @ w
             top_speed = np.maximum(top_speed, np.abs(n).max(axis=1))
             del n, accel, base
-        values[..., 2] = np.sqrt(np.maximum(np.outer(Jm**2, m_aa) + 2 * np.outer(Jm, m_ab) + m_bb, 0.0))
-        lim[..., 2] = continuous_torque(mean_speed[None, :], self.rated[:, None], self.rated_speed[:, None],
-                                        self.top_speed[:, None])
-        values[..., 3], lim[..., 3] = top_speed[None, :], self.top_speed[:, None]
-        values[..., 4] = (duty.load_inertia / conv.ratio**2 + conv.inertia)[None, :] / Jm[:, None]
-        lim[..., 4] = inertia_ratio_max
-        # transmission (output side)
-        motion = np.abs(duty.speed) * weights
-        if motion.sum() == 0:
-            motion = weights
-        values[..., 5] = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
-        values[..., 6] = np.abs(duty.torque).max()
-        values[..., 7] = np.outer(limits.stop_torques(motors), conv.ratio)
-        values[..., 8], values[..., 9] = top_speed[None, :], mean_speed[None, :]
-        for k, limit in zip(range(5, 10), (conv.rated_torque, conv.peak_torque, conv.emergency_torque,
-                                           conv.max_input_speed, conv.rated_input_speed)):
-            lim[..., k] = limit[None, :]
-        lim[..., 0], lim[..., 1] = self.peak[:, None], 1.0
-        lim[..., _VOLTAGE] = np.where(checked, voltage, math.inf)[:, None]
-        screw_values, screw_limits = screw_checks(duty, conv, limits.screw_life)
-        values[..., _VOLTAGE + 1:], lim[..., _VOLTAGE + 1:] = screw_values[None], screw_limits[None]
+        self._exact[:, todo] = m_aa, m_ab, m_bb, mean_speed, top_speed
+        return self._exact
 
-        # the per-sample checks: lower bounds now, exact on demand
-        self._duty = duty
-        strong = duty.strong_samples(2)
-        rows, cols = np.indices(shape)
-        bounds = self._per_sample(rows.ravel(), cols.ravel(), *motor_side(duty, u, eta, Jc, strong))
-        for k, bound in zip(PER_SAMPLE, bounds):
-            values[..., k] = bound.reshape(shape)
-        self._keep = duty.envelope()
+    def _closed_form(self, duty: JointDuty, weights: NDArray[np.float64], conv: Converters) -> None:
+        r"""The time means of every converter from seven moments of the duty, O(samples + N_c): with
+        T_m = K u ω̇ + L, K = J_m + J_c, L = τ/(u η) where the load takes power (τ ω ≥ 0) and τ η / u elsewhere,
+
+            ⟨T_m²⟩ = K² u² ⟨ω̇²⟩ + 2 K (⟨ω̇ τ⟩₊/η + η ⟨ω̇ τ⟩₋) + (⟨τ²⟩₊/η² + η² ⟨τ²⟩₋) / u²,
+
+        ⟨·⟩₊ and ⟨·⟩₋ the time means over the motoring and the braking samples; ⟨|n|⟩ = |u| ⟨|ω|⟩ and
+        max |n| = |u| max |ω|. They equal the sums over the samples up to rounding: relative to the same sum of
+        magnitudes, M = K² u² ⟨ω̇²⟩ + 2 K (⟨|ω̇ τ|⟩₊/η + η ⟨|ω̇ τ|⟩₋) + ⟨L²⟩, both differ by at most ~N ε (N
+        samples, ε the machine epsilon); the bounds of :meth:`_bounds` subtract ROUNDING = max(1e-9, 8 N ε) of it."""
+        motoring = duty.torque * duty.speed >= 0
+        product = duty.acceleration * duty.torque
+
+        def mean(x: NDArray[np.float64], where: NDArray[np.bool_]) -> float:
+            return float(weights @ np.where(where, x, 0.0))
+
+        u, eta = conv.ratio, conv.efficiency
+        self._aa = u**2 * float(weights @ duty.acceleration**2)
+        self._cross = mean(product, motoring) / eta + eta * mean(product, ~motoring)
+        self._cross_abs = mean(np.abs(product), motoring) / eta + eta * mean(np.abs(product), ~motoring)
+        self._load2 = (mean(duty.torque**2, motoring) / eta**2 + eta**2 * mean(duty.torque**2, ~motoring)) / u**2
+        self._rounding = max(1e-9, 8 * len(weights) * np.finfo(float).eps)
+        low = 1 - self._rounding
+        self._mean_low = np.abs(u) * float(weights @ np.abs(duty.speed)) * low
+        self._top_low = np.abs(u) * float(np.abs(duty.speed).max(initial=0.0)) * low
+
+    def _bounds(self, m: NDArray[np.intp], c: NDArray[np.intp]
+                ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Lower bounds of (RMS motor torque, mean motor speed, top motor speed) of the pairs (m, c) (index arrays
+        that broadcast), in closed form (:meth:`_closed_form`): the exact values are at least these."""
+        K = self.rotor[m] + self.conv.inertia[c]
+        square = K**2 * self._aa[c] + 2 * K * self._cross[c] + self._load2[c]
+        magnitude = K**2 * self._aa[c] + 2 * K * self._cross_abs[c] + self._load2[c]
+        rms = np.sqrt(np.maximum(square - self._rounding * magnitude, 0.0))
+        return rms, self._mean_low[c], self._top_low[c]
 
     def _per_sample(self, m: NDArray[np.intp], c: NDArray[np.intp], n: NDArray[np.float64],
                     accel: NDArray[np.float64], base: NDArray[np.float64]
@@ -255,20 +352,64 @@ class Evaluation:
         voltage = self.back_emf[m, None] * np.abs(n[c]) + self.drop[m, None] * torque
         return torque.max(axis=1), _load_factor(torque, available).max(axis=1), voltage.max(axis=1)
 
-    def refine(self, m: ArrayLike, c: ArrayLike, batch: int = 512) -> None:
-        """Make the per-sample checks exact for the pairs (m[i], c[i])."""
+    def per_sample(self, m: ArrayLike, c: ArrayLike, batch: int = 512) -> NDArray[np.float64]:
+        """The exact per-sample checks (:data:`PER_SAMPLE`) of the pairs (m[i], c[i]), (len(m), 3), over the
+        samples that can decide them; ``batch`` pairs at a time, so that the (pairs, samples) arrays stay within
+        :data:`SAMPLE_BLOCK` elements."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
-        todo = ~self.exact[m, c]
-        m, c = m[todo], c[todo]
-        batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._keep))))  # (batch, samples) arrays stay bounded
+        out = np.empty((len(m), len(PER_SAMPLE)))
+        if self._keep is None:
+            self._keep = self._duty.envelope()
+        batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._keep))))
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
             used = np.unique(cb)  # the converters of the batch, at the samples that can decide
             side = motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], self._keep)
-            exact = self._per_sample(mb, np.searchsorted(used, cb), *side)
-            for k, value in zip(PER_SAMPLE, exact):
-                self.values[mb, cb, k] = value
-            self.exact[mb, cb] = True
+            out[start:start + batch] = np.column_stack(self._per_sample(mb, np.searchsorted(used, cb), *side))
+        return out
+
+
+def _passes(value: ArrayLike, limit: ArrayLike) -> NDArray[np.bool_]:
+    """Whether value/limit ≤ 1 + PASS_TOLERANCE, as :func:`_load_factor` counts it (0/0 passes, x/0 fails)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (value <= 0) | ((limit > 0) & (value / limit <= 1 + PASS_TOLERANCE))
+
+
+def _check_list(values: NDArray[np.float64], limits: NDArray[np.float64]) -> list[Check]:
+    """The checks of one pair whose limit is finite (they apply)."""
+    return [Check(name, float(values[k]), float(limits[k]), ALL_UNITS[k])
+            for k, name in enumerate(ALL_CHECKS) if math.isfinite(limits[k])]
+
+
+class Evaluation:
+    """The checks of every motor × converter pair of one joint as arrays: ``values`` and ``limits`` (N_m, N_c,
+    len(ALL_CHECKS)), for small catalogs and tests (the sizing itself goes through :class:`PairChecks` a chunk of
+    pairs at a time).
+
+    The per-sample checks (peak torque, speed–torque curve, voltage limit) start as lower bounds from a few decisive
+    samples (:meth:`JointDuty.strong_samples`) and are made exact for the pairs given to :meth:`refine` (``exact``
+    marks them) over the samples that can decide them (:meth:`JointDuty.envelope`). Every other check is exact from
+    the start. A lower bound never passes a pair that fails.
+    """
+
+    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
+                 limits: DriveLimits | None = None):
+        self.pairs = PairChecks(duty, motors, conv, inertia_ratio_max, limits)
+        shape = self.pairs.shape
+        rows, cols = np.indices(shape)
+        values, lim = self.pairs.table(rows.ravel(), cols.ravel(), level=1)
+        self.values, self.limits = values.reshape(shape + (-1,)), lim.reshape(shape + (-1,))
+        self.exact = np.zeros(shape, dtype=bool)
+
+    def refine(self, m: ArrayLike, c: ArrayLike) -> None:
+        """Make the per-sample checks exact for the pairs (m[i], c[i])."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        todo = ~self.exact[m, c]
+        m, c = m[todo], c[todo]
+        exact = self.pairs.per_sample(m, c)
+        for i, k in enumerate(PER_SAMPLE):
+            self.values[m, c, k] = exact[:, i]
+        self.exact[m, c] = True
 
     def refine_all(self) -> Evaluation:
         m, c = np.nonzero(~self.exact)
@@ -291,16 +432,15 @@ class Evaluation:
         """The largest load factor of every pair, (N_m, N_c): exact where :attr:`exact`, else a lower bound."""
         return self.load_factors().max(axis=2)
 
-    def checks(self, m: int, c: int) -> list[Check]:
-        """The checks of one pair that apply (finite limit), made exact first."""
-        self.refine([m], [c])
-        return [Check(name, float(self.values[m, c, k]), float(self.limits[m, c, k]), ALL_UNITS[k])
-                for k, name in enumerate(ALL_CHECKS) if math.isfinite(self.limits[m, c, k])]
-
     def failed(self, m: int, c: int) -> list[str]:
         """The checks the pair (m, c) fails, as ``name ×load factor``."""
         factors = self.load_factors_of(m, c)
         return [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(ALL_CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
+
+    def checks(self, m: int, c: int) -> list[Check]:
+        """The checks of one pair that apply (finite limit), made exact first."""
+        self.refine([m], [c])
+        return _check_list(self.values[m, c], self.limits[m, c])
 
 
 def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,

@@ -83,12 +83,20 @@ def _direct() -> dict:
                 price=0.0, **_ROTARY)
 
 
-def _gearbox(row: dict) -> dict:
-    return dict(key=row["key"], kind=row["type"], ratio=row["ratio"], efficiency=row["efficiency"],
-                inertia=row["input_inertia"], rated_torque=row["rated_torque"], peak_torque=row["peak_torque"],
-                emergency_torque=row["emergency_torque"], max_input_speed=row["max_input_speed"],
-                rated_input_speed=row["rated_input_speed"], mass=_number(row.get("mass")),
-                price=_number(row.get("price")), **_ROTARY)
+def _gearboxes(catalog: pd.DataFrame) -> dict:
+    """:func:`_gearbox` of every row of a gearbox catalog at once, as arrays (a missing mass or price counts 0)."""
+    def known(name: str) -> np.ndarray:
+        return catalog[name].to_numpy(dtype=float, na_value=0.0) if name in catalog else np.zeros(len(catalog))
+
+    def column(name: str) -> np.ndarray:
+        return catalog[name].to_numpy(dtype=float)
+
+    out = dict(key=catalog["key"].to_numpy(dtype=str), kind=catalog["type"].to_numpy(dtype=str),
+               ratio=column("ratio"), efficiency=column("efficiency"), inertia=column("input_inertia"),
+               rated_torque=column("rated_torque"), peak_torque=column("peak_torque"),
+               emergency_torque=column("emergency_torque"), max_input_speed=column("max_input_speed"),
+               rated_input_speed=column("rated_input_speed"), mass=known("mass"), price=known("price"))
+    return {**out, **{name: np.full(len(catalog), value) for name, value in _ROTARY.items()}}
 
 
 def _linear(row: dict, length: float) -> dict:
@@ -122,8 +130,8 @@ def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linea
     if duty.kind == "revolute":
         if direct:
             rows.append(_direct())
-        if gearboxes is not None:
-            rows += [_gearbox(g) for g in gearboxes.to_dict(orient="records")]
+        if gearboxes is not None and len(gearboxes):
+            rows.append(_gearboxes(gearboxes))
     elif duty.kind == "prismatic":
         if linear is None:
             raise InputError(f"joint {duty.name} is prismatic: give a catalog of linear drives (screws, racks)")
@@ -132,6 +140,6 @@ def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linea
         raise InputError(f"joint {duty.name}: cannot size a {duty.kind} joint (only revolute and prismatic)")
     if not rows:
         raise InputError(f"joint {duty.name}: no converter to try (give a gearbox catalog or allow direct drive)")
-    for r in rows:
-        r["efficiency"] = r["efficiency"] * chain_efficiency
-    return Converters(**{name: np.array([r[name] for r in rows]) for name in rows[0]})
+    columns = {name: np.concatenate([np.atleast_1d(np.asarray(r[name])) for r in rows]) for name in rows[0]}
+    columns["efficiency"] = columns["efficiency"] * chain_efficiency
+    return Converters(**columns)

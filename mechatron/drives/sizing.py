@@ -37,7 +37,7 @@ from ..io.values import number
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
 from ..report.result import Result, json_ready
-from .checks import ALL_CHECKS, PASS_TOLERANCE, Check, DriveLimits, Evaluation, evaluate, motor_side
+from .checks import ALL_CHECKS, PASS_TOLERANCE, Check, DriveLimits, PairChecks, _load_factor, motor_side
 from .converters import Converters, converters_for
 from .duty import DriveMount, JointDuty, drive_carrier, joint_duties, mount_drives
 from .motor import continuous_torque, peak_torque_limit
@@ -224,60 +224,192 @@ def fastest_scale(passes: Callable[[float], bool], k_min: float = 0.02, k_max: f
     return high
 
 
-BATCH = 256  # pairs made exact at a time
+#: Pairs evaluated at a time (a block of motors × every converter, or a slice of the ranking's order): the
+#: sizing's memory does not grow with the catalogs beyond this and the per-motor and per-converter arrays.
+CHUNK = 1 << 15
+#: Pairs in the first slice of the ranking's order (:func:`_first_in_order`; each next slice twice as many).
+FIRST_SLICE = 1 << 11
 
 
-def _first_feasible(evaluation: Evaluation, m: np.ndarray, c: np.ndarray, count: int
-                    ) -> tuple[np.ndarray, np.ndarray]:
-    """The first ``count`` pairs (in the given order) that pass every check, making pairs exact a batch at a time
-    (the pairs of the last batch that pass are all kept)."""
-    found_m, found_c = [], []
-    for start in range(0, len(m), BATCH):
-        mb, cb = m[start:start + BATCH], c[start:start + BATCH]
-        evaluation.refine(mb, cb)
-        ok = evaluation.worst_of(mb, cb) <= 1 + PASS_TOLERANCE
-        found_m.append(mb[ok])
-        found_c.append(cb[ok])
-        if sum(len(x) for x in found_m) >= count:
-            break
-    return (np.concatenate(found_m), np.concatenate(found_c)) if found_m else (m[:0], c[:0])
+def _motor_blocks(checks: PairChecks) -> list[slice]:
+    """Slices of the motors, each with about :data:`CHUNK` pairs (motors × every converter)."""
+    motors, converters = checks.shape
+    step = max(1, CHUNK // max(1, converters))
+    return [slice(start, min(start + step, motors)) for start in range(0, motors, step)]
 
 
-def _smallest_worst(evaluation: Evaluation, count: int) -> tuple[np.ndarray, np.ndarray]:
-    """The ``count`` pairs with the smallest exact worst load factor (branch and bound on the lower bounds: a pair
-    whose bound exceeds the count-th best exact value cannot enter)."""
-    bound = evaluation.worst()
-    order = np.argsort(bound, axis=None, kind="stable")
-    m_all, c_all = np.unravel_index(order, bound.shape)
-    done = 0
-    while done < len(order):
-        evaluation.refine(m_all[done:done + BATCH], c_all[done:done + BATCH])
-        done += BATCH
-        exact = evaluation.worst_of(m_all[:done], c_all[:done])
-        best = np.sort(exact)[:count]
-        if len(best) == count and (done >= len(order) or bound.flat[order[min(done, len(order) - 1)]] >= best[-1]):
-            break
-    exact = evaluation.worst_of(m_all[:done], c_all[:done])
-    keep = np.argsort(exact, kind="stable")[:count]
-    return m_all[:done][keep], c_all[:done][keep]
+def _feasible(checks: PairChecks, m: np.ndarray, c: np.ndarray, screened: bool = False) -> np.ndarray:
+    """Which pairs (m[i], c[i]) pass every check: the checks without samples first (:meth:`PairChecks.screen`;
+    ``screened``: the pairs passed it already), then lower bounds of the per-sample ones, then those exact, each on
+    the pairs the one before let through."""
+    ok = np.ones(len(m), dtype=bool) if screened else checks.screen(m, c)
+    index = np.flatnonzero(ok)
+    ok[index] = checks.bounds_pass(m[index], c[index])
+    index = np.flatnonzero(ok)
+    ok[index] = checks.worst(m[index], c[index]) <= 1 + PASS_TOLERANCE
+    return ok
 
 
-def _feasible_by_score(evaluation: Evaluation, score: np.ndarray, tie: np.ndarray, count: int
-                       ) -> tuple[np.ndarray, np.ndarray]:
-    """The best ``count`` feasible pairs by (score, tie), lowest first."""
-    m, c = np.nonzero(evaluation.worst() <= 1 + PASS_TOLERANCE)  # the bounds: a superset of the feasible pairs
-    order = np.lexsort((tie[m, c], score[m, c]))
-    return _first_feasible(evaluation, m[order], c[order], count)
+def _pairs_between(first: np.ndarray, second: np.ndarray, low: float, high: float
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs (m, c) with low < first[m] + second[c] ≤ high, in catalog order (m, then c)."""
+    order = np.argsort(second, kind="stable")
+    ordered = second[order]
+    room = 1e-9 * (abs(high) + np.abs(first) + 1.0)  # the sums' rounding: the pairs are filtered exactly below
+    lo = np.searchsorted(ordered, low - first - room, side="left") if math.isfinite(low) else \
+        np.zeros(len(first), dtype=int)
+    hi = np.searchsorted(ordered, high - first + room, side="right")
+    counts = np.maximum(hi - lo, 0)
+    m = np.repeat(np.arange(len(first)), counts)
+    start = np.repeat(lo - (np.cumsum(counts) - counts), counts)
+    c = order[start + np.arange(len(m))]
+    total = first[m] + second[c]
+    keep = (total > low) & (total <= high)
+    m, c = m[keep], c[keep]
+    flat = np.argsort(m * len(second) + c, kind="stable")
+    return m[flat], c[flat]
+
+
+def _threshold(first: np.ndarray, second: np.ndarray, low: float, count: int) -> float:
+    """A sum s with about ``count`` pairs (m, c) with low < first[m] + second[c] ≤ s (bisection on s), or the
+    largest sum when fewer remain."""
+    ordered = np.sort(second)
+    top = float(first.max() + ordered[-1])
+
+    def pairs_below(s: float) -> int:
+        return int(np.searchsorted(ordered, s - first, side="right").sum())
+
+    below = 0 if not math.isfinite(low) else pairs_below(low)
+    if pairs_below(top) - below <= count:
+        return top
+    a, b = (float(first.min() + ordered[0]) if not math.isfinite(low) else low), top
+    for _ in range(60):
+        middle = 0.5 * (a + b)
+        found = pairs_below(middle) - below
+        if found < count:
+            a = middle
+        else:
+            b = middle
+            if found <= 2 * count:
+                break
+    return b
+
+
+def _in_order(m: np.ndarray, c: np.ndarray, primary: tuple[np.ndarray, np.ndarray],
+              tie: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs (m, c), given in catalog order, sorted by primary, then tie (stable: catalog order last)."""
+    order = np.lexsort((tie[0][m] + tie[1][c], primary[0][m] + primary[1][c]))
+    return m[order], c[order]
+
+
+def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray],
+                    count: int, before: int = 2) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The first ``count`` feasible pairs in the order of the score primary[0][m] + primary[1][c], then of
+    tie[0][m] + tie[1][c], then of the catalogs (m, then c), and the ``before`` pairs just before the first of them,
+    nearest first (all fail a check): (m, c) of the feasible ones and (m, c) of those before.
+
+    The pairs are taken in slices of the order, each the pairs whose score lies in the next interval (an interval
+    with about :data:`FIRST_SLICE` pairs, then twice as many, … up to :data:`CHUNK`), so that the memory stays with
+    the slice and the work with the pairs before the ``count``-th feasible one. In a slice the pairs that pass the
+    screening (:meth:`PairChecks.screen`) are sorted and checked in order; the pairs before the first feasible one
+    are found among all the pairs of its slice (and of the slice before)."""
+    found_m, found_c = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)]
+    low, size, top = -math.inf, FIRST_SLICE, float(primary[0].max() + primary[1].max())
+    previous = (np.zeros(0, dtype=int), np.zeros(0, dtype=int))
+    prior: tuple[np.ndarray, np.ndarray] | None = None
+    while low < top and sum(len(x) for x in found_m) < count:
+        high = _threshold(*primary, low, size)
+        m, c = _pairs_between(*primary, low, high)
+        alive = checks.screen(m, c)
+        ms, cs = _in_order(m[alive], c[alive], primary, tie)
+        for part in range(0, len(ms), FIRST_SLICE):
+            m_part, c_part = ms[part:part + FIRST_SLICE], cs[part:part + FIRST_SLICE]
+            ok = np.flatnonzero(_feasible(checks, m_part, c_part, screened=True))
+            if prior is None and len(ok):
+                prior = _just_before((m, c), previous, (m_part[ok[0]], c_part[ok[0]]), primary, tie, before)
+            found_m.append(m_part[ok])
+            found_c.append(c_part[ok])
+            if sum(len(x) for x in found_m) >= count:
+                break
+        previous, low, size = (m, c), high, min(2 * size, CHUNK)
+    m, c = np.concatenate(found_m)[:count], np.concatenate(found_c)[:count]
+    return m, c, *(prior if prior is not None else (m[:0], c[:0]))
+
+
+def _just_before(pairs: tuple[np.ndarray, np.ndarray], previous: tuple[np.ndarray, np.ndarray],
+                 pair: tuple[int, int], primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray],
+                 count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` pairs just before ``pair`` in the order of :func:`_in_order`, nearest first, among ``pairs``
+    (its slice, catalog order) and, when these are too few, ``previous`` (the slice before)."""
+    m, c = pairs
+    size = len(primary[1])
+    score, tied = primary[0][m] + primary[1][c], tie[0][m] + tie[1][c]
+    f_score, f_tied = primary[0][pair[0]] + primary[1][pair[1]], tie[0][pair[0]] + tie[1][pair[1]]
+    earlier = (score < f_score) | ((score == f_score) & ((tied < f_tied) | ((tied == f_tied) & (
+        m * size + c < pair[0] * size + pair[1]))))
+    m, c = _in_order(m[earlier], c[earlier], primary, tie)
+    if len(m) < count:
+        pm, pc = _in_order(*previous, primary, tie)
+        m, c = np.concatenate([pm, m]), np.concatenate([pc, c])
+    return m[::-1][:count], c[::-1][:count]
+
+
+def _smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` pairs with the smallest exact worst load factor (ties: the smaller lower bound of
+    :meth:`PairChecks.worst` at level 1, then catalog order), by branch and bound a block of motors at a time: a
+    pair whose lower bound exceeds the ``count``-th best exact value found so far cannot enter. With
+    ``feasible_only`` only the pairs that pass every check count (the ``margin`` ranking)."""
+    best = np.zeros((0, 4))  # m, c, exact, bound
+    limit = math.inf
+    converters = np.arange(checks.shape[1])
+    for block in _motor_blocks(checks):
+        mm, cc = np.meshgrid(np.arange(block.start, block.stop), converters, indexing="ij")
+        m, c = mm.ravel(), cc.ravel()
+        if feasible_only:
+            keep = checks.screen(m, c)
+            m, c = m[keep], c[keep]
+        bound = checks.worst(m, c, 0)
+        m, c = m[bound <= limit], c[bound <= limit]
+        bound = checks.worst(m, c, 1)
+        keep = bound <= limit
+        m, c, bound = m[keep], c[keep], bound[keep]
+        order = np.argsort(bound, kind="stable")
+        for start in range(0, len(order), 256):
+            part = order[start:start + 256]
+            if bound[part[0]] > limit:
+                break
+            exact = checks.worst(m[part], c[part], 2)
+            if feasible_only:
+                part, exact = part[exact <= 1 + PASS_TOLERANCE], exact[exact <= 1 + PASS_TOLERANCE]
+            rows = np.column_stack([m[part], c[part], exact, bound[part]])
+            best = np.concatenate([best, rows])
+            if len(best) >= count:
+                limit = float(np.sort(best[:, 2])[count - 1])
+                best = best[best[:, 2] <= limit]
+    order = np.lexsort((best[:, 0] * checks.shape[1] + best[:, 1], best[:, 3], best[:, 2]))[:count]
+    return best[order, 0].astype(int), best[order, 1].astype(int)
 
 
 def _motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float,
                   limits: DriveLimits | None = None) -> Callable[[float], bool]:
+    """passes(k): whether some pair passes every check with the task replayed k times slower, a block of motors at
+    a time (the pair that passed last is tried first)."""
+    last: list[tuple[int, int]] = []
+
     def passes(k: float) -> bool:
-        evaluation = evaluate(duty.scaled(k), motors, conv, inertia_ratio_max, exact=False, limits=limits)
-        bound = evaluation.worst()
-        m, c = np.nonzero(bound <= 1 + PASS_TOLERANCE)
-        order = np.argsort(bound[m, c], kind="stable")
-        return len(_first_feasible(evaluation, m[order], c[order], 1)[0]) > 0
+        checks = PairChecks(duty.scaled(k), motors, conv, inertia_ratio_max, limits)
+        if last and _feasible(checks, np.array([last[0][0]]), np.array([last[0][1]]))[0]:
+            return True
+        usable = np.flatnonzero(checks.converter_passes)
+        for block in _motor_blocks(checks):
+            index = np.arange(block.start, block.stop)
+            mm, cc = np.nonzero(checks.screen(index[:, None], usable[None, :]))
+            m, c = index[mm], usable[cc]
+            ok = np.flatnonzero(_feasible(checks, m, c, screened=True))
+            if len(ok):
+                last[:] = [(int(m[ok[0]]), int(c[ok[0]]))]
+                return True
+        return False
 
     return passes
 
@@ -318,58 +450,54 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         scale = time_scale or fastest_scale(_motor_passes(duty, motors, conv, inertia_ratio_max, limits))
         scale = scale if math.isfinite(scale) else 1.0
         duty = duty.scaled(scale)
-    evaluation = evaluate(duty, motors, conv, inertia_ratio_max, exact=False, limits=limits)
+    checks = PairChecks(duty, motors, conv, inertia_ratio_max, limits)
     motor_mass = motors["mass"].fillna(0).to_numpy() if "mass" in motors else np.zeros(len(motors))
     motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
-    mass = motor_mass[:, None] + conv.mass[None, :]
-    price = motor_price[:, None] + conv.price[None, :]
+    mass, price = (motor_mass, conv.mass), (motor_price, conv.price)
     primary, tie = (price, mass) if objective == "cost" else (mass, price)
+    before = (np.zeros(0, dtype=int),) * 2
     if objective == "margin":
-        im, ic = _smallest_worst(evaluation, REPORTED)
-        ok = evaluation.worst_of(im, ic) <= 1 + PASS_TOLERANCE
-        im, ic = im[ok], ic[ok]
-        score = evaluation.worst_of(im, ic)
+        im, ic = _smallest_worst(checks, REPORTED, feasible_only=True)
+        score = checks.worst(im, ic)
     else:
-        im, ic = _feasible_by_score(evaluation, primary, tie, REPORTED)
-        score = primary[im, ic]
+        im, ic, *before = _first_in_order(checks, primary, tie, REPORTED)
+        score = primary[0][im] + primary[1][ic]
     table = _Table(motors, conv, mass, price)
-    ranking = table.rows(evaluation, im, ic).assign(score=score, _m=im, _c=ic)
+    ranking = table.rows(checks, im, ic).assign(score=score, _m=im, _c=ic)
     tie_break = ["price"] if objective in ("mass", "time") else ["mass"]
     ranking = ranking.sort_values(["score", *tie_break], kind="stable").reset_index(drop=True)
     feasible = bool(len(ranking))
-    closest = pd.DataFrame() if feasible else _closest(evaluation, table)
+    closest = pd.DataFrame() if feasible else _closest(checks, table)
     if feasible:
         m, c = int(ranking["_m"].iloc[0]), int(ranking["_c"].iloc[0])
     else:
         m = int(np.flatnonzero(motors["key"].to_numpy() == closest["motor"].iloc[0])[0])
         c = int(np.flatnonzero(conv.key == closest["converter"].iloc[0])[0])
-    rivals = _rivals(evaluation, table, primary, tie, m, c) if feasible and objective != "margin" else \
-        pd.DataFrame()
+    rivals = table.rows(checks, *before, failed=True) if feasible and objective != "margin" else pd.DataFrame()
     return JointSizing(duty.name, duty.kind, objective, feasible, str(motors["key"].iloc[m]),
-                       str(conv.key[c]), str(conv.kind[c]), float(conv.ratio[c]), evaluation.checks(m, c),
+                       str(conv.key[c]), str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c),
                        ranking.drop(columns=["_m", "_c"]), closest, duty, motors.iloc[m].to_dict(),
                        {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale, rivals)
 
 
 @dataclass(frozen=True)
 class _Table:
-    """What a report says of a motor × converter pair: names, ratio, mass (kg), price, margin, failed checks."""
+    """What a report says of a motor × converter pair: names, ratio, mass (kg), price, margin, failed checks; mass
+    and price as (per motor, per converter) arrays, the pair's the sum."""
 
     motors: pd.DataFrame
     conv: Converters
-    mass: np.ndarray
-    price: np.ndarray
+    mass: tuple[np.ndarray, np.ndarray]
+    price: tuple[np.ndarray, np.ndarray]
 
-    def rows(self, evaluation: Evaluation, m: np.ndarray, c: np.ndarray, failed: bool = False) -> pd.DataFrame:
+    def rows(self, checks: PairChecks, m: np.ndarray, c: np.ndarray, failed: bool = False) -> pd.DataFrame:
         """The pairs (m[i], c[i]): motor, converter, kind, ratio, mass, price, smallest_margin (1 − the worst load
-        factor, exact only where the evaluation is) and, with ``failed``, worst_load_factor and the checks they fail
-        (``name ×load factor``, made exact first)."""
-        if failed:
-            evaluation.refine(m, c)
-        factors = evaluation.load_factors_of(m, c).reshape(len(m), len(ALL_CHECKS))
+        factor, exact) and, with ``failed``, worst_load_factor and the checks they fail (``name ×load factor``)."""
+        factors = _load_factor(*checks.table(m, c)).reshape(len(m), len(ALL_CHECKS))
         out = pd.DataFrame({"motor": self.motors["key"].to_numpy()[m], "converter": self.conv.key[c],
-                            "kind": self.conv.kind[c], "ratio": self.conv.ratio[c], "mass": self.mass[m, c],
-                            "price": self.price[m, c], "smallest_margin": 1 - factors.max(axis=1, initial=0.0)})
+                            "kind": self.conv.kind[c], "ratio": self.conv.ratio[c],
+                            "mass": self.mass[0][m] + self.mass[1][c], "price": self.price[0][m] + self.price[1][c],
+                            "smallest_margin": 1 - factors.max(axis=1, initial=0.0)})
         if failed:
             out["worst_load_factor"] = factors.max(axis=1, initial=0.0)
             out["failed"] = ["; ".join(f"{name} ×{f[k]:.2f}" for k, name in enumerate(ALL_CHECKS)
@@ -377,20 +505,10 @@ class _Table:
         return out
 
 
-def _closest(evaluation: Evaluation, table: _Table) -> pd.DataFrame:
+def _closest(checks: PairChecks, table: _Table) -> pd.DataFrame:
     """The pairs with the smallest worst load factor and the checks they fail."""
-    m, c = _smallest_worst(evaluation, REPORTED)
-    return table.rows(evaluation, m, c, failed=True).drop(columns=["kind", "smallest_margin"])
-
-
-def _rivals(evaluation: Evaluation, table: _Table, primary: np.ndarray, tie: np.ndarray, m: int, c: int,
-            count: int = 2) -> pd.DataFrame:
-    """The ``count`` pairs ranked just before (m, c) by (primary, tie), nearest first: they fail a check (the
-    chosen pair is the first feasible one in that order), which :meth:`_Table.rows` names."""
-    order = np.lexsort((tie.ravel(), primary.ravel()))
-    position = int(np.flatnonzero(order == np.ravel_multi_index((m, c), primary.shape))[0])
-    im, ic = np.unravel_index(order[max(0, position - count):position][::-1], primary.shape)
-    return table.rows(evaluation, im, ic, failed=True)
+    m, c = _smallest_worst(checks, REPORTED)
+    return table.rows(checks, m, c, failed=True).drop(columns=["kind", "smallest_margin"])
 
 
 # ------------------------------------------------------------------------------------------------ the system
@@ -734,14 +852,27 @@ def sizing_bytes(nv: int) -> float:
     return 8.0 * (64 + 48 * nv)
 
 
-def sizing_fixed_bytes(samples: float = math.inf) -> float:
-    """Bytes of the blocks of the per-pair checks (converters × samples, at most
-    :data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few arrays of them at once; 512 converters counted)
-    and of the checks of every motor × converter pair of the example catalogs (32 MiB), for a task of ``samples``
-    samples: they stop growing with the task at the block's size."""
+def sizing_fixed_bytes(samples: float = math.inf, converters: int = 512, pairs: int = 2 * CHUNK) -> float:
+    """Bytes of the per-converter time means (converters × samples, a block of at most
+    :data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few arrays of them at once) and of the pairs evaluated
+    at a time (at most two :data:`CHUNK` of them, 160 bytes each: indices, scores, checks), for a task of
+    ``samples`` samples and a joint with ``converters`` converters and ``pairs`` motor × converter pairs: they stop
+    growing with the task at the block's size and with the catalogs at the chunk's."""
     from . import checks
 
-    return 8.0 * 8 * min(checks.SAMPLE_BLOCK, 512 * samples) + 32 * 2**20
+    return 8.0 * 8 * min(checks.SAMPLE_BLOCK, converters * samples) + 160.0 * min(pairs, 2 * CHUNK)
+
+
+def _catalog_counts(motors: pd.DataFrame | None, gearboxes: pd.DataFrame | None, linear: pd.DataFrame | None
+                    ) -> tuple[int, int]:
+    """(converters, pairs) of the largest joint the catalogs (the example ones where left out) can give."""
+    from .catalogs import default_catalog
+
+    def rows(catalog: pd.DataFrame | None, kind: str) -> int:
+        return len(catalog if catalog is not None else default_catalog(kind))
+
+    converters = max(rows(gearboxes, "gearboxes") + 1, rows(linear, "linear"))
+    return converters, rows(motors, "motors") * converters
 
 
 def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
@@ -797,7 +928,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     warn_limits(mech, trajectory, f"task '{task}'")
     require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
             sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
-            fixed=sizing_fixed_bytes(len(trajectory.t)),
+            fixed=sizing_fixed_bytes(len(trajectory.t), *_catalog_counts(motors, gearboxes, linear)),
             advice="use fewer samples (a larger time step of the trajectory)")
     bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
             if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
@@ -814,7 +945,18 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
 
     lengths = cylinder_lengths(mech, trajectory)
 
+    sized: dict[tuple, DriveSizing] = {}
+
     def size_one(duty: JointDuty, scale: float | None) -> DriveSizing:
+        """The sizing of one coordinate, once per duty and pace: a pass repeats the duties of the coordinates
+        whose load did not change (the same arrays give the same choice)."""
+        key = (duty.name, scale, duty.load_inertia, duty.stroke, *(None if x is None else x.tobytes() for x in (
+            duty.t, duty.speed, duty.acceleration, duty.torque, duty.static_torque, duty.moving)))
+        if key not in sized:
+            sized[key] = size_fresh(duty, scale)
+        return sized[key]
+
+    def size_fresh(duty: JointDuty, scale: float | None) -> DriveSizing:
         if duty.kind == "cylinder":
             spec, length = mech.cylinders[duty.name], lengths[duty.name]
             if objective == "time":

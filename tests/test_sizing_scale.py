@@ -1,0 +1,161 @@
+"""Sizing at scale (issue 14, item 4): the motor × converter pairs are evaluated a chunk at a time
+(:class:`~mechatron.drives.checks.PairChecks`), with the same results as before.
+
+- every shipped case gives the very ``as_dict()`` of the dense evaluation it replaced (tests/data/sizing, written by
+  the code before the change, on this machine: float for float);
+- on a catalog three times the example one (every motor and gearbox in three variants), the choice, ranking,
+  runners-up and closest pairs equal a brute-force evaluation of every pair written here, and the ``time``
+  objective's test ("some pair passes at this pace") equals it at every pace tried;
+- the closed-form screening never rejects a pair that passes, and its bounds are below the exact values.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import mechatron
+from mechatron.drives.catalogs import default_catalog
+from mechatron.drives.checks import PASS_TOLERANCE, PairChecks, _load_factor, evaluate
+from mechatron.drives.converters import converters_for
+from mechatron.drives.duty import JointDuty, joint_duties
+from mechatron.drives.report import REPORTED
+from mechatron.drives.sizing import _motor_passes, size_joint
+from mechatron.dynamics.task import default_task
+
+DATA = Path(__file__).parent / "data" / "sizing"
+SHIPPED = ["planar_2r_mass", "puma560_mass", "scara_mass", "cylindrical_rpp_mass", "delta_mass", "puma560_cost",
+           "puma560_margin", "planar_2r_margin"]
+
+
+@pytest.mark.parametrize("case", SHIPPED)
+def test_shipped_cases_give_the_same_json_as_before(case):
+    name, objective = case.rsplit("_", 1)
+    result = mechatron.size(mechatron.load(name), objective=objective)
+    before = json.loads((DATA / f"{case}.json").read_text())
+    assert json.loads(json.dumps(result.as_dict(), sort_keys=True)) == before
+
+
+def tripled(catalog: pd.DataFrame, columns: list[str]) -> pd.DataFrame:
+    """The catalog in three variants: as it is, and with ``columns`` × 0.93 and × 1.08 (keys ``~1``, ``~2``)."""
+    parts = [catalog]
+    for k, factor in ((1, 0.93), (2, 1.08)):
+        part = catalog.copy()
+        part["key"] = part["key"] + f"~{k}"
+        part[columns] = part[columns] * factor
+        parts.append(part)
+    return pd.concat(parts, ignore_index=True)
+
+
+@pytest.fixture(scope="module")
+def large():
+    motors = tripled(default_catalog("motors"), ["rated_torque", "peak_torque", "rotor_inertia", "mass"])
+    gearboxes = tripled(default_catalog("gearboxes"), ["ratio", "rated_torque", "peak_torque", "price"])
+    return motors, gearboxes
+
+
+@pytest.fixture(scope="module")
+def duties():
+    puma = mechatron.load("puma560")
+    task = default_task(puma)
+    rng = np.random.default_rng(7)
+    t = np.linspace(0, 3, 500)
+    speed = np.cumsum(rng.normal(size=500)) * 0.05
+    acceleration = np.gradient(speed, t)
+    static = 3 * np.sin(2 * t + 1.0)
+    smooth = JointDuty("j", "revolute", t, speed, acceleration, static + 0.8 * acceleration + 0.1 * speed, static,
+                       0.8, 1.0)
+    return [*joint_duties(task.mechanism, task.trajectory)[1:3], smooth]
+
+
+@pytest.fixture(scope="module")
+def worst_of(large, duties):
+    """The exact worst load factor of every pair of each duty (N_m, N_c), by the dense evaluation."""
+    motors, gearboxes = large
+    return [evaluate(d, motors, converters_for(d, gearboxes)).worst() for d in duties]
+
+
+def brute_force(duty, motors, gearboxes, objective, worst):
+    """Every pair's exact worst load factor, sorted: (ranking's pairs, rivals' pairs, converters) as flat indices."""
+    conv = converters_for(duty, gearboxes)
+    ok = worst <= 1 + PASS_TOLERANCE
+    mass = motors["mass"].fillna(0).to_numpy()[:, None] + conv.mass[None, :]
+    price = motors["price"].fillna(0).to_numpy()[:, None] + conv.price[None, :]
+    primary, tie = (price, mass) if objective == "cost" else (mass, price)
+    if objective == "margin":
+        order = np.argsort(worst, axis=None, kind="stable")  # catalog order among equal worst load factors
+    else:
+        order = np.lexsort((tie.ravel(), primary.ravel()))
+    feasible = [k for k in order if ok.flat[k]]
+    ranking = feasible[:REPORTED]
+    rivals = [] if objective == "margin" or not ranking else \
+        [k for k in order[:list(order).index(ranking[0])]][::-1][:2]
+    return ranking, rivals, conv
+
+
+@pytest.mark.parametrize("objective", ["mass", "cost", "margin"])
+def test_large_catalog_equals_brute_force(large, duties, worst_of, objective):
+    motors, gearboxes = large
+    for duty, worst in zip(duties, worst_of):
+        ranking, rivals, conv = brute_force(duty, motors, gearboxes, objective, worst)
+        result = size_joint(duty, motors, gearboxes, objective=objective)
+        keys = motors["key"].to_numpy()
+
+        def pairs(flat):
+            return [(keys[k // len(conv)], conv.key[k % len(conv)]) for k in flat]
+
+        assert result.feasible == bool(ranking)
+        assert list(zip(result.ranking["motor"], result.ranking["converter"])) == pairs(ranking)
+        np.testing.assert_allclose(result.ranking["smallest_margin"], [1 - worst.flat[k] for k in ranking],
+                                   rtol=1e-12)
+        assert (result.motor, result.converter) == pairs(ranking)[0]
+        assert list(zip(result.rivals.get("motor", []), result.rivals.get("converter", []))) == pairs(rivals)
+        chosen = worst[np.flatnonzero(keys == result.motor)[0], np.flatnonzero(conv.key == result.converter)[0]]
+        assert result.smallest_margin() == pytest.approx(1 - chosen, rel=1e-12, abs=1e-15)
+
+
+def test_large_catalog_closest_pairs_equal_brute_force(large, duties):
+    motors, gearboxes = large
+    weak = motors[motors["rated_torque"] < 0.4].reset_index(drop=True)
+    duty = duties[0]
+    conv = converters_for(duty, gearboxes)
+    worst = evaluate(duty, weak, conv).worst()
+    assert worst.min() > 1
+    result = size_joint(duty, weak, gearboxes)
+    order = np.argsort(worst, axis=None, kind="stable")[:REPORTED]
+    assert not result.feasible
+    assert list(result.closest["motor"]) == list(weak["key"].to_numpy()[order // len(conv)])
+    assert list(result.closest["converter"]) == list(conv.key[order % len(conv)])
+    np.testing.assert_allclose(result.closest["worst_load_factor"], worst.flat[order], rtol=1e-12)
+
+
+def test_time_objective_pass_test_equals_brute_force(large, duties):
+    motors, gearboxes = large
+    duty = duties[0]
+    conv = converters_for(duty, gearboxes)
+    passes = _motor_passes(duty, motors, conv, 10.0)
+    found = []
+    for k in (0.1, 0.1222, 0.1225, 0.13):  # the fastest pace is k ≈ 0.1223 here
+        brute = bool((evaluate(duty.scaled(k), motors, conv).worst() <= 1 + PASS_TOLERANCE).any())
+        assert passes(k) == brute, k
+        found.append(brute)
+    assert not found[0] and found[-1]  # both answers, near the fastest pace too
+
+
+def test_screening_bounds_are_below_the_exact_values(large, duties):
+    motors, gearboxes = large
+    for duty in duties[::2]:
+        conv = converters_for(duty, gearboxes)
+        checks = PairChecks(duty, motors, conv)
+        m, c = (x.ravel() for x in np.indices(checks.shape))
+        exact_values, limits = checks.table(m, c, level=2)
+        bound_values, _ = checks.table(m, c, level=0)
+        assert np.all(bound_values <= exact_values)
+        exact = _load_factor(exact_values, limits).max(axis=1)
+        passing = exact <= 1 + PASS_TOLERANCE
+        assert passing.any() and np.all(checks.screen(m, c)[passing])  # never rejects a pair that passes
+        assert checks.screen(m, c).sum() < len(m) / 2  # and rejects most of the others
