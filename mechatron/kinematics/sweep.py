@@ -449,17 +449,17 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     # positions: by batched Newton between anchors solved by continuation (kinematics/batch.py) when the batched
     # kinematics knows the joints, else by continuation from sample to sample
     closing = _batched_frames(base) if BATCHED else None  # the closures' frames
-    reporting = _batched_frames(base, wanted) if closing is not None else None  # the reported ones
+    every = _batched_frames(solver) if closing is not None else None  # and the reported ones
     if closing is not None and n >= BATCH_MIN:
         Q, ok = _batched_positions(base, closing, U, q, failures, progress)
     else:
-        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=reporting is None).run(range(n))
+        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=every is None).run(range(n))
     # velocities q̇ = S q̇_a, accelerations J_d q̈_d = −J_a q̈_a − J̇ q̇ and the reported frames, all samples at once
-    if reporting is not None:
-        good, V, Aq, columns = _analyse_batched(base, closing, reporting, Q, ok, R, A, wanted, points, links,
+    reported = [system.index[name] for name in wanted]
+    if every is not None:
+        good, V, Aq, columns = _analyse_batched(solver, every, reported, Q, ok, R, A, wanted, points, links,
                                                 measures, U, failures)
     else:
-        reported = [system.index[name] for name in wanted]
         good, V, Aq, columns = _analyse_pinocchio(solver, Q, ok, saved, R, A, reported, wanted, points, links,
                                                   measures, U, failures)
     failure_rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
@@ -644,9 +644,10 @@ def _extrapolate(history: list[np.ndarray], q: np.ndarray) -> np.ndarray:
     return (history[-1] if m else q).copy()
 
 
-def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+def _velocity_maps(solver: LoopSolver, Jc: np.ndarray, explicit: bool = False
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """S_k (n × nv × n_act) for a stack of closure Jacobians, which samples are singular, and J_d⁻¹ (None without
-    dependent coordinates)."""
+    dependent coordinates); with ``explicit`` the small square J_d are inverted by :func:`batch.inverse`."""
     n, nv, na = len(Jc), solver.mech.nv, len(solver.act)
     S = np.broadcast_to(solver.selection, (n, nv, na)).copy()
     singular = np.zeros(n, dtype=bool)
@@ -656,7 +657,10 @@ def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.n
     square = Jd.shape[1] == Jd.shape[2]
     with np.errstate(all="ignore"):
         try:
-            inverse = np.linalg.inv(Jd) if square else np.linalg.pinv(Jd)
+            if explicit and square and Jd.shape[1] <= batch.EXPLICIT:
+                inverse = batch.inverse(Jd)
+            else:
+                inverse = np.linalg.inv(Jd) if square else np.linalg.pinv(Jd)
         except np.linalg.LinAlgError:  # some sample is exactly singular: invert one by one
             inverse = np.full((n, Jd.shape[2], Jd.shape[1]), np.inf)
             for k in range(n):
@@ -685,28 +689,34 @@ def _singular_reason(mech: Mechanism, names: list[str], u: np.ndarray) -> str:
             + "): the actuated coordinates do not determine the motion")
 
 
-def _analyse_batched(solver: LoopSolver, closing: BatchedFrames, reporting: BatchedFrames, Q: np.ndarray,
+def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[int], Q: np.ndarray,
                      ok: np.ndarray, R: np.ndarray, A: np.ndarray, wanted: list[str], points: list[str],
                      links: list[str], measures: list[Measure], U: np.ndarray, failures: dict[int, str]):
-    """Velocities, accelerations and the reported frames' columns of the samples ``ok``, chunk by chunk with the
-    batched kinematics of the closures' frames (``closing``, with Jacobians and drifts) and of the reported ones
-    (``reporting``, their motion at q̇ and q̈): (good samples, V, q̈, columns)."""
+    """Velocities, accelerations and the reported frames' columns of the samples ``ok``, chunk by chunk with one
+    batched evaluation of all frames of ``solver.system`` (the closures' and the ``reported`` ones: placements,
+    Jacobians, motion at q̇ and q̈ = 0): q̇ = S q̇_a, the drift J̇ q̇ and q̈ from the closures' frames, and the
+    reported frames' classical accelerations as those at q̈ = 0 plus J q̈ (as :func:`_analyse_pinocchio`):
+    (good samples, V, q̈, columns)."""
     system, names = solver.system, list(solver.mech.actuated)
     rows = np.flatnonzero(ok)
     V, Aq = np.zeros((len(rows), solver.mech.nv)), np.zeros((len(rows), solver.mech.nv))
     singular = np.zeros(len(rows), dtype=bool)
     columns: dict[str, np.ndarray] = {}
-    for part in batch.chunks(len(rows)):
-        k = rows[part]
-        states = closing.placements(Q[k])
+    parts = batch.chunks(len(rows))
+    for part in parts:
+        k = rows[part] if len(parts) > 1 or len(rows) < len(Q) else slice(None)
+        states = frames.placements(Q[k])
         _, Jc = system.stack(states)
-        S, singular[part], inverse = _velocity_maps(solver, Jc)
+        S, singular[part], inverse = _velocity_maps(solver, Jc, explicit=True)
         V[part] = np.einsum("kij,kj->ki", S, R[k])
-        closing.motion(states, V[part])
+        frames.motion(states, V[part])
         Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states))
-        frames = reporting.motion(reporting.placements(Q[k], jacobians=False), V[part], Aq[part])
-        chunk = _frame_columns(solver.mech, frames.position, frames.angle, frames.velocity, frames.acceleration0,
-                               wanted, points, links, measures)
+        accel = states.acceleration0[:, reported] + np.einsum("kfij,kj->kfi", states.jacobian[:, reported], Aq[part])
+        chunk = _frame_columns(solver.mech, states.position[:, reported], states.angle[:, reported],
+                               states.velocity[:, reported], accel, wanted, points, links, measures)
+        if len(parts) == 1:
+            columns = chunk
+            continue
         for name, values in chunk.items():
             columns.setdefault(name, np.empty(len(rows)))[part] = values
     for k in rows[singular]:
