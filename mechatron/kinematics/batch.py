@@ -90,6 +90,16 @@ def product(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     return out
 
 
+def apply(M: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """M_k x_k for a stack M (n, …, m) of small matrices (or stacks of them) and vectors x (n, m): m multiply-adds
+    over the last axis (``einsum`` is several times slower at this shape)."""
+    x = x.reshape(len(x), *(1,) * (M.ndim - 2), x.shape[-1])
+    out = M[..., 0] * x[..., 0]
+    for j in range(1, M.shape[-1]):
+        out += M[..., j] * x[..., j]
+    return out
+
+
 def solve(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     """Solve A_k X_k = B_k for stacks of matrices A (n, m, m) and B (n, m, p): by :func:`inverse` for
     m ≤ :data:`EXPLICIT`, else by LU (``np.linalg.solve``); by least squares (``pinv``) where A_k is singular or not

@@ -674,12 +674,14 @@ def _velocity_maps(solver: LoopSolver, Jc: np.ndarray, explicit: bool = False
 
 
 def _accelerations(solver: LoopSolver, S: np.ndarray, Jc: np.ndarray, inverse: np.ndarray | None, A: np.ndarray,
-                   drift: np.ndarray) -> np.ndarray:
-    """q̈ of a stack of samples: q̈ = S q̈_a with the dependent rows q̈_d = −J_d⁻¹ (J_a q̈_a + J̇ q̇)."""
-    Aq = np.einsum("kij,kj->ki", S, A)
+                   drift: np.ndarray, apply: Callable | None = None) -> np.ndarray:
+    """q̈ of a stack of samples: q̈ = S q̈_a with the dependent rows q̈_d = −J_d⁻¹ (J_a q̈_a + J̇ q̇); ``apply(M, x)``
+    multiplies the stacks (default ``einsum``)."""
+    apply = apply or (lambda M, x: np.einsum("kij,kj->ki", M, x))
+    Aq = apply(S, A)
     if inverse is not None:
-        rhs = np.einsum("kij,kj->ki", Jc[:, :, solver.act], A) + drift
-        Aq[:, solver.dep] = -np.einsum("kij,kj->ki", inverse, rhs)
+        rhs = apply(Jc[:, :, solver.act], A) + drift
+        Aq[:, solver.dep] = -apply(inverse, rhs)
     return Aq
 
 
@@ -708,10 +710,10 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
         states = frames.placements(Q[k])
         _, Jc = system.stack(states)
         S, singular[part], inverse = _velocity_maps(solver, Jc, explicit=True)
-        V[part] = np.einsum("kij,kj->ki", S, R[k])
+        V[part] = batch.apply(S, R[k])
         frames.motion(states, V[part])
-        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states))
-        accel = states.acceleration0[:, reported] + np.einsum("kfij,kj->kfi", states.jacobian[:, reported], Aq[part])
+        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states), batch.apply)
+        accel = states.acceleration0[:, reported] + batch.apply(states.jacobian[:, reported], Aq[part])
         chunk = _frame_columns(solver.mech, states.position[:, reported], states.angle[:, reported],
                                states.velocity[:, reported], accel, wanted, points, links, measures)
         if len(parts) == 1:
