@@ -266,17 +266,21 @@ class PlanarFrames(BatchedFrames):
         X = x[j] + c[j] * fx - s[j] * fy  # (F, N)
         Y = y[j] + s[j] * fx + c[j] * fy
         angle = (theta[j] + self.frame_turn[:, None]).T  # not wrapped to (−π, π]
-        position = np.stack([X.T, Y.T, np.broadcast_to(self.frame_z, (n, len(j)))], axis=-1)
-        jacobian = np.zeros((n, len(j) if jacobians else 0, 6, self.nv))
+        # built sample-last (contiguous rows of N) and returned as transposed views
+        position = np.empty((3, len(j), n))
+        position[0], position[1], position[2] = X, Y, self.frame_z[:, None]
+        position = position.transpose(2, 1, 0)
+        jacobian = np.zeros((len(j) if jacobians else 0, 6, self.nv, n))
         if jacobians:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
             f, k = self.turning.T
             sigma, column = self.sign[k][:, None], self.column[k]
-            jacobian[:, f, 0, column] = (-sigma * (Y[f] - y[k])).T
-            jacobian[:, f, 1, column] = (sigma * (X[f] - x[k])).T
-            jacobian[:, f, 5, column] = sigma.T
+            jacobian[f, 0, column] = -sigma * (Y[f] - y[k])
+            jacobian[f, 1, column] = sigma * (X[f] - x[k])
+            jacobian[f, 5, column] = sigma
             f, k = self.sliding.T
-            jacobian[:, f, 0, self.column[k]] = dx[k].T
-            jacobian[:, f, 1, self.column[k]] = dy[k].T
+            jacobian[f, 0, self.column[k]] = dx[k]
+            jacobian[f, 1, self.column[k]] = dy[k]
+        jacobian = jacobian.transpose(3, 0, 1, 2)
         return BatchedStates(Q, position, angle, jacobian, (x, y, dx, dy, X, Y))
 
     def motion(self, states: BatchedStates, V: np.ndarray, A: np.ndarray | None = None) -> BatchedStates:
@@ -307,12 +311,11 @@ class PlanarFrames(BatchedFrames):
                     ay[i] += dy[i] * a[self.column[i]]
         j = self.frame_joint
         rx, ry, wf, af = X - x[j], Y - y[j], w[j], alpha[j]
-        states.velocity = np.zeros((n, len(j), 6))
-        states.acceleration0 = np.zeros((n, len(j), 6))
-        states.velocity[..., 0], states.velocity[..., 1], states.velocity[..., 5] = \
-            (vx[j] - wf * ry).T, (vy[j] + wf * rx).T, wf.T
-        states.acceleration0[..., 0], states.acceleration0[..., 1], states.acceleration0[..., 5] = \
-            (ax[j] - af * ry - wf * wf * rx).T, (ay[j] + af * rx - wf * wf * ry).T, af.T
+        velocity, acceleration = np.zeros((6, len(j), n)), np.zeros((6, len(j), n))  # sample-last, as placements
+        velocity[0], velocity[1], velocity[5] = vx[j] - wf * ry, vy[j] + wf * rx, wf
+        acceleration[0], acceleration[1] = ax[j] - af * ry - wf * wf * rx, ay[j] + af * rx - wf * wf * ry
+        acceleration[5] = af
+        states.velocity, states.acceleration0 = velocity.transpose(2, 1, 0), acceleration.transpose(2, 1, 0)
         return states
 
 
