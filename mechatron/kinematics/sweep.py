@@ -695,10 +695,9 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
                      ok: np.ndarray, R: np.ndarray, A: np.ndarray, wanted: list[str], points: list[str],
                      links: list[str], measures: list[Measure], U: np.ndarray, failures: dict[int, str]):
     """Velocities, accelerations and the reported frames' columns of the samples ``ok``, chunk by chunk with one
-    batched evaluation of all frames of ``solver.system`` (the closures' and the ``reported`` ones: placements,
-    Jacobians, motion at q̇ and q̈ = 0): q̇ = S q̇_a, the drift J̇ q̇ and q̈ from the closures' frames, and the
-    reported frames' classical accelerations as those at q̈ = 0 plus J q̈ (as :func:`_analyse_pinocchio`):
-    (good samples, V, q̈, columns)."""
+    batched evaluation of all frames of ``solver.system`` (the closures' and the ``reported`` ones: placements and
+    Jacobians, then their motion at q̇ and q̈ = 0): q̇ = S q̇_a, the drift J̇ q̇ and q̈ from the closures' frames,
+    then the motion again at q̈ for the reported frames' classical accelerations: (good samples, V, q̈, columns)."""
     system, names = solver.system, list(solver.mech.actuated)
     rows = np.flatnonzero(ok)
     V, Aq = np.zeros((len(rows), solver.mech.nv)), np.zeros((len(rows), solver.mech.nv))
@@ -713,9 +712,11 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
         V[part] = batch.apply(S, R[k])
         frames.motion(states, V[part])
         Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states), batch.apply)
-        accel = states.acceleration0[:, reported] + batch.apply(states.jacobian[:, reported], Aq[part])
-        chunk = _frame_columns(solver.mech, states.position[:, reported], states.angle[:, reported],
-                               states.velocity[:, reported], accel, wanted, points, links, measures)
+        frames.motion(states, V[part], Aq[part])  # again, at q̈: the reported frames' classical accelerations
+        # the reported frames sample-last (contiguous rows for the planar frames, whose arrays are transposed views)
+        reporting = (np.moveaxis(np.moveaxis(x, 0, -1)[reported], -1, 0) for x in (
+            states.position, states.angle, states.velocity, states.acceleration0))
+        chunk = _frame_columns(solver.mech, *reporting, wanted, points, links, measures)
         if len(parts) == 1:
             columns = chunk
             continue
