@@ -699,6 +699,7 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
     Jacobians, then their motion at q̇ and q̈ = 0): q̇ = S q̇_a, the drift J̇ q̇ and q̈ from the closures' frames,
     then the motion again at q̈ for the reported frames' classical accelerations: (good samples, V, q̈, columns)."""
     system, names = solver.system, list(solver.mech.actuated)
+    closing = len(dict.fromkeys(f for c in system.closures for f in c.frames))
     rows = np.flatnonzero(ok)
     V, Aq = np.zeros((len(rows), solver.mech.nv)), np.zeros((len(rows), solver.mech.nv))
     singular = np.zeros(len(rows), dtype=bool)
@@ -706,7 +707,7 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
     parts = batch.chunks(len(rows))
     for part in parts:
         k = rows[part] if len(parts) > 1 or len(rows) < len(Q) else slice(None)
-        states = frames.placements(Q[k])
+        states = frames.placements(Q[k], jacobians=closing)  # the closures' frames come first
         _, Jc = system.stack(states)
         S, singular[part], inverse = _velocity_maps(solver, Jc, explicit=True)
         V[part] = batch.apply(S, R[k])

@@ -124,9 +124,10 @@ class BatchedFrames:
                 self.support[k, i] = True
                 i = self.parent[i]
 
-    def placements(self, Q: np.ndarray, jacobians: bool = True) -> BatchedStates:
-        """Frame positions (m), rotations, angles about z (rad) and (with ``jacobians``) Jacobians at the N
-        configurations ``Q`` (N, nq)."""
+    def placements(self, Q: np.ndarray, jacobians: bool | int = True) -> BatchedStates:
+        """Frame positions (m), rotations, angles about z (rad) and Jacobians at the N configurations ``Q`` (N, nq):
+        ``jacobians`` True for every frame, False for none, a number m for the first m frames (``jacobian`` is then
+        (N, m, 6, nv))."""
         Q = np.asarray(Q, dtype=float)
         n, nj = len(Q), len(self.parent)
         R = np.empty((n, nj, 3, 3))
@@ -150,15 +151,16 @@ class BatchedFrames:
         position = p[:, self.frame_joint] + (Rj @ self.frame_offset[..., None])[..., 0]
         rotation = Rj @ self.frame_rotation
         angle = np.arctan2(rotation[..., 1, 0], rotation[..., 0, 0])
-        jacobian = self._jacobian(position, p, z) if jacobians else np.zeros((n, 0, 6, self.nv))
+        m = _count(jacobians, len(self.frame_joint))
+        jacobian = self._jacobian(position[:, :m], p, z, m) if m else np.zeros((n, 0, 6, self.nv))
         return BatchedStates(Q, position, angle, jacobian, (p, z), rotation)
 
-    def _jacobian(self, position: np.ndarray, p: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """(N, F, 6, nv): column j of frame f is [z_j × (p_f − p_j); z_j] (revolute), [z_j; 0] (prismatic), zero
-        where joint j does not support frame f."""
+    def _jacobian(self, position: np.ndarray, p: np.ndarray, z: np.ndarray, m: int) -> np.ndarray:
+        """(N, m, 6, nv) of the first m frames: column j of frame f is [z_j × (p_f − p_j); z_j] (revolute),
+        [z_j; 0] (prismatic), zero where joint j does not support frame f."""
         n, nf = position.shape[:2]
-        moved = cross(z[:, None, 1:], position[:, :, None] - p[:, None, 1:])  # (N, F, nj − 1, 3)
-        revolute, support = self.revolute[1:], self.support[:, 1:]
+        moved = cross(z[:, None, 1:], position[:, :, None] - p[:, None, 1:])  # (N, m, nj − 1, 3)
+        revolute, support = self.revolute[1:], self.support[:m, 1:]
         linear = np.where(revolute[:, None], moved, z[:, None, 1:]) * support[..., None]
         angular = z[:, None, 1:] * (support & revolute)[..., None]
         jacobian = np.zeros((n, nf, 6, self.nv))
@@ -244,7 +246,7 @@ class PlanarFrames(BatchedFrames):
         self.turning = pairs[self.revolute[pairs[:, 1]]]
         self.sliding = pairs[~self.revolute[pairs[:, 1]]]
 
-    def placements(self, Q: np.ndarray, jacobians: bool = True) -> BatchedStates:
+    def placements(self, Q: np.ndarray, jacobians: bool | int = True) -> BatchedStates:
         Q = np.asarray(Q, dtype=float)
         n, nj = len(Q), len(self.parent)
         q = np.ascontiguousarray(Q.T)
@@ -270,14 +272,15 @@ class PlanarFrames(BatchedFrames):
         position = np.empty((3, len(j), n))
         position[0], position[1], position[2] = X, Y, self.frame_z[:, None]
         position = position.transpose(2, 1, 0)
-        jacobian = np.zeros((len(j) if jacobians else 0, 6, self.nv, n))
-        if jacobians:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
-            f, k = self.turning.T
+        m = _count(jacobians, len(j))
+        jacobian = np.zeros((m, 6, self.nv, n))
+        if m:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
+            f, k = self.turning[self.turning[:, 0] < m].T
             sigma, column = self.sign[k][:, None], self.column[k]
             jacobian[f, 0, column] = -sigma * (Y[f] - y[k])
             jacobian[f, 1, column] = sigma * (X[f] - x[k])
             jacobian[f, 5, column] = sigma
-            f, k = self.sliding.T
+            f, k = self.sliding[self.sliding[:, 0] < m].T
             jacobian[f, 0, self.column[k]] = dx[k]
             jacobian[f, 1, self.column[k]] = dy[k]
         jacobian = jacobian.transpose(3, 0, 1, 2)
@@ -317,6 +320,11 @@ class PlanarFrames(BatchedFrames):
         acceleration[5] = af
         states.velocity, states.acceleration0 = velocity.transpose(2, 1, 0), acceleration.transpose(2, 1, 0)
         return states
+
+
+def _count(jacobians: bool | int, frames: int) -> int:
+    """How many leading frames get Jacobians: all for True, none for False, else min(jacobians, frames)."""
+    return frames if jacobians is True else min(int(jacobians), frames)
 
 
 def batched_frames(model: pin.Model, frame_ids: list[int]) -> BatchedFrames:
