@@ -367,8 +367,9 @@ POSITION_SECONDS = 1e-3
 
 
 def position_bytes(mech: Mechanism) -> float:
-    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table)."""
-    return 4096.0 * mech.nq + 400.0 * mech.nq**2
+    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table; measured at 400
+    samples: 2.5 to 16 kB for nq = 3 to 12, tests/test_bounded.py)."""
+    return 1536.0 * mech.nq + 400.0 * mech.nq**2
 
 
 def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1) -> None:
