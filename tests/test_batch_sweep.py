@@ -97,3 +97,38 @@ def test_interpolation_and_stride():
     assert batch.anchor_stride(U, np.array([4.0])) == 8
     assert batch.anchor_stride(U[:1], np.array([4.0])) == 1
     np.testing.assert_array_equal(batch.every(np.arange(10), 4), [0, 4, 8, 9])
+
+
+def _rows_agree(reference, result, rows, tolerance):
+    """Whether the table rows ``rows`` agree element by element to ``tolerance`` relative to max(1, |value|)."""
+    expected = reference.table.to_numpy(float)[rows]
+    difference = np.abs(result.table.to_numpy(float)[rows] - expected)
+    return bool((difference <= tolerance * np.maximum(1.0, np.abs(expected))).all())
+
+
+def test_through_singular_positions(monkeypatch):
+    """Sweeps through singular positions, where Newton's method converges only linearly (the closure Jacobian J_d is
+    singular at the solution) and a position is exact to about √TOLERANCE: the batched sweep keeps the same samples
+    and branch as the sequential one, agrees with it to 1e-10 away from the singular positions and to 1e-4 (m, rad)
+    in the positions at them."""
+    # a crank-slider with l1 = l2: at q1 = π/2 (sample 100) the slider pin C meets the crank's pivot A and the folded
+    # branch (C stays at A) crosses the open one (x_C = 2 l1 cos q1); both sweeps leave on the same branch
+    mech = mechatron.load("crank_slider", l2=0.1)
+    angles = np.linspace(0.3, np.pi - 0.3, 201)
+    reference, result = both(monkeypatch, mech, {"q1": angles})
+    assert len(result.table) == len(reference.table) == 201 and _reasons(result) == _reasons(reference)
+    assert abs(angles[100] - np.pi / 2) < 1e-15
+    away = np.r_[0:99, 102:201]
+    assert _rows_agree(reference, result, away, 1e-10)
+    assert np.abs(reference.table["q_xC"].iloc[:99]).max() < 1e-9  # folded before the crossing …
+    assert (reference.table["q_xC"].iloc[102:] < -1e-3).all()  # … open after it, in both sweeps
+    positions = [f"q_{joint}" for joint in mech.joint_names]
+    assert np.abs(result.table[positions].to_numpy() - reference.table[positions].to_numpy()).max() < 1e-4
+    # the crank-slider driven by its slider from the inner to the outer dead centre (x_C = l2 ∓ l1): the crank's
+    # rate grows without bound at both ends
+    mech = mechatron.load("crank_slider").with_actuated(["xC"])
+    reference, result = both(monkeypatch, mech, {"xC": np.linspace(0.3, 0.5, 101)})
+    assert len(result.table) == len(reference.table) == 101 and _reasons(result) == _reasons(reference)
+    assert _rows_agree(reference, result, np.arange(1, 100), 1e-10)
+    assert np.abs(result.table[positions].to_numpy() - reference.table[positions].to_numpy()).max() < 1e-4
+    assert (np.abs(result.table["v_q1"].iloc[[0, -1]]) > 1e4).all()

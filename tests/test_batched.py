@@ -141,3 +141,17 @@ def test_a_curve_of_floats_only_is_called_per_sample():
     np.testing.assert_allclose(_curve(lambda v: float(v) ** 2, x), x**2, rtol=1e-15)
     np.testing.assert_allclose(_curve(lambda v: 0.0, x), np.zeros_like(x))
     assert _curve(lambda v: v + 1.0, 0.5) == 1.5
+
+
+@pytest.mark.parametrize("model", [pytest.param(random_tree(), id="spatial"), pytest.param(random_planar_tree(),
+                                                                                           id="planar")])
+def test_jacobians_of_the_leading_frames_only(model):
+    """placements(Q, jacobians=m): the Jacobians of the first m frames, the same as with all of them; False: none."""
+    frames = batched_frames(model, list(range(model.nframes)))
+    Q = random_states(model, 4)[0]
+    every = frames.placements(Q)
+    for m in (0, 3, False):
+        part = frames.placements(Q, jacobians=m)
+        assert part.jacobian.shape == (4, int(m), 6, model.nv)
+        np.testing.assert_array_equal(part.jacobian, every.jacobian[:, :int(m)])
+        np.testing.assert_array_equal(part.position, every.position)

@@ -367,10 +367,9 @@ POSITION_SECONDS = 1e-3
 
 
 def position_bytes(mech: Mechanism) -> float:
-    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table, and its share of the
-    batched chunks' working arrays): an upper bound measured with tracemalloc (tests/test_bounded.py), 1.4–1.7× the
-    peak of 400-sample sweeps of the shipped loops, more for longer ones."""
-    return 1200.0 * mech.nq + 40.0 * mech.nq**2
+    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table; measured at 400
+    samples: 2.5 to 16 kB for nq = 3 to 12, tests/test_bounded.py)."""
+    return 1536.0 * mech.nq + 400.0 * mech.nq**2
 
 
 def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1) -> None:
@@ -451,17 +450,17 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     # positions: by batched Newton between anchors solved by continuation (kinematics/batch.py) when the batched
     # kinematics knows the joints, else by continuation from sample to sample
     closing = _batched_frames(base) if BATCHED else None  # the closures' frames
-    reporting = _batched_frames(base, wanted) if closing is not None else None  # the reported ones
+    every = _batched_frames(solver) if closing is not None else None  # and the reported ones
     if closing is not None and n >= BATCH_MIN:
         Q, ok = _batched_positions(base, closing, U, q, failures, progress)
     else:
-        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=reporting is None).run(range(n))
+        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=every is None).run(range(n))
     # velocities q̇ = S q̇_a, accelerations J_d q̈_d = −J_a q̈_a − J̇ q̇ and the reported frames, all samples at once
-    if reporting is not None:
-        good, V, Aq, columns = _analyse_batched(base, closing, reporting, Q, ok, R, A, wanted, points, links,
+    reported = [system.index[name] for name in wanted]
+    if every is not None:
+        good, V, Aq, columns = _analyse_batched(solver, every, reported, Q, ok, R, A, wanted, points, links,
                                                 measures, U, failures)
     else:
-        reported = [system.index[name] for name in wanted]
         good, V, Aq, columns = _analyse_pinocchio(solver, Q, ok, saved, R, A, reported, wanted, points, links,
                                                   measures, U, failures)
     failure_rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
@@ -646,9 +645,10 @@ def _extrapolate(history: list[np.ndarray], q: np.ndarray) -> np.ndarray:
     return (history[-1] if m else q).copy()
 
 
-def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+def _velocity_maps(solver: LoopSolver, Jc: np.ndarray, explicit: bool = False
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """S_k (n × nv × n_act) for a stack of closure Jacobians, which samples are singular, and J_d⁻¹ (None without
-    dependent coordinates)."""
+    dependent coordinates); with ``explicit`` the small square J_d are inverted by :func:`batch.inverse`."""
     n, nv, na = len(Jc), solver.mech.nv, len(solver.act)
     S = np.broadcast_to(solver.selection, (n, nv, na)).copy()
     singular = np.zeros(n, dtype=bool)
@@ -658,7 +658,10 @@ def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.n
     square = Jd.shape[1] == Jd.shape[2]
     with np.errstate(all="ignore"):
         try:
-            inverse = np.linalg.inv(Jd) if square else np.linalg.pinv(Jd)
+            if explicit and square and Jd.shape[1] <= batch.EXPLICIT:
+                inverse = batch.inverse(Jd)
+            else:
+                inverse = np.linalg.inv(Jd) if square else np.linalg.pinv(Jd)
         except np.linalg.LinAlgError:  # some sample is exactly singular: invert one by one
             inverse = np.full((n, Jd.shape[2], Jd.shape[1]), np.inf)
             for k in range(n):
@@ -672,12 +675,14 @@ def _velocity_maps(solver: LoopSolver, Jc: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 def _accelerations(solver: LoopSolver, S: np.ndarray, Jc: np.ndarray, inverse: np.ndarray | None, A: np.ndarray,
-                   drift: np.ndarray) -> np.ndarray:
-    """q̈ of a stack of samples: q̈ = S q̈_a with the dependent rows q̈_d = −J_d⁻¹ (J_a q̈_a + J̇ q̇)."""
-    Aq = np.einsum("kij,kj->ki", S, A)
+                   drift: np.ndarray, apply: Callable | None = None) -> np.ndarray:
+    """q̈ of a stack of samples: q̈ = S q̈_a with the dependent rows q̈_d = −J_d⁻¹ (J_a q̈_a + J̇ q̇); ``apply(M, x)``
+    multiplies the stacks (default ``einsum``)."""
+    apply = apply or (lambda M, x: np.einsum("kij,kj->ki", M, x))
+    Aq = apply(S, A)
     if inverse is not None:
-        rhs = np.einsum("kij,kj->ki", Jc[:, :, solver.act], A) + drift
-        Aq[:, solver.dep] = -np.einsum("kij,kj->ki", inverse, rhs)
+        rhs = apply(Jc[:, :, solver.act], A) + drift
+        Aq[:, solver.dep] = -apply(inverse, rhs)
     return Aq
 
 
@@ -687,28 +692,36 @@ def _singular_reason(mech: Mechanism, names: list[str], u: np.ndarray) -> str:
             + "): the actuated coordinates do not determine the motion")
 
 
-def _analyse_batched(solver: LoopSolver, closing: BatchedFrames, reporting: BatchedFrames, Q: np.ndarray,
+def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[int], Q: np.ndarray,
                      ok: np.ndarray, R: np.ndarray, A: np.ndarray, wanted: list[str], points: list[str],
                      links: list[str], measures: list[Measure], U: np.ndarray, failures: dict[int, str]):
-    """Velocities, accelerations and the reported frames' columns of the samples ``ok``, chunk by chunk with the
-    batched kinematics of the closures' frames (``closing``, with Jacobians and drifts) and of the reported ones
-    (``reporting``, their motion at q̇ and q̈): (good samples, V, q̈, columns)."""
+    """Velocities, accelerations and the reported frames' columns of the samples ``ok``, chunk by chunk with one
+    batched evaluation of all frames of ``solver.system`` (the closures' and the ``reported`` ones: placements and
+    Jacobians, then their motion at q̇ and q̈ = 0): q̇ = S q̇_a, the drift J̇ q̇ and q̈ from the closures' frames,
+    then the motion again at q̈ for the reported frames' classical accelerations: (good samples, V, q̈, columns)."""
     system, names = solver.system, list(solver.mech.actuated)
+    closing = len(dict.fromkeys(f for c in system.closures for f in c.frames))
     rows = np.flatnonzero(ok)
     V, Aq = np.zeros((len(rows), solver.mech.nv)), np.zeros((len(rows), solver.mech.nv))
     singular = np.zeros(len(rows), dtype=bool)
     columns: dict[str, np.ndarray] = {}
-    for part in batch.chunks(len(rows)):
-        k = rows[part]
-        states = closing.placements(Q[k])
+    parts = batch.chunks(len(rows))
+    for part in parts:
+        k = rows[part] if len(parts) > 1 or len(rows) < len(Q) else slice(None)
+        states = frames.placements(Q[k], jacobians=closing)  # the closures' frames come first
         _, Jc = system.stack(states)
-        S, singular[part], inverse = _velocity_maps(solver, Jc)
-        V[part] = np.einsum("kij,kj->ki", S, R[k])
-        closing.motion(states, V[part])
-        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states))
-        frames = reporting.motion(reporting.placements(Q[k], jacobians=False), V[part], Aq[part])
-        chunk = _frame_columns(solver.mech, frames.position, frames.angle, frames.velocity, frames.acceleration0,
-                               wanted, points, links, measures)
+        S, singular[part], inverse = _velocity_maps(solver, Jc, explicit=True)
+        V[part] = batch.apply(S, R[k])
+        frames.motion(states, V[part])
+        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states), batch.apply)
+        frames.motion(states, V[part], Aq[part])  # again, at q̈: the reported frames' classical accelerations
+        # the reported frames sample-last (contiguous rows for the planar frames, whose arrays are transposed views)
+        reporting = (np.moveaxis(np.moveaxis(x, 0, -1)[reported], -1, 0) for x in (
+            states.position, states.angle, states.velocity, states.acceleration0))
+        chunk = _frame_columns(solver.mech, *reporting, wanted, points, links, measures)
+        if len(parts) == 1:
+            columns = chunk
+            continue
         for name, values in chunk.items():
             columns.setdefault(name, np.empty(len(rows)))[part] = values
     for k in rows[singular]:

@@ -124,9 +124,10 @@ class BatchedFrames:
                 self.support[k, i] = True
                 i = self.parent[i]
 
-    def placements(self, Q: np.ndarray, jacobians: bool = True) -> BatchedStates:
-        """Frame positions (m), rotations, angles about z (rad) and (with ``jacobians``) Jacobians at the N
-        configurations ``Q`` (N, nq)."""
+    def placements(self, Q: np.ndarray, jacobians: bool | int = True) -> BatchedStates:
+        """Frame positions (m), rotations, angles about z (rad) and Jacobians at the N configurations ``Q`` (N, nq):
+        ``jacobians`` True for every frame, False for none, a number m for the first m frames (``jacobian`` is then
+        (N, m, 6, nv))."""
         Q = np.asarray(Q, dtype=float)
         n, nj = len(Q), len(self.parent)
         R = np.empty((n, nj, 3, 3))
@@ -150,15 +151,16 @@ class BatchedFrames:
         position = p[:, self.frame_joint] + (Rj @ self.frame_offset[..., None])[..., 0]
         rotation = Rj @ self.frame_rotation
         angle = np.arctan2(rotation[..., 1, 0], rotation[..., 0, 0])
-        jacobian = self._jacobian(position, p, z) if jacobians else np.zeros((n, 0, 6, self.nv))
+        m = _count(jacobians, len(self.frame_joint))
+        jacobian = self._jacobian(position[:, :m], p, z, m) if m else np.zeros((n, 0, 6, self.nv))
         return BatchedStates(Q, position, angle, jacobian, (p, z), rotation)
 
-    def _jacobian(self, position: np.ndarray, p: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """(N, F, 6, nv): column j of frame f is [z_j × (p_f − p_j); z_j] (revolute), [z_j; 0] (prismatic), zero
-        where joint j does not support frame f."""
+    def _jacobian(self, position: np.ndarray, p: np.ndarray, z: np.ndarray, m: int) -> np.ndarray:
+        """(N, m, 6, nv) of the first m frames: column j of frame f is [z_j × (p_f − p_j); z_j] (revolute),
+        [z_j; 0] (prismatic), zero where joint j does not support frame f."""
         n, nf = position.shape[:2]
-        moved = cross(z[:, None, 1:], position[:, :, None] - p[:, None, 1:])  # (N, F, nj − 1, 3)
-        revolute, support = self.revolute[1:], self.support[:, 1:]
+        moved = cross(z[:, None, 1:], position[:, :, None] - p[:, None, 1:])  # (N, m, nj − 1, 3)
+        revolute, support = self.revolute[1:], self.support[:m, 1:]
         linear = np.where(revolute[:, None], moved, z[:, None, 1:]) * support[..., None]
         angular = z[:, None, 1:] * (support & revolute)[..., None]
         jacobian = np.zeros((n, nf, 6, self.nv))
@@ -244,7 +246,7 @@ class PlanarFrames(BatchedFrames):
         self.turning = pairs[self.revolute[pairs[:, 1]]]
         self.sliding = pairs[~self.revolute[pairs[:, 1]]]
 
-    def placements(self, Q: np.ndarray, jacobians: bool = True) -> BatchedStates:
+    def placements(self, Q: np.ndarray, jacobians: bool | int = True) -> BatchedStates:
         Q = np.asarray(Q, dtype=float)
         n, nj = len(Q), len(self.parent)
         q = np.ascontiguousarray(Q.T)
@@ -266,17 +268,22 @@ class PlanarFrames(BatchedFrames):
         X = x[j] + c[j] * fx - s[j] * fy  # (F, N)
         Y = y[j] + s[j] * fx + c[j] * fy
         angle = (theta[j] + self.frame_turn[:, None]).T  # not wrapped to (−π, π]
-        position = np.stack([X.T, Y.T, np.broadcast_to(self.frame_z, (n, len(j)))], axis=-1)
-        jacobian = np.zeros((n, len(j) if jacobians else 0, 6, self.nv))
-        if jacobians:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
-            f, k = self.turning.T
+        # built sample-last (contiguous rows of N) and returned as transposed views
+        position = np.empty((3, len(j), n))
+        position[0], position[1], position[2] = X, Y, self.frame_z[:, None]
+        position = position.transpose(2, 1, 0)
+        m = _count(jacobians, len(j))
+        jacobian = np.zeros((m, 6, self.nv, n))
+        if m:  # revolute columns σ (−(y_f − y_j), x_f − x_j, 0, 0, 0, 1), prismatic ones (d_x, d_y, 0, …)
+            f, k = self.turning[self.turning[:, 0] < m].T
             sigma, column = self.sign[k][:, None], self.column[k]
-            jacobian[:, f, 0, column] = (-sigma * (Y[f] - y[k])).T
-            jacobian[:, f, 1, column] = (sigma * (X[f] - x[k])).T
-            jacobian[:, f, 5, column] = sigma.T
-            f, k = self.sliding.T
-            jacobian[:, f, 0, self.column[k]] = dx[k].T
-            jacobian[:, f, 1, self.column[k]] = dy[k].T
+            jacobian[f, 0, column] = -sigma * (Y[f] - y[k])
+            jacobian[f, 1, column] = sigma * (X[f] - x[k])
+            jacobian[f, 5, column] = sigma
+            f, k = self.sliding[self.sliding[:, 0] < m].T
+            jacobian[f, 0, self.column[k]] = dx[k]
+            jacobian[f, 1, self.column[k]] = dy[k]
+        jacobian = jacobian.transpose(3, 0, 1, 2)
         return BatchedStates(Q, position, angle, jacobian, (x, y, dx, dy, X, Y))
 
     def motion(self, states: BatchedStates, V: np.ndarray, A: np.ndarray | None = None) -> BatchedStates:
@@ -307,13 +314,17 @@ class PlanarFrames(BatchedFrames):
                     ay[i] += dy[i] * a[self.column[i]]
         j = self.frame_joint
         rx, ry, wf, af = X - x[j], Y - y[j], w[j], alpha[j]
-        states.velocity = np.zeros((n, len(j), 6))
-        states.acceleration0 = np.zeros((n, len(j), 6))
-        states.velocity[..., 0], states.velocity[..., 1], states.velocity[..., 5] = \
-            (vx[j] - wf * ry).T, (vy[j] + wf * rx).T, wf.T
-        states.acceleration0[..., 0], states.acceleration0[..., 1], states.acceleration0[..., 5] = \
-            (ax[j] - af * ry - wf * wf * rx).T, (ay[j] + af * rx - wf * wf * ry).T, af.T
+        velocity, acceleration = np.zeros((6, len(j), n)), np.zeros((6, len(j), n))  # sample-last, as placements
+        velocity[0], velocity[1], velocity[5] = vx[j] - wf * ry, vy[j] + wf * rx, wf
+        acceleration[0], acceleration[1] = ax[j] - af * ry - wf * wf * rx, ay[j] + af * rx - wf * wf * ry
+        acceleration[5] = af
+        states.velocity, states.acceleration0 = velocity.transpose(2, 1, 0), acceleration.transpose(2, 1, 0)
         return states
+
+
+def _count(jacobians: bool | int, frames: int) -> int:
+    """How many leading frames get Jacobians: all for True, none for False, else min(jacobians, frames)."""
+    return frames if jacobians is True else min(int(jacobians), frames)
 
 
 def batched_frames(model: pin.Model, frame_ids: list[int]) -> BatchedFrames:
