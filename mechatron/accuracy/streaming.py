@@ -11,8 +11,8 @@ r"""Monte Carlo statistics in constant memory: the samples arrive in chunks and 
   s_i the population spread of error i.
 - **Quantiles** (:class:`Quantiles`): exact (``numpy.quantile``, linear interpolation) while the |Δr| samples of a
   pose fit :data:`EXACT_SAMPLES` values (8 MB). Past that, a fixed-bin histogram of :data:`BINS` bins over
-  [0, top], top = :data:`HEADROOM` × the largest of the first :data:`EXACT_SAMPLES` values (those are binned too),
-  plus one overflow count. A quantile is the midpoint of the bin that holds its order statistics: its error is at
+  [0, top], top = :data:`HEADROOM` × the largest sample when the store overflows (the samples stored and the chunk
+  that does not fit; all are binned), plus one overflow count. A quantile is the midpoint of the bin that holds its order statistics: its error is at
   most half a bin width, top / (2 · :data:`BINS`) (:attr:`Quantiles.bound`). An order statistic in the overflow
   (above top; for a normal |Δr| with 10⁶ samples, beyond ~24 σ) is given as the largest sample, an upper bound.
 """
@@ -76,8 +76,9 @@ class Quantiles:
     """Quantiles of non-negative samples (|Δr|, m) streamed in chunks: exact up to ``exact`` samples, else from a
     fixed-bin histogram (see the module)."""
 
-    def __init__(self, total: int, exact: int = EXACT_SAMPLES, bins: int = BINS) -> None:
-        self.exact, self.bins = exact, bins
+    def __init__(self, total: int, exact: int | None = None, bins: int | None = None) -> None:
+        exact = EXACT_SAMPLES if exact is None else exact
+        self.bins = BINS if bins is None else bins
         self.values: Floats | None = np.empty(min(total, exact))
         self.n = 0
         self.largest = -np.inf
