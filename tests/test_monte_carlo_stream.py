@@ -56,7 +56,8 @@ def test_quantiles_exact_then_within_half_a_bin():
     binned = Quantiles(len(r), exact=10000, bins=4096)
     for part in chunks(r, 7000):
         binned.add(part)
-    assert binned.bound == pytest.approx(streaming.HEADROOM * r[:14000].max() / 4096 / 2)  # the store and the chunk past it
+    top = streaming.HEADROOM * r[:14000].max()  # the store and the chunk past it
+    assert binned.bound == pytest.approx(top / 4096 / 2)
     assert np.all(np.abs(binned.quantiles(levels) - np.quantile(r, levels)) <= binned.bound * (1 + 1e-12))
     assert binned.largest == r.max()
     spread = Quantiles(4, exact=2, bins=16)  # a sample far past the range: the overflow gives the largest
@@ -106,7 +107,8 @@ def test_streamed_study_equals_the_statistics_of_all_samples(monkeypatch, exact)
     assert row["yield_mc"] == np.mean(r <= limit)
     levels = [math.erf(k / math.sqrt(2)), 0.5, 0.95, 0.99]
     quantiles = [row[c] for c in ("dr_mc", "p50_dr_mc", "p95_dr_mc", "p99_dr_mc")]
-    bound = 0.0 if exact is None else streaming.HEADROOM * r[:study.CHUNK].max() / streaming.BINS / 2  # the first chunk overflows
+    top = streaming.HEADROOM * r[:study.CHUNK].max()  # the first chunk overflows the store
+    bound = 0.0 if exact is None else top / streaming.BINS / 2
     assert np.all(np.abs(np.array(quantiles) - np.quantile(r, levels)) <= bound * (1 + 1e-12))
     assert any("histogram" in note for note in result.notes) == bool(exact)
     shares = result.contributions.set_index("source")["mc_share"]

@@ -12,9 +12,10 @@ r"""Monte Carlo statistics in constant memory: the samples arrive in chunks and 
 - **Quantiles** (:class:`Quantiles`): exact (``numpy.quantile``, linear interpolation) while the |Δr| samples of a
   pose fit :data:`EXACT_SAMPLES` values (8 MB). Past that, a fixed-bin histogram of :data:`BINS` bins over
   [0, top], top = :data:`HEADROOM` × the largest sample when the store overflows (the samples stored and the chunk
-  that does not fit; all are binned), plus one overflow count. A quantile is the midpoint of the bin that holds its order statistics: its error is at
-  most half a bin width, top / (2 · :data:`BINS`) (:attr:`Quantiles.bound`). An order statistic in the overflow
-  (above top; for a normal |Δr| with 10⁶ samples, beyond ~24 σ) is given as the largest sample, an upper bound.
+  that does not fit; all are binned), plus one overflow count. A quantile is the midpoint of the bin that holds
+  its order statistics: its error is at most half a bin width, top / (2 · :data:`BINS`) (:attr:`Quantiles.bound`).
+  An order statistic in the overflow (above top; for a normal |Δr| with 10⁶ samples, beyond ~24 σ) is given as the
+  largest sample, an upper bound.
 """
 
 from __future__ import annotations

@@ -227,25 +227,29 @@ def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Gener
     return out
 
 
-#: Memory of the Monte Carlo (bytes): per kept sample of a pose (at most :data:`KEPT_SAMPLES`: Δr of the pose and
-#: of the critical one, |Δr| for the exact quantiles, their sorted copy, with a margin), per source and sample of a
-#: chunk (the errors, their centred copy), and fixed (the chunk's positions, the quantiles' histogram, the
-#: interpreter's working set); time per sample and pose (s, a lower bound: 2–8e-6 s measured for the PUMA's 30
-#: sources on this machine class). The memory does not grow past :data:`KEPT_SAMPLES`: the statistics are streamed.
-MC_BYTES_PER_SAMPLE, MC_BYTES_PER_ERROR, MC_FIXED_BYTES, MC_SECONDS = 160.0, 48.0, 64 * 2**20, 4e-6
+#: Memory of the Monte Carlo (bytes; tracemalloc peaks of the PUMA with a margin): per sample of a chunk
+#: (positions and temporaries of the evaluator, the moments' centred copy) plus per source and sample of a chunk
+#: (the errors), per kept sample of a pose (at most :data:`KEPT_SAMPLES`: Δr of the pose and of the critical one,
+#: |Δr| for the exact quantiles, their sorted copy), the quantiles' histogram past the exact store, and fixed. Time
+#: per sample and pose (s, a lower bound: 2–8e-6 s measured for the PUMA's 30 sources on this machine class).
+MC_BYTES_PER_CHUNK_SAMPLE, MC_BYTES_PER_ERROR, MC_BYTES_PER_SAMPLE = 400.0, 48.0, 64.0
+MC_FIXED_BYTES, MC_SECONDS = 2 * 2**20, 4e-6
 
 
 def monte_carlo_budget(samples: float, sources: int, poses: int) -> float:
     """The memory (bytes) of a Monte Carlo of ``samples`` per pose over ``sources`` errors at ``poses`` poses, or
-    :class:`~mechatron.io.budget.BudgetError` past the time limit (:mod:`mechatron.io.budget`; the memory is bounded
-    by :data:`KEPT_SAMPLES` whatever the samples, and checked too)."""
+    :class:`~mechatron.io.budget.BudgetError` past the time limit (:mod:`mechatron.io.budget`). The memory stops
+    growing at :data:`KEPT_SAMPLES` samples (the statistics are streamed): it is checked too, but no sample count
+    exceeds it."""
     from ..io.budget import count, option, require, seconds
 
     name = option("samples")
     what = f"{name} {count(samples)}: the Monte Carlo"
     advice = f"use fewer {name} (its spread falls only as 1/√samples)"
-    fixed = MC_FIXED_BYTES + MC_BYTES_PER_ERROR * sources * CHUNK
-    estimate = require(what, min(samples, KEPT_SAMPLES), MC_BYTES_PER_SAMPLE, fixed=fixed, advice=advice)
+    chunk = min(samples, CHUNK) * (MC_BYTES_PER_CHUNK_SAMPLE + MC_BYTES_PER_ERROR * sources)
+    histogram = 16.0 * (BINS + 1) if samples > EXACT_SAMPLES else 0.0  # the counts and one bincount
+    estimate = require(what, min(samples, KEPT_SAMPLES), MC_BYTES_PER_SAMPLE,
+                       fixed=MC_FIXED_BYTES + chunk + histogram, advice=advice)
     seconds(f"{what} at {poses} pose(s)", samples * poses, MC_SECONDS, advice=advice + " or fewer poses")
     return estimate
 
