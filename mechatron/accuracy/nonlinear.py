@@ -155,9 +155,12 @@ def _exp_parts(xi: Floats, t: Floats) -> tuple[Floats | None, Floats, Floats]:
 
 
 def _product(A: Floats, B: Floats) -> Floats:
-    """A B for rotations that are one (3, 3) or N (N, 3, 3) each (a stack times one matrix as one GEMM)."""
+    """A B for rotations that are one (3, 3) or N (N, 3, 3) each (a stack times one matrix as one GEMM; a stack
+    that repeats one matrix, stride 0, taken as that matrix)."""
+    A = A[0] if A.ndim == 3 and A.strides[0] == 0 else A
+    B = B[0] if B.ndim == 3 and B.strides[0] == 0 else B
     if A.ndim == 3 and B.ndim == 2:
-        return (A.reshape(-1, 3) @ B).reshape(A.shape)
+        return (A.reshape(-1, 3) @ np.ascontiguousarray(B)).reshape(A.shape)
     return A @ B
 
 
@@ -176,10 +179,9 @@ def _compose(R1: Floats, p1: Floats, R2: Floats, p2: Floats) -> tuple[Floats, Fl
 
 
 def _exp_placement(xi: Floats, t: Floats) -> tuple[Floats, Floats]:
-    """exp(ξ t) as N placements (R (N, 3, 3), p (N, 3))."""
+    """exp(ξ t) as N placements (R (N, 3, 3), or one (3, 3) for a translation, p (N, 3))."""
     axis, theta, p = _exp_parts(xi, t)
-    R = np.broadcast_to(np.eye(3), (len(t), 3, 3)) if axis is None else _rotation_matrices(axis, theta)
-    return R, p
+    return (np.eye(3) if axis is None else _rotation_matrices(axis, theta)), p
 
 
 # ------------------------------------------------------------------------------------------------ joints
