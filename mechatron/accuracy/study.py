@@ -231,7 +231,7 @@ def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Gener
 #: (positions and temporaries of the evaluator, the moments' centred copy) plus per source and sample of a chunk
 #: (the errors), per kept sample of a pose (at most :data:`KEPT_SAMPLES`: Δr of the pose and of the critical one,
 #: |Δr| for the exact quantiles, their sorted copy), the quantiles' histogram past the exact store, and fixed. Time
-#: per sample and pose (s, a lower bound: 2–8e-6 s measured for the PUMA's 30 sources on this machine class).
+#: per sample and pose (s: about 4e-6 s for the PUMA's 30 sources on an idle two-core machine, 13–25e-6 s busy).
 MC_BYTES_PER_CHUNK_SAMPLE, MC_BYTES_PER_ERROR, MC_BYTES_PER_SAMPLE = 400.0, 48.0, 64.0
 MC_FIXED_BYTES, MC_SECONDS = 2 * 2**20, 4e-6
 
