@@ -461,3 +461,11 @@ def test_step_bound_is_the_apis():
     from mechatron.dynamics.motion import MIN_STEP
 
     assert _MIN_STEP == MIN_STEP
+
+
+@pytest.mark.parametrize("argv", [["fk", "puma560", "--q", "0,0,0,0,0,0", "--frame", ""],
+                                  ["jacobian", "puma560", "--q", "0,0,0,0,0,0", "--frame", " "],
+                                  ["tolerance", "planar_2r", "--tolerances", "tol.csv", "--frame", ""]])
+def test_an_empty_frame_name_is_refused(argv, capfd, tmp_path):
+    (tmp_path / "tol.csv").write_text("parameter,tolerance\na1,1e-4\n")
+    assert_clean_error(argv, capfd, tmp_path, ["--frame", "needs a name"])

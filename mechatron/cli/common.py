@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 import numpy as np
 
 from ..errors import InputError
+from .values import NAME
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..model import Mechanism
@@ -97,7 +98,7 @@ def _pose_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--q", required=True, metavar="Q1,Q2,...",
                         help="joint coordinates, one per joint, comma-separated (rad and m; see --deg)")
     parser.add_argument("--deg", action="store_true", help="revolute joint values of --q are in degrees")
-    parser.add_argument("--frame", help="frame name (default: tool)")
+    parser.add_argument("--frame", type=NAME, help="frame name (default: tool)")
 
 
 def _join_negative_values(argv: Sequence[str]) -> list[str]:

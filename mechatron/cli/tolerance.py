@@ -6,7 +6,7 @@ import argparse
 
 from ..errors import InputError
 from .common import _load, _robot_arguments, add_output_options, emit, output_option
-from .values import COUNT, FILE, Number
+from .values import COUNT, FILE, NAME, Number
 
 
 def cmd_tolerance(args: argparse.Namespace) -> int:
@@ -62,7 +62,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="coverage factor: σ = t/k for normal errors (default 3)")
     p.add_argument("--limit-mm", type=Number(positive=True, unit="mm"),
                    help="largest acceptable |Δr| (mm) for the Monte Carlo yield")
-    p.add_argument("--frame", help="the frame whose position is studied (default: the tool)")
+    p.add_argument("--frame", type=NAME, help="the frame whose position is studied (default: the tool)")
     add_output_options(p, report=True)
     output_option(p, "--contributions", kind="table", help="write the contributions table (CSV)")
     output_option(p, "--plots", kind="folder", metavar="DIR",

@@ -95,3 +95,10 @@ POSITIVE = Number(positive=True)
 COUNT = Number(integer=True, minimum=1)
 FRACTION = Number(positive=True, maximum=1.0)
 FILE = InputFile()
+
+
+def NAME(text: str) -> str:  # noqa: N802 - an argparse type, named as the value it reads
+    """An argparse ``type``: a non-empty name (a frame, a joint), without surrounding blanks."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("needs a name, got an empty one")
+    return text.strip()

@@ -367,8 +367,10 @@ POSITION_SECONDS = 1e-3
 
 
 def position_bytes(mech: Mechanism) -> float:
-    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table)."""
-    return 4096.0 * mech.nq + 400.0 * mech.nq**2
+    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table, and its share of the
+    batched chunks' working arrays): an upper bound measured with tracemalloc (tests/test_bounded.py), 1.4–1.7× the
+    peak of 400-sample sweeps of the shipped loops, more for longer ones."""
+    return 1200.0 * mech.nq + 40.0 * mech.nq**2
 
 
 def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1) -> None:
