@@ -413,6 +413,7 @@ class PerturbedLoops(_Factors):
         joints = {j for f in frames for j in model.supports[model.frames[f].parentJoint] if j != 0}
         self.joints = sorted(joints)  # a parent's index is below its children's
         self.frames = sorted(frames)
+        self.point_joints = [j for j in self.joints if j in model.supports[model.frames[self.fid].parentJoint]]
         self.axes = {j: _joint_axis(model.joints[j]) for j in self.joints}
         by_index = {model.joints[j].idx_v: j for j in range(1, model.njoints)}
         self.dep = self.solver.dep
@@ -441,12 +442,13 @@ class PerturbedLoops(_Factors):
         return {key: (R[rows] if R.ndim == 3 else R, p[rows] if p.ndim == 2 else p)
                 for key, (R, p) in constants.items()}
 
-    def _placements(self, q: Floats, constants: dict
+    def _placements(self, q: Floats, constants: dict, point_only: bool = False
                     ) -> tuple[dict[int, tuple[Floats, Floats]], dict[int, tuple[Floats, Floats]]]:
-        """World placements (R, p) of the frames used and of the joints at the configurations q (N, nq)."""
+        """World placements (R, p) of the frames used and of the joints at the configurations q (N, nq); with
+        ``point_only`` only the studied frame's and its joints'."""
         model = self.mech.model
         world: dict[int, tuple[Floats, Floats]] = {0: (np.eye(3), np.zeros(3))}
-        for j in self.joints:
+        for j in self.point_joints if point_only else self.joints:
             R, p = constants[("joint", j)]
             kind, axis = self.axes[j]
             value = _joint_value(model.joints[j], q)
@@ -457,7 +459,7 @@ class PerturbedLoops(_Factors):
             world[j] = _compose(*world[model.parents[j]], R, p)
         n = len(q)
         frames = {}
-        for f in self.frames:
+        for f in [self.fid] if point_only else self.frames:
             R, p = _compose(*world[model.frames[f].parentJoint], *constants[("frame", f)])
             frames[f] = np.broadcast_to(R, (n, 3, 3)), np.broadcast_to(p, (n, 3))
         return frames, world
@@ -557,7 +559,7 @@ class PerturbedLoops(_Factors):
         start = q + dl @ dq_dl.T + dq @ S.T  # the actuated coordinates exactly at their values, the others predicted
         constants = self._constants(dl)
         closed_q, closed = self._close(start, constants)
-        out = self._placements(closed_q, constants)[0][self.fid][1].copy()
+        out = self._placements(closed_q, constants, point_only=True)[0][self.fid][1].copy()
         out[~closed] = np.nan
         return out
 
