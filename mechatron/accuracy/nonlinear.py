@@ -426,7 +426,10 @@ class PerturbedLoops(_Factors):
         R, p = M.rotation, M.translation
         twists, order = self.twists(placement)
         for k in order:
-            R, p = _compose(R, p, *_exp_placement(twists[k], dl[:, k]))
+            if twists[k][3:].any():
+                R, p = _compose(R, p, *_exp_placement(twists[k], dl[:, k]))
+            else:  # a translation exp([v; 0] t): R unchanged, p + t R v
+                p = p + dl[:, k, None] * _turn(R, twists[k][:3])
         return R, p
 
     def _constants(self, dl: Floats) -> dict[tuple[str, int], tuple[Floats, Floats]]:
