@@ -118,14 +118,6 @@ def _skew(axis: Floats) -> Floats:
     return np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
 
 
-def _rotate(x: Floats, axis: Floats, angle: Floats, offset: float = 0.0) -> Floats:
-    """Vectors x (N, 3) turned about the unit ``axis`` by offset + ``angle`` (N,) (Rodrigues, without matrices:
-    x cos + (a × x) sin + a (a·x)(1 − cos))."""
-    c, s = _cos_sin(angle, offset)
-    along = x @ np.outer(axis, axis)
-    return (x - along) * c[:, None] + (x @ _skew(axis).T) * s[:, None] + along
-
-
 def _rotation_matrices(axis: Floats, angle: Floats, offset: float = 0.0) -> Floats:
     """Rotations (N, 3, 3) about the unit ``axis`` by offset + ``angle`` (N,): I + sin θ K + (1 − cos θ) K²."""
     return _rotated(np.eye(3), axis, angle, offset)
@@ -162,16 +154,13 @@ def _exp_parts(xi: Floats, t: Floats) -> tuple[Floats | None, Floats, Floats]:
     return axis, theta, t[:, None] * v + (a * t)[:, None] * Kv + (b * t)[:, None] * (K @ Kv)
 
 
-def _apply_exp(x: Floats, xi: Floats, t: Floats) -> Floats:
-    """exp(ξ t) applied to the points x (N, 3), one twist ξ = [v; ω], N scalars t."""
-    axis, theta, p = _exp_parts(xi, t)
-    return (x if axis is None else _rotate(x, axis, theta)) + p
-
-
 def _product(A: Floats, B: Floats) -> Floats:
-    """A B for rotations that are one (3, 3) or N (N, 3, 3) each (a stack times one matrix as one GEMM)."""
+    """A B for rotations that are one (3, 3) or N (N, 3, 3) each (a stack times one matrix as one GEMM; a stack
+    that repeats one matrix, stride 0, taken as that matrix)."""
+    A = A[0] if A.ndim == 3 and A.strides[0] == 0 else A
+    B = B[0] if B.ndim == 3 and B.strides[0] == 0 else B
     if A.ndim == 3 and B.ndim == 2:
-        return (A.reshape(-1, 3) @ B).reshape(A.shape)
+        return (A.reshape(-1, 3) @ np.ascontiguousarray(B)).reshape(A.shape)
     return A @ B
 
 
@@ -190,10 +179,9 @@ def _compose(R1: Floats, p1: Floats, R2: Floats, p2: Floats) -> tuple[Floats, Fl
 
 
 def _exp_placement(xi: Floats, t: Floats) -> tuple[Floats, Floats]:
-    """exp(ξ t) as N placements (R (N, 3, 3), p (N, 3))."""
+    """exp(ξ t) as N placements (R (N, 3, 3), or one (3, 3) for a translation, p (N, 3))."""
     axis, theta, p = _exp_parts(xi, t)
-    R = np.broadcast_to(np.eye(3), (len(t), 3, 3)) if axis is None else _rotation_matrices(axis, theta)
-    return R, p
+    return (np.eye(3) if axis is None else _rotation_matrices(axis, theta)), p
 
 
 # ------------------------------------------------------------------------------------------------ joints
@@ -253,11 +241,76 @@ class _Factors:
 
 
 # ------------------------------------------------------------------------------------------------ serial
+Point = tuple[Floats, Floats, Floats]  # a point's x, y, z over the samples (each (N,) or a scalar 0)
+
+
+def _sum(terms: list) -> Floats | float:
+    """Σ coefficient · value over the terms with a nonzero coefficient (a coefficient of 1 is not multiplied)."""
+    out: Floats | float = 0.0
+    for c, v in terms:
+        if isinstance(c, float) and c == 0.0:
+            continue
+        term = v if isinstance(c, float) and c == 1.0 else c * v
+        out = term if isinstance(out, float) and out == 0.0 else out + term
+    return out
+
+
+def _place(x: Point, R: Floats, t: Floats) -> Point:
+    """R x + t for one constant placement, row by row (zero entries of R skipped)."""
+    return tuple(_sum([(float(t[i]), 1.0)] + [(float(R[i, j]), x[j]) for j in range(3)]) for i in range(3))
+
+
+def _turn_point(x: Point, axis: Floats, c: Floats, s: Floats) -> Point:
+    """x turned about the unit ``axis`` by the angle of cosine c, sine s: two rows for a coordinate axis
+    (x_i' = c x_i − s x_j, x_j' = s x_i + c x_j, (i, j, k) cyclic), else Rodrigues:
+    x c + (a × x) s + a (a·x)(1 − c)."""
+    nonzero = np.flatnonzero(axis)
+    if len(nonzero) == 1:
+        k = int(nonzero[0])
+        i, j = (k + 1) % 3, (k + 2) % 3
+        s = s if axis[k] > 0 else -s
+        out = [x[0], x[1], x[2]]
+        out[i], out[j] = c * x[i] - s * x[j], s * x[i] + c * x[j]
+        return tuple(out)
+    a = [float(v) for v in axis]
+    dot = (1 - c) * _sum([(a[n], x[n]) for n in range(3)])
+    cross = [a[1] * x[2] - a[2] * x[1], a[2] * x[0] - a[0] * x[2], a[0] * x[1] - a[1] * x[0]]
+    return tuple(x[n] * c + cross[n] * s + a[n] * dot for n in range(3))
+
+
+def _exp_point(x: Point, xi: Floats, t: Floats) -> Point:
+    """exp(ξ t) x for one twist ξ = [v; ω] and N scalars t: x turned by θ = |ω| t about ω/|ω|, plus
+    p = t v + (1 − cos θ)/θ t K v + (θ − sin θ)/θ t K² v (K = [ω/|ω|]×; series below :data:`SERIES_LIMIT`)."""
+    v, w = xi[:3], xi[3:]
+    norm = float(np.linalg.norm(w))
+    if norm < 1e-15:
+        return tuple(x[n] + t * float(v[n]) if v[n] != 0 else x[n] for n in range(3))
+    axis = w / norm
+    theta = norm * t
+    c, s = _cos_sin(theta)
+    x = _turn_point(x, axis, c, s)
+    K = _skew(axis)
+    Kv, KKv = K @ v, K @ (K @ v)
+    if not (v.any() or Kv.any()):
+        return x
+    if np.abs(theta).max(initial=0.0) > SERIES_LIMIT:
+        safe = np.where(theta == 0, 1.0, theta)
+        a = np.where(theta == 0, 0.0, (1 - c) / safe) * t
+        b = np.where(theta == 0, 0.0, (theta - s) / safe) * t
+    else:
+        t2 = theta * theta
+        a = theta / 2 * (1 - t2 / 12 * (1 - t2 / 30)) * t
+        b = t2 / 6 * (1 - t2 / 20 * (1 - t2 / 42)) * t
+    return tuple(x[n] + _sum([(float(v[n]), t), (float(Kv[n]), a), (float(KKv[n]), b)]) for n in range(3))
+
+
 class PerturbedChain(_Factors):
     """The position of ``frame`` of a serial mechanism for N samples of parameter errors (N, n_l) and
     coordinate errors (N, nv) at one nominal configuration, vectorized over the samples: the point is carried from
     the frame back to the world through every factor (constant placement, parameter exponentials, joint motion),
-    so only vectors are transformed."""
+    so only vectors are transformed, component by component (three contiguous (N,) arrays; rotations about a
+    coordinate axis touch two of them, pure translations one per nonzero entry, zero entries of a placement are
+    skipped)."""
 
     def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
         if mech.closures:
@@ -268,33 +321,38 @@ class PerturbedChain(_Factors):
         self.path = [j for j in model.supports[model.frames[self.fid].parentJoint] if j != 0]
         self.axes = {j: _joint_axis(model.joints[j]) for j in self.path}
 
-    def _factors(self, x: Floats, placement: int, dl: Floats) -> Floats:
+    def _factors(self, x: Point, placement: int, dl: Floats) -> Point:
         """Π_k exp(ξ_k Δl_k) x for the placement's parameters in factor order (applied last factor first)."""
         twists, order = self.twists(placement)
         for k in reversed(order):
-            x = _apply_exp(x, twists[k], dl[:, k])
+            x = _exp_point(x, twists[k], dl[k])
         return x
 
     def positions(self, q: ArrayLike, dl: ArrayLike, dq: ArrayLike) -> Floats:
         """Point positions (N, 3) (m) at the nominal configuration ``q`` (nq,) with parameter errors ``dl`` (N, n_l)
         (m, rad) and joint coordinate errors ``dq`` (N, nv) (rad, m)."""
         model = self.mech.model
-        q, dl, dq = np.asarray(q, dtype=float), np.asarray(dl, dtype=float), np.asarray(dq, dtype=float)
-        x = self._factors(np.zeros((len(dl), 3)), model.njoints + self.fid, dl)
+        q = np.asarray(q, dtype=float)
+        dl = np.ascontiguousarray(np.asarray(dl, dtype=float).T)  # rows: one error over the samples
+        dq = np.ascontiguousarray(np.asarray(dq, dtype=float).T)
+        n = dl.shape[1] if dl.size or not dq.size else dq.shape[1]
+        zero = np.zeros(n)
+        x = self._factors((zero, zero, zero), model.njoints + self.fid, dl)
         M = model.frames[self.fid].placement
-        x = x @ M.rotation.T + M.translation
+        x = _place(x, M.rotation, M.translation)
         for j in reversed(self.path):
             kind, axis = self.axes[j]
             joint = model.joints[j]
             value = float(_joint_value(joint, q))
             if kind == "revolute":
-                x = _rotate(x, axis, dq[:, joint.idx_v], value)
+                x = _turn_point(x, axis, *_cos_sin(dq[joint.idx_v], value))
             else:
-                x = x + (value + dq[:, joint.idx_v])[:, None] * axis
+                x = tuple(x[i] + (value + dq[joint.idx_v]) * float(axis[i]) if axis[i] != 0 else x[i]
+                          for i in range(3))
             x = self._factors(x, j, dl)
             M = model.jointPlacements[j]
-            x = x @ M.rotation.T + M.translation
-        return x
+            x = _place(x, M.rotation, M.translation)
+        return np.stack([np.broadcast_to(c, (n,)) for c in x], axis=1)
 
 
 # ------------------------------------------------------------------------------------------------ closed loops
@@ -355,6 +413,7 @@ class PerturbedLoops(_Factors):
         joints = {j for f in frames for j in model.supports[model.frames[f].parentJoint] if j != 0}
         self.joints = sorted(joints)  # a parent's index is below its children's
         self.frames = sorted(frames)
+        self.point_joints = [j for j in self.joints if j in model.supports[model.frames[self.fid].parentJoint]]
         self.axes = {j: _joint_axis(model.joints[j]) for j in self.joints}
         by_index = {model.joints[j].idx_v: j for j in range(1, model.njoints)}
         self.dep = self.solver.dep
@@ -367,7 +426,10 @@ class PerturbedLoops(_Factors):
         R, p = M.rotation, M.translation
         twists, order = self.twists(placement)
         for k in order:
-            R, p = _compose(R, p, *_exp_placement(twists[k], dl[:, k]))
+            if twists[k][3:].any():
+                R, p = _compose(R, p, *_exp_placement(twists[k], dl[:, k]))
+            else:  # a translation exp([v; 0] t): R unchanged, p + t R v
+                p = p + dl[:, k, None] * _turn(R, twists[k][:3])
         return R, p
 
     def _constants(self, dl: Floats) -> dict[tuple[str, int], tuple[Floats, Floats]]:
@@ -383,12 +445,13 @@ class PerturbedLoops(_Factors):
         return {key: (R[rows] if R.ndim == 3 else R, p[rows] if p.ndim == 2 else p)
                 for key, (R, p) in constants.items()}
 
-    def _placements(self, q: Floats, constants: dict
+    def _placements(self, q: Floats, constants: dict, point_only: bool = False
                     ) -> tuple[dict[int, tuple[Floats, Floats]], dict[int, tuple[Floats, Floats]]]:
-        """World placements (R, p) of the frames used and of the joints at the configurations q (N, nq)."""
+        """World placements (R, p) of the frames used and of the joints at the configurations q (N, nq); with
+        ``point_only`` only the studied frame's and its joints'."""
         model = self.mech.model
         world: dict[int, tuple[Floats, Floats]] = {0: (np.eye(3), np.zeros(3))}
-        for j in self.joints:
+        for j in self.point_joints if point_only else self.joints:
             R, p = constants[("joint", j)]
             kind, axis = self.axes[j]
             value = _joint_value(model.joints[j], q)
@@ -399,7 +462,7 @@ class PerturbedLoops(_Factors):
             world[j] = _compose(*world[model.parents[j]], R, p)
         n = len(q)
         frames = {}
-        for f in self.frames:
+        for f in [self.fid] if point_only else self.frames:
             R, p = _compose(*world[model.frames[f].parentJoint], *constants[("frame", f)])
             frames[f] = np.broadcast_to(R, (n, 3, 3)), np.broadcast_to(p, (n, 3))
         return frames, world
@@ -499,7 +562,7 @@ class PerturbedLoops(_Factors):
         start = q + dl @ dq_dl.T + dq @ S.T  # the actuated coordinates exactly at their values, the others predicted
         constants = self._constants(dl)
         closed_q, closed = self._close(start, constants)
-        out = self._placements(closed_q, constants)[0][self.fid][1].copy()
+        out = self._placements(closed_q, constants, point_only=True)[0][self.fid][1].copy()
         out[~closed] = np.nan
         return out
 

@@ -58,7 +58,8 @@ class StudyResult(Result):
             Monte Carlo variance, with ``mc``); largest variance share first.
         sensitivities: ∂r/∂e at every pose.
         critical: Index of the critical pose (the main method's largest |Δr|).
-        samples: The Monte Carlo's Δr samples (N, 3) (m) at the critical pose, with ``mc``.
+        samples: The Monte Carlo's Δr samples (N, 3) (m) at the critical pose, with ``mc``: the first 10⁶ at most
+            (the statistics use every sample).
         limit: The largest acceptable |Δr| (m) of the yield, if given.
         notes: Remarks on the study.
         coordinates: The names of the coordinate columns of ``poses``.

@@ -14,7 +14,10 @@ t_i, biases b_i and standard deviations σ_i (:class:`~mechatron.accuracy.source
 - ``mc`` — Monte Carlo of the full nonlinear model: seeded samples of every error from its distribution, the
   point's position computed exactly (:mod:`~mechatron.accuracy.nonlinear`); per axis |mean| + k·std, |Δr| at the
   coverage of ±k σ of a normal (99.73 % for k = 3), mean, standard deviation, percentiles, the yield against a
-  limit, and each source's share of the variance (least-squares regression of Δr on the sampled errors).
+  limit, and each source's share of the variance (least-squares regression of Δr on the sampled errors). The
+  samples are streamed in chunks (:mod:`~mechatron.accuracy.streaming`): moments by Chan's merge, the regression by
+  its normal equations, quantiles exact up to 10⁶ samples per pose and within half a histogram bin beyond; memory
+  does not grow with the samples.
 
 The worst case and RSS are the usual tolerance stack-ups built on the first-order error [Egorov, 8.4]; for both the
 modulus is [Egorov, 8.6] of the per-axis values (an upper bound of the largest |Δr|). The shares of the linear
@@ -38,6 +41,7 @@ from .nonlinear import PerturbedLoop, perturbed_positions
 from .result import StudyResult
 from .sensitivity import Sensitivities, coordinate_names, sensitivities
 from .sources import POSE_BYTES, ErrorSource
+from .streaming import BINS, EXACT_SAMPLES, Moments, Quantiles, variance_shares
 
 __all__ = ["METHODS", "StudyResult", "configurations", "draw_errors", "run_study", "tolerance_study"]
 
@@ -46,8 +50,9 @@ Floats = NDArray[np.float64]
 METHODS = ("given", "worst", "rss", "mc")
 #: Samples per chunk of the vectorized Monte Carlo (and of the one-sample-at-a-time one).
 CHUNK, SLOW_CHUNK = 32768, 1024
-#: Samples used for the Monte Carlo's variance shares (a least-squares fit).
-REGRESSION_SAMPLES = 100_000
+#: The Monte Carlo's Δr samples kept per pose for the charts and :attr:`StudyResult.samples` (the statistics use
+#: every sample).
+KEPT_SAMPLES = EXACT_SAMPLES
 
 
 def configurations(mech: Mechanism, poses: ArrayLike, labels: Sequence[str] | None = None) -> Floats:
@@ -222,22 +227,29 @@ def draw_errors(sources: Sequence[ErrorSource], count: int, rng: np.random.Gener
     return out
 
 
-#: Memory of the Monte Carlo (bytes): per sample of a pose (Δr of the pose, its finite rows, |Δr|, the sorted
-#: copy of the quantiles, the critical pose's samples kept), per sample and source of the regression's errors, and
-#: fixed (the chunks); time per sample and pose (s, a lower bound: about 2e-5 s measured for a serial arm).
-MC_BYTES_PER_SAMPLE, MC_BYTES_PER_ERROR, MC_FIXED_BYTES, MC_SECONDS = 160.0, 16.0, 64 * 2**20, 5e-6
+#: Memory of the Monte Carlo (bytes; tracemalloc peaks of the PUMA with a margin): per sample of a chunk
+#: (positions and temporaries of the evaluator, the moments' centred copy) plus per source and sample of a chunk
+#: (the errors), per kept sample of a pose (at most :data:`KEPT_SAMPLES`: Δr of the pose and of the critical one,
+#: |Δr| for the exact quantiles, their sorted copy), the quantiles' histogram past the exact store, and fixed. Time
+#: per sample and pose (s: about 4e-6 s for the PUMA's 30 sources on an idle two-core machine, 13–25e-6 s busy).
+MC_BYTES_PER_CHUNK_SAMPLE, MC_BYTES_PER_ERROR, MC_BYTES_PER_SAMPLE = 400.0, 48.0, 64.0
+MC_FIXED_BYTES, MC_SECONDS = 2 * 2**20, 4e-6
 
 
 def monte_carlo_budget(samples: float, sources: int, poses: int) -> float:
     """The memory (bytes) of a Monte Carlo of ``samples`` per pose over ``sources`` errors at ``poses`` poses, or
-    :class:`~mechatron.io.budget.BudgetError` past the memory or time limit (:mod:`mechatron.io.budget`)."""
+    :class:`~mechatron.io.budget.BudgetError` past the time limit (:mod:`mechatron.io.budget`). The memory stops
+    growing at :data:`KEPT_SAMPLES` samples (the statistics are streamed): it is checked too, but no sample count
+    exceeds it."""
     from ..io.budget import count, option, require, seconds
 
     name = option("samples")
     what = f"{name} {count(samples)}: the Monte Carlo"
     advice = f"use fewer {name} (its spread falls only as 1/√samples)"
-    regression = MC_BYTES_PER_ERROR * sources * min(samples, REGRESSION_SAMPLES)
-    estimate = require(what, samples, MC_BYTES_PER_SAMPLE, fixed=MC_FIXED_BYTES + regression, advice=advice)
+    chunk = min(samples, CHUNK) * (MC_BYTES_PER_CHUNK_SAMPLE + MC_BYTES_PER_ERROR * sources)
+    histogram = 16.0 * (BINS + 1) if samples > EXACT_SAMPLES else 0.0  # the counts and one bincount
+    estimate = require(what, min(samples, KEPT_SAMPLES), MC_BYTES_PER_SAMPLE,
+                       fixed=MC_FIXED_BYTES + chunk + histogram, advice=advice)
     seconds(f"{what} at {poses} pose(s)", samples * poses, MC_SECONDS, advice=advice + " or fewer poses")
     return estimate
 
@@ -246,8 +258,10 @@ def _monte_carlo(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q:
                  samples: int, seed: int, k: float, limit: float | None, critical: int | None,
                  progress: Callable[[int, int], None] | None, notes: list[str]
                  ) -> tuple[dict[str, Floats], Floats, Floats, int]:
-    """Monte Carlo statistics per pose, the Δr samples (m) and the variance shares (%) at the critical pose (the
-    given one, else the largest |Δr| at the coverage), and that pose."""
+    """Monte Carlo statistics per pose, the first :data:`KEPT_SAMPLES` Δr samples (m) and the variance shares (%)
+    at the critical pose (the given one, else the largest |Δr| at the coverage), and that pose. The samples are
+    drawn, evaluated and summarized chunk by chunk (:mod:`~mechatron.accuracy.streaming`): memory independent of
+    ``samples``."""
     parameters = [j for j, s in enumerate(sources) if s.kind == "parameter"]
     names = [sources[j].name for j in parameters]
     evaluator = perturbed_positions(mech, frame, names)
@@ -261,51 +275,66 @@ def _monte_carlo(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q:
                                            "p50_dr_mc", "p95_dr_mc", "p99_dr_mc", "max_dr_mc", "failed_mc")}
     if limit is not None:
         stats["yield_mc"] = np.empty(len(Q))
-    best = None  # (pose, Δr samples, error samples) of the critical pose
+    best = None  # (pose, kept Δr samples, moments) of the critical pose
+    bound = 0.0
     for i, q in enumerate(Q):
         rng = np.random.default_rng(seed)  # the same samples at every pose (common random numbers)
-        delta = np.empty((samples, 3))
-        regression = min(samples, REGRESSION_SAMPLES)
-        errors_kept = np.empty((regression, len(sources)))
+        summary = _Summary(samples, len(sources), limit)
         for start in range(0, samples, chunk):
             count = min(chunk, samples - start)
             errors = draw_errors(sources, count, rng, k)
-            if start < regression:
-                errors_kept[start:min(start + count, regression)] = errors[: regression - start]
             dl, dq = errors[:, parameters], _coordinate_errors(mech, sources, errors)
-            delta[start:start + count] = evaluator.positions(q, dl, dq) - nominal[i]
+            summary.add(errors, evaluator.positions(q, dl, dq) - nominal[i])
             if progress:
                 progress(i * samples + start + count, total)
-        good = np.all(np.isfinite(delta), axis=1)
-        d = delta[good]
-        if len(d) < 2:
+        n = summary.moments.n
+        if n < 2:
             raise InputError(f"pose {i + 1}: the loops do not close for the sampled errors")
-        r = np.linalg.norm(d, axis=1)
-        mean, std = d.mean(axis=0), d.std(axis=0, ddof=1)
+        m = len(sources)
+        mean, std = summary.moments.mean[m:m + 3], np.sqrt(summary.moments.variance()[m:m + 3])
         stats["dx_mc"][i], stats["dy_mc"][i], stats["dz_mc"][i] = np.abs(mean) + k * std
-        quantiles = np.quantile(r, [coverage, 0.5, 0.95, 0.99])
+        quantiles = summary.quantiles.quantiles([coverage, 0.5, 0.95, 0.99])
+        bound = max(bound, summary.quantiles.bound)
         stats["dr_mc"][i], stats["p50_dr_mc"][i], stats["p95_dr_mc"][i], stats["p99_dr_mc"][i] = quantiles
-        stats["mean_dr_mc"][i], stats["std_dr_mc"][i] = r.mean(), r.std(ddof=1)
-        stats["max_dr_mc"][i] = r.max()
-        stats["failed_mc"][i] = samples - len(d)
+        stats["mean_dr_mc"][i] = summary.moments.mean[m + 3]
+        stats["std_dr_mc"][i] = math.sqrt(summary.moments.variance()[m + 3])
+        stats["max_dr_mc"][i] = summary.quantiles.largest
+        stats["failed_mc"][i] = samples - n
         if limit is not None:
-            stats["yield_mc"][i] = float(np.mean(r <= limit))
+            stats["yield_mc"][i] = summary.within / n
         chosen = i == critical if critical is not None else best is None or stats["dr_mc"][i] > stats["dr_mc"][best[0]]
         if chosen:
-            best = (i, d, errors_kept[good[:regression]])
-    i, d, e = best
-    return stats, d, _variance_shares(d[: len(e)], e), i
+            best = (i, summary.kept[: summary.n_kept], summary.moments)
+    if bound > 0:
+        notes.append(f"more than {EXACT_SAMPLES:,} samples per pose: the Monte Carlo quantiles come from a "
+                     f"histogram of {BINS:,} bins, within {bound:.2g} m (half a bin)")
+    i, d, moments = best
+    return stats, d, variance_shares(moments, len(sources)), i
 
 
-def _variance_shares(delta: Floats, errors: Floats) -> Floats:
-    """Each source's share (%) of the total variance of Δr: Σ_axes (β_i σ_i)² / Σ_axes var, β from a least-squares
-    fit of Δr on the sampled errors."""
-    centred = errors - errors.mean(axis=0)
-    response = delta - delta.mean(axis=0)
-    beta, *_ = np.linalg.lstsq(centred, response, rcond=None)  # (n_e, 3)
-    spread = centred.std(axis=0)
-    part = ((beta * spread[:, None]) ** 2).sum(axis=1)
-    return 100 * part / max(response.var(axis=0).sum(), 1e-300)
+class _Summary:
+    """The streamed statistics of one pose: moments of [errors, Δr, |Δr|], the |Δr| quantiles, the count within
+    the limit, and the first :data:`KEPT_SAMPLES` Δr samples (for the charts)."""
+
+    def __init__(self, samples: int, n_errors: int, limit: float | None) -> None:
+        self.moments = Moments(n_errors + 4)
+        self.quantiles = Quantiles(samples)
+        self.limit, self.within = limit, 0
+        self.kept, self.n_kept = np.empty((min(samples, KEPT_SAMPLES), 3)), 0
+
+    def add(self, errors: Floats, delta: Floats) -> None:
+        """Add a chunk: the errors (m, n_e) and Δr (m, 3) (m); samples with NaN (loops not closed) are left out."""
+        good = np.all(np.isfinite(delta), axis=1)
+        if not good.all():
+            errors, delta = errors[good], delta[good]
+        r = np.linalg.norm(delta, axis=1)
+        self.moments.add(np.concatenate([errors, delta, r[:, None]], axis=1))
+        self.quantiles.add(r)
+        if self.limit is not None:
+            self.within += int(np.count_nonzero(r <= self.limit))
+        take = min(len(delta), len(self.kept) - self.n_kept)
+        self.kept[self.n_kept:self.n_kept + take] = delta[:take]
+        self.n_kept += take
 
 
 def tolerance_study(mech: Mechanism, tolerances: Sequence[ErrorSource] | str | Path,
