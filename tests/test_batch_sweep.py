@@ -1,7 +1,8 @@
 """The batched sweep (kinematics/batch.py) against the sequential continuation (``sweep.BATCHED = False``, the
 reference: Pinocchio per sample): every column of the table and every failure with its reason, on every shipped
 closed loop, off the reference branch, with inputs out of range, loops that do not close (and back) and inputs in no
-order."""
+order — each by both batched paths: the NumPy evaluator and the compiled CasADi kernels
+(kinematics/compiled.py, used from ``sweep.COMPILED_MIN`` samples on, lowered here so that they run)."""
 
 from __future__ import annotations
 
@@ -20,6 +21,13 @@ from mechatron.kinematics.loops import loop_solver
 sweep_module = importlib.import_module("mechatron.kinematics.sweep")
 CLOSED_LOOPS = ["crank_slider", "six_bar_bucket", "front_shovel", "grab", "seven_bar", "scotch_yoke", "slotted_link",
                 "delta"]
+
+
+@pytest.fixture(autouse=True, params=["numpy", "compiled"])
+def batched_path(request, monkeypatch):
+    """Run each test by the NumPy batched path and by the compiled kernels."""
+    monkeypatch.setattr(sweep_module, "COMPILED_MIN", 16 if request.param == "compiled" else 10**12)
+    return request.param
 
 
 def both(monkeypatch, mech, inputs=None, **options):

@@ -123,10 +123,13 @@ def test_monte_carlo_estimate_bounds_the_measured_peak(puma):
 def test_sweep_estimate_bounds_the_measured_peak():
     from mechatron.kinematics.sweep import position_bytes, sweep
 
-    mech = load("crank_slider")
-    sweep(mech, samples=20, links=mech.link_names)
-    measured, _ = peak(lambda: sweep(mech, samples=400, links=mech.link_names))
-    assert_bounds(400 * position_bytes(mech), measured)
+    for name in ("crank_slider", "six_bar_bucket", "grab", "delta", "front_shovel"):
+        mech = load(name)
+        sweep(mech, samples=3000, links=mech.link_names)  # kernels built
+        fixed, per_position = position_bytes(mech)
+        for samples in (400, 3000, 20_000):
+            measured, _ = peak(lambda: sweep(mech, samples=samples, links=mech.link_names))
+            assert_bounds(fixed + samples * per_position, measured)
 
 
 def test_sizing_estimate_bounds_the_measured_peak(puma, monkeypatch):

@@ -145,20 +145,35 @@ def every(samples: np.ndarray, stride: int) -> np.ndarray:
 
 def interpolate(anchors: np.ndarray, values: np.ndarray, samples: np.ndarray) -> np.ndarray:
     """Values at ``samples`` (indices) of the cubic through the four nearest ``anchors`` (sorted indices, their
-    ``values`` (n_anchors, nq)); fewer anchors give a lower degree."""
+    ``values`` (n_anchors, nq)); fewer anchors give a lower degree. Lagrange's form: with the anchors x₀ … x₃ of a
+    sample s, value(s) = Σᵢ vᵢ Πⱼ≠ᵢ (s − xⱼ) / (xᵢ − xⱼ), evaluated run by run of samples that share their anchors
+    when the samples are sorted (the denominators are then numbers), else for all samples at once."""
     m = len(anchors)
     order = min(4, m)
     first = np.clip(np.searchsorted(anchors, samples) - order // 2, 0, m - order)
     out = np.zeros((len(samples), values.shape[1]))
-    for i in range(order):  # Lagrange basis polynomial of the i-th of the `order` anchors
-        weight = np.ones(len(samples))
-        xi = anchors[first + i]
+    starts = np.flatnonzero(np.diff(first)) + 1
+    if not len(samples):
+        return out
+    if len(starts) > len(samples) // 64:  # unsorted or sparse samples: the anchors gathered per sample
+        _lagrange(anchors[first[:, None] + np.arange(order)], values, first, samples, out)
+        return out
+    for a, b in zip(np.concatenate([[0], starts]), np.concatenate([starts, [len(samples)]])):
+        _lagrange(anchors[first[a]:first[a] + order], values, first[a], samples[a:b], out[a:b])
+    return out
+
+
+def _lagrange(x: np.ndarray, values: np.ndarray, first, samples: np.ndarray, out: np.ndarray) -> None:
+    """Add to ``out`` the Lagrange interpolation at ``samples`` through the anchors ``x`` ((order,) shared by all
+    samples, or (n, order) per sample) whose values are ``values[first + i]``."""
+    order = x.shape[-1]
+    distance = [samples - x[..., j] for j in range(order)]
+    for i in range(order):
+        weight = np.ones(len(samples)) if x.ndim > 1 else 1.0
         for j in range(order):
             if j != i:
-                xj = anchors[first + j]
-                weight *= (samples - xj) / (xi - xj)
-        out += weight[:, None] * values[first + i]
-    return out
+                weight = weight * distance[j] / (x[..., i] - x[..., j])
+        out += np.multiply.outer(weight, values[first + i]) if x.ndim == 1 else weight[:, None] * values[first + i]
 
 
 def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, act: np.ndarray, dep: np.ndarray
@@ -194,7 +209,8 @@ def jumps(Q: np.ndarray, U: np.ndarray, maps: np.ndarray, solved: np.ndarray) ->
     (n, n_dep, n_act)) changed from their predecessor (both ``solved``) otherwise than the velocity maps predict,
     Δq_d ≈ ½ (S_{k−1} + S_k) Δu (see the module docstring); false for sample 0."""
     with np.errstate(all="ignore"):
-        predicted = 0.5 * np.einsum("kij,kj->ki", maps[1:] + maps[:-1], np.diff(U, axis=0))
+        steps = np.diff(U, axis=0)
+        predicted = sum(0.5 * (maps[1:, :, j] + maps[:-1, :, j]) * steps[:, j, None] for j in range(U.shape[1]))
         change = np.diff(Q, axis=0)
         error = np.abs(change - predicted).max(axis=1, initial=0.0)
         bad = ~(error <= JUMP_RATIO * np.abs(change).max(axis=1, initial=0.0) + JUMP_FLOOR)

@@ -27,7 +27,8 @@ from ..io.values import number
 from ..model.batched import BatchedFrames, batched_frames
 from ..model.mechanism import Measure, Mechanism
 from ..report.result import Result, frame_records, json_ready
-from . import batch
+from . import batch, compiled
+from .compiled import LoopKernel, loop_kernel
 from .geometry import measure_values
 from .loops import SINGULAR_RATIO, LoopSolver, loop_solver
 
@@ -361,21 +362,28 @@ def _as_arrays(values: Mapping[str, object] | None, names: Sequence[str], n: int
     return out
 
 
-#: The least time one closed-loop position takes (assembly, velocity and acceleration analysis): s (measured: 3 to
-#: 6 ms on a desktop), and the bytes of its row in the results (an upper bound, tests/test_bounded.py).
-POSITION_SECONDS = 1e-3
+#: The least time one closed-loop position takes (assembly, velocity and acceleration analysis) sample by sample: s
+#: (measured: 3 to 6 ms on a desktop), and in a batched sweep (1 to 5 µs with the compiled kernels, 3 to 10 µs with
+#: NumPy).
+POSITION_SECONDS, BATCHED_POSITION_SECONDS = 1e-3, 1e-6
 
 
-def position_bytes(mech: Mechanism) -> float:
-    """Bytes one position of :func:`sweep` keeps and passes through (its row of every table; measured at 400
-    samples: 2.5 to 16 kB for nq = 3 to 12, tests/test_bounded.py)."""
-    return 1536.0 * mech.nq + 400.0 * mech.nq**2
+def position_bytes(mech: Mechanism) -> tuple[float, float]:
+    """(fixed bytes, bytes per position) of :func:`sweep`: the working storage of its chunks and anchors, about
+    (0.2 nq + 0.03 nq²) MB, and twice the table's row of 8-byte columns per position — sample, inputs, q, q̇ and q̈ of
+    every joint, 8 columns per point (11 in a spatial loop), 3 per link (all of the mechanism's, an upper bound),
+    one per measure (measured from 400 to 50,000 positions of every shipped closed loop: tests/test_bounded.py)."""
+    spatial = any(not getattr(c, "planar", True) for c in mech.closures)
+    columns = (1 + len(mech.actuated) + 3 * mech.nv + (11 if spatial else 8) * len(mech.points)
+               + 3 * len(mech.link_names) + len(mech.measures))
+    return (0.2 * mech.nq + 0.03 * mech.nq**2) * 1e6, 16.0 * columns
 
 
-def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1) -> None:
-    """Refuse (:mod:`mechatron.io.budget`) ``count`` closed-loop positions (``per_position`` assemblies each)
-    asked for by ``name`` (``samples``: fewer samples; ``inputs``: fewer input values) past the memory or time
-    limit."""
+def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1,
+                     seconds_per_position: float = POSITION_SECONDS) -> None:
+    """Refuse (:mod:`mechatron.io.budget`) ``count`` closed-loop positions (``per_position`` assemblies each of
+    ``seconds_per_position``) asked for by ``name`` (``samples``: fewer samples; ``inputs``: fewer input values)
+    past the memory or time limit."""
     from ..io.budget import count as shown
     from ..io.budget import option, require, seconds
 
@@ -384,8 +392,9 @@ def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: 
     what += f" gives {shown(count * per_position)} positions of {mech.name}" if per_position > 1 else \
         f": positions of {mech.name}"
     advice = f"use fewer {label}"
-    require(what, count, position_bytes(mech), advice=advice)
-    seconds(what, count * per_position, POSITION_SECONDS, advice=advice)
+    fixed, row = position_bytes(mech)
+    require(what, count, row, fixed=fixed, advice=advice)
+    seconds(what, count * per_position, seconds_per_position, advice=advice)
 
 
 def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, samples: int = 200,
@@ -419,14 +428,14 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     given = inputs is not None
     if not given:
         samples = number("samples", samples, integer=True, minimum=2)
-        positions_budget(mech, samples, "samples")
+        positions_budget(mech, samples, "samples", seconds_per_position=BATCHED_POSITION_SECONDS)
     inputs = dict(inputs) if inputs is not None else default_inputs(mech, samples)
     lengths = {len(np.atleast_1d(np.asarray(v))) for v in inputs.values()}
     if len(lengths) != 1:
         raise InputError("every swept input needs the same number of samples")
     n = lengths.pop()
     if given:
-        positions_budget(mech, n, "inputs")
+        positions_budget(mech, n, "inputs", seconds_per_position=BATCHED_POSITION_SECONDS)
     names = list(mech.actuated)
     q = np.array(mech.reference_q if guess is None else guess, dtype=float)
     held = {name: q[base.index[name]] for name in names}
@@ -449,15 +458,20 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
 
     # positions: by batched Newton between anchors solved by continuation (kinematics/batch.py) when the batched
     # kinematics knows the joints, else by continuation from sample to sample
-    closing = _batched_frames(base) if BATCHED else None  # the closures' frames
+    kernel = _kernel(solver, points, links, measures) if BATCHED and n >= COMPILED_MIN else None
+    closing = _batched_frames(base) if BATCHED and kernel is None else None  # the closures' frames
     every = _batched_frames(solver) if closing is not None else None  # and the reported ones
-    if closing is not None and n >= BATCH_MIN:
-        Q, ok = _batched_positions(base, closing, U, q, failures, progress)
+    if (kernel is not None or closing is not None) and n >= BATCH_MIN:
+        newton = kernel.newton if kernel is not None else \
+            (lambda Q: batch.newton(base.system, closing, Q, base.act, base.dep))
+        Q, ok = _batched_positions(base, newton, U, q, failures, progress, kernel)
     else:
         Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=every is None).run(range(n))
     # velocities q̇ = S q̇_a, accelerations J_d q̈_d = −J_a q̈_a − J̇ q̇ and the reported frames, all samples at once
     reported = [system.index[name] for name in wanted]
-    if every is not None:
+    if kernel is not None:
+        good, V, Aq, columns = _analyse_compiled(solver, kernel, Q, ok, R, A, points, measures, U, failures)
+    elif every is not None:
         good, V, Aq, columns = _analyse_batched(solver, every, reported, Q, ok, R, A, wanted, points, links,
                                                 measures, U, failures)
     else:
@@ -472,6 +486,9 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
 BATCHED = True
 #: Fewer samples than this are solved sequentially.
 BATCH_MIN = 16
+#: From this many samples on, the compiled kernels (:mod:`mechatron.kinematics.compiled`) solve and analyse the
+#: samples where the mechanism has a symbolic form (building one costs ~0.03 s, compiling it once ~0.5 s).
+COMPILED_MIN = 2048
 
 
 def _batched_frames(solver: LoopSolver, names: Sequence[str] | None = None) -> BatchedFrames | None:
@@ -492,8 +509,10 @@ class _Continuation:
     gets its reason in ``failures`` and the next one starts again from the last solution."""
 
     def __init__(self, solver: LoopSolver, U: np.ndarray, q: np.ndarray, failures: dict[int, str],
-                 progress: ProgressCallback | None = None, keep: bool = False, polish: bool = True) -> None:
+                 progress: ProgressCallback | None = None, keep: bool = False, polish: bool = True,
+                 kernel: LoopKernel | None = None) -> None:
         self.solver, self.U, self.q, self.failures, self.progress = solver, U, q, failures, progress
+        self.kernel = kernel  # with two or more solutions before, a sample is first tried by the compiled Newton
         self.keep = keep  # keep every sample's closure Jacobian and frame placements and Jacobians (for Pinocchio)
         self.polish = polish  # one more Newton step after convergence (else the residual is only below TOLERANCE)
         self.history: list[np.ndarray] = []  # last good solutions, each reached by the same step as the next
@@ -508,17 +527,31 @@ class _Continuation:
             del history[:-1]  # the step changed: only the last solution is a good start
         trial = _extrapolate(history, self.q)
         trial[solver.act] = self.U[k]
-        try:
-            trial, J = solver.newton(trial, polish=self.polish)  # polished: the residual at rounding level
-        except MechatronError as exc:
-            self.failures[k] = str(exc)
-            history.clear()
-            return None
+        if self.kernel is not None and len(history) >= 2 and self._compiled_newton(trial, history):
+            J = None
+        else:
+            try:
+                trial, J = solver.newton(trial, polish=self.polish)  # polished: the residual at rounding level
+            except MechatronError as exc:
+                self.failures[k] = str(exc)
+                history.clear()
+                return None
         history.append(trial)
         if len(history) > 4:
             del history[0]
         self.q = trial
         return trial, J
+
+    def _compiled_newton(self, trial: np.ndarray, history: list[np.ndarray]) -> bool:
+        """Solve ``trial`` in place by the kernel's Newton steps; accepted only if it converged within half the
+        change since the previous solution of its guess (else it may have left the branch: full steps have no
+        halving)."""
+        row = trial[None].copy()
+        change = np.abs(history[-1] - history[-2]).max()
+        if not (self.kernel.newton(row)[0][0] and np.abs(row[0] - trial).max() <= 0.5 * change + 1e-9):
+            return False
+        trial[:] = row[0]
+        return True
 
     def run(self, samples: Sequence[int]) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...] | None]:
         """Solve ``samples`` in turn: (Q (n, nv), which converged, and with ``keep`` the closure Jacobians,
@@ -551,29 +584,32 @@ def _same_steps(U: np.ndarray) -> np.ndarray:
     return same
 
 
-def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray, q: np.ndarray,
-                       failures: dict[int, str], progress: ProgressCallback | None) -> tuple[np.ndarray, np.ndarray]:
-    """Positions of all samples (see :mod:`mechatron.kinematics.batch`): anchors by continuation, the rest by
-    batched Newton from interpolated guesses; the doubtful samples again by the sequential continuation, from the
-    last good sample before them until its solution meets the batched one."""
-    n, system, dep = len(U), solver.system, solver.dep
+def _batched_positions(solver: LoopSolver, newton: Callable, U: np.ndarray, q: np.ndarray,
+                       failures: dict[int, str], progress: ProgressCallback | None,
+                       kernel: LoopKernel | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Positions of all samples (see :mod:`mechatron.kinematics.batch`): anchors by continuation (tried by the
+    compiled ``kernel``'s Newton first where there is one; without it a second level of anchors by ``newton``), the
+    rest by ``newton`` (the contract of :func:`batch.newton`, on a chunk of samples) from interpolated guesses; the
+    doubtful samples again by the sequential continuation, from the last good sample before them until its solution
+    meets the batched one."""
+    n, dep = len(U), solver.dep
     valid = np.ones(n, dtype=bool)
     valid[list(failures)] = False
     candidates = np.flatnonzero(valid)
     act = solver.act
     coarse = batch.anchor_stride(U, batch.ANCHOR_STEPS * solver.max_step)
     anchors = batch.every(candidates, coarse)
-    Qa, solved, _ = _Continuation(solver, U, q, dict(failures), polish=False).run(anchors)
+    Qa, solved, _ = _Continuation(solver, U, q, dict(failures), polish=False, kernel=kernel).run(anchors)
     anchors = anchors[solved[anchors]]
     values = Qa[anchors]
     stride = max(batch.FINER, batch.anchor_stride(U, solver.max_step / 50.0))
     finer = batch.every(candidates, stride)
-    if len(anchors) and 4 * stride <= coarse:  # finer anchors by batched Newton from these
+    if kernel is None and len(anchors) and 4 * stride <= coarse:  # finer anchors by batched Newton from these
         values = batch.interpolate(anchors, values, finer)
         values[:, act] = U[finer]
         converged = np.zeros(len(finer), dtype=bool)
         for part in batch.chunks(len(finer)):
-            converged[part] = batch.newton(system, frames, values[part], act, dep)[0]
+            converged[part] = newton(values[part])[0]
         anchors, values = finer[converged], values[converged]
     Q = np.zeros((n, solver.mech.nv))
     ok = np.zeros(n, dtype=bool)
@@ -581,11 +617,11 @@ def _batched_positions(solver: LoopSolver, frames: BatchedFrames, U: np.ndarray,
     previous = np.zeros(0, dtype=int)  # the last sample of the previous chunk, the first one's predecessor
     maps = np.zeros((0, len(dep), len(act)))
     if len(anchors):
-        for part in batch.chunks(n):
+        for part in batch.chunks(n, compiled.CHUNK if kernel is not None else None):
             rows = np.arange(part.start, part.stop)
-            Q[part] = batch.interpolate(anchors, values, rows)
-            Q[rows[:, None], act] = U[part]
-            converged, chunk_maps = batch.newton(system, frames, Q[part], act, dep)
+            Q[part, dep] = batch.interpolate(anchors, values[:, dep], rows)
+            Q[part, act] = U[part]
+            converged, chunk_maps = newton(Q[part])
             ok[part] = valid[part] & converged
             run = np.concatenate([previous, rows])
             maps = np.concatenate([maps, chunk_maps])
@@ -699,7 +735,7 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
     batched evaluation of all frames of ``solver.system`` (the closures' and the ``reported`` ones: placements and
     Jacobians, then their motion at q̇ and q̈ = 0): q̇ = S q̇_a, the drift J̇ q̇ and q̈ from the closures' frames,
     then the motion again at q̈ for the reported frames' classical accelerations: (good samples, V, q̈, columns)."""
-    system, names = solver.system, list(solver.mech.actuated)
+    system = solver.system
     closing = len(dict.fromkeys(f for c in system.closures for f in c.frames))
     rows = np.flatnonzero(ok)
     V, Aq = np.zeros((len(rows), solver.mech.nv)), np.zeros((len(rows), solver.mech.nv))
@@ -724,6 +760,36 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
             continue
         for name, values in chunk.items():
             columns.setdefault(name, np.empty(len(rows)))[part] = values
+    return _drop_singular(solver, rows, singular, V, Aq, columns, U, failures)
+
+
+def _kernel(solver: LoopSolver, points: list[str], links: list[str], measures: list[Measure]) -> LoopKernel | None:
+    """The compiled kernel reporting the table's frame columns (the points, the links, the measures' points)."""
+    others = [p for p in dict.fromkeys(p for m in measures for p in m.points) if p not in points]
+    spatial = any(not getattr(c, "planar", True) for c in solver.mech.closures)
+    return loop_kernel(solver, points, links, others, spatial)
+
+
+def _analyse_compiled(solver: LoopSolver, kernel: LoopKernel, Q: np.ndarray, ok: np.ndarray, R: np.ndarray,
+                      A: np.ndarray, points: list[str], measures: list[Measure], U: np.ndarray,
+                      failures: dict[int, str]):
+    """As :func:`_analyse_batched`, by the compiled kernel: velocities, accelerations and the table's frame columns
+    of every sample in one call."""
+    rows = np.flatnonzero(ok)
+    V, Aq, ratio, columns = kernel.analyse(Q[rows], R[rows], A[rows])
+    for m in measures:
+        columns[m.name] = measure_values(m, {p: np.stack([columns[f"{p}_x"], columns[f"{p}_y"]], axis=1)
+                                             for p in m.points})
+    for name in kernel.names[len(kernel.names) - 2 * len(kernel.others):]:
+        del columns[name]  # the positions of the measures' other points
+    return _drop_singular(solver, rows, ~(ratio <= SINGULAR_RATIO), V, Aq, columns, U, failures)
+
+
+def _drop_singular(solver: LoopSolver, rows: np.ndarray, singular: np.ndarray, V: np.ndarray, Aq: np.ndarray,
+                   columns: dict[str, np.ndarray], U: np.ndarray, failures: dict[int, str]):
+    """The analysed ``rows`` without the ``singular`` ones, whose reason goes to ``failures``: (rows, V, q̈,
+    columns)."""
+    names = list(solver.mech.actuated)
     for k in rows[singular]:
         failures[int(k)] = _singular_reason(solver.mech, names, U[k])
     keep = ~singular
