@@ -145,35 +145,33 @@ def every(samples: np.ndarray, stride: int) -> np.ndarray:
 
 def interpolate(anchors: np.ndarray, values: np.ndarray, samples: np.ndarray) -> np.ndarray:
     """Values at ``samples`` (indices) of the cubic through the four nearest ``anchors`` (sorted indices, their
-    ``values`` (n_anchors, nq)); fewer anchors give a lower degree. Lagrange's form: with the anchors x₀ … x₃ of a
-    sample s, value(s) = Σᵢ vᵢ Πⱼ≠ᵢ (s − xⱼ) / (xᵢ − xⱼ), evaluated run by run of samples that share their anchors
-    when the samples are sorted (the denominators are then numbers), else for all samples at once."""
+    ``values`` (n_anchors, nq)); fewer anchors give a lower degree. Newton's form: the divided differences
+    c_k = f[x₀, …, x_k] of every window of four consecutive anchors (computed once per window), then at each sample
+    p(s) = c₀ + (s − x₀)(c₁ + (s − x₁)(c₂ + (s − x₂) c₃)) (Horner) with its window's x and c. Samples in any order;
+    sorted ones (runs sharing a window) are the fast case."""
     m = len(anchors)
     order = min(4, m)
-    first = np.clip(np.searchsorted(anchors, samples) - order // 2, 0, m - order)
     out = np.zeros((len(samples), values.shape[1]))
-    starts = np.flatnonzero(np.diff(first)) + 1
-    if not len(samples):
+    if not (len(samples) and m):
         return out
-    if len(starts) > len(samples) // 64:  # unsorted or sparse samples: the anchors gathered per sample
-        _lagrange(anchors[first[:, None] + np.arange(order)], values, first, samples, out)
-        return out
-    for a, b in zip(np.concatenate([[0], starts]), np.concatenate([starts, [len(samples)]])):
-        _lagrange(anchors[first[a]:first[a] + order], values, first[a], samples[a:b], out[a:b])
-    return out
-
-
-def _lagrange(x: np.ndarray, values: np.ndarray, first, samples: np.ndarray, out: np.ndarray) -> None:
-    """Add to ``out`` the Lagrange interpolation at ``samples`` through the anchors ``x`` ((order,) shared by all
-    samples, or (n, order) per sample) whose values are ``values[first + i]``."""
-    order = x.shape[-1]
-    distance = [samples - x[..., j] for j in range(order)]
-    for i in range(order):
-        weight = np.ones(len(samples)) if x.ndim > 1 else 1.0
-        for j in range(order):
-            if j != i:
-                weight = weight * distance[j] / (x[..., i] - x[..., j])
-        out += np.multiply.outer(weight, values[first + i]) if x.ndim == 1 else weight[:, None] * values[first + i]
+    first = np.clip(np.searchsorted(anchors, samples) - order // 2, 0, m - order)
+    windows = m - order + 1
+    x = np.stack([anchors[i:i + windows] for i in range(order)], axis=1).astype(float)  # (windows, order)
+    c = np.stack([values[i:i + windows] for i in range(order)], axis=1).astype(float)  # (windows, order, nq)
+    for level in range(1, order):  # c[:, i] ← f[x_{i−level}, …, x_i], from the top down
+        for i in range(order - 1, level - 1, -1):
+            c[:, i] = (c[:, i] - c[:, i - 1]) / (x[:, i] - x[:, i - level])[:, None]
+    # each run of samples with the same window takes its x and c by np.repeat (several times faster than a gather),
+    # sample-last (contiguous rows of all samples: NumPy's inner loops then run over the samples)
+    bounds = np.concatenate([[0], np.flatnonzero(np.diff(first)) + 1, [len(first)]])
+    window, counts = first[bounds[:-1]], np.diff(bounds)
+    x = np.repeat(x.T[:, window], counts, axis=1)
+    c = np.repeat(c.transpose(1, 2, 0)[:, :, window], counts, axis=2)
+    s = np.asarray(samples, dtype=float)
+    out = c[order - 1]
+    for i in range(order - 2, -1, -1):
+        out = c[i] + (s - x[i]) * out
+    return np.ascontiguousarray(out.T)
 
 
 def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, act: np.ndarray, dep: np.ndarray
@@ -208,10 +206,11 @@ def jumps(Q: np.ndarray, U: np.ndarray, maps: np.ndarray, solved: np.ndarray) ->
     """Which samples 1 … n−1 of a run (Q (n, nq) of the dependent coordinates, inputs U (n, n_act), dependent maps
     (n, n_dep, n_act)) changed from their predecessor (both ``solved``) otherwise than the velocity maps predict,
     Δq_d ≈ ½ (S_{k−1} + S_k) Δu (see the module docstring); false for sample 0."""
-    with np.errstate(all="ignore"):
-        steps = np.diff(U, axis=0)
-        predicted = sum(0.5 * (maps[1:, :, j] + maps[:-1, :, j]) * steps[:, j, None] for j in range(U.shape[1]))
-        change = np.diff(Q, axis=0)
-        error = np.abs(change - predicted).max(axis=1, initial=0.0)
-        bad = ~(error <= JUMP_RATIO * np.abs(change).max(axis=1, initial=0.0) + JUMP_FLOOR)
+    with np.errstate(all="ignore"):  # sample-last arrays: NumPy's inner loops run over the samples
+        steps = np.ascontiguousarray(np.diff(U, axis=0).T)
+        M = np.ascontiguousarray(maps.transpose(1, 2, 0))
+        predicted = sum(0.5 * (M[:, j, 1:] + M[:, j, :-1]) * steps[j] for j in range(U.shape[1]))
+        change = np.diff(np.ascontiguousarray(Q.T), axis=1)
+        error = np.abs(change - predicted).max(axis=0, initial=0.0)
+        bad = ~(error <= JUMP_RATIO * np.abs(change).max(axis=0, initial=0.0) + JUMP_FLOOR)
     return np.concatenate([[False], bad & solved[1:] & solved[:-1]])

@@ -370,13 +370,13 @@ POSITION_SECONDS, BATCHED_POSITION_SECONDS = 1e-3, 1e-6
 
 def position_bytes(mech: Mechanism) -> tuple[float, float]:
     """(fixed bytes, bytes per position) of :func:`sweep`: the working storage of its chunks and anchors, about
-    (0.2 nq + 0.03 nq²) MB, and 2.5 times the table's row of 8-byte columns per position — sample, inputs, q, q̇ and q̈ of
+    (0.2 nq + 0.03 nq²) MB, and twice the table's row of 8-byte columns per position — sample, inputs, q, q̇ and q̈ of
     every joint, 8 columns per point (11 in a spatial loop), 3 per link (all of the mechanism's, an upper bound),
     one per measure (measured from 400 to 50,000 positions of every shipped closed loop: tests/test_bounded.py)."""
     spatial = any(not getattr(c, "planar", True) for c in mech.closures)
     columns = (1 + len(mech.actuated) + 3 * mech.nv + (11 if spatial else 8) * len(mech.points)
                + 3 * len(mech.link_names) + len(mech.measures))
-    return (0.2 * mech.nq + 0.03 * mech.nq**2) * 1e6, 20.0 * columns
+    return (0.2 * mech.nq + 0.03 * mech.nq**2) * 1e6, 16.0 * columns
 
 
 def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1,
@@ -879,18 +879,16 @@ def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: 
     """The table of the samples ``good`` (their q, v, a and the reported frames' :func:`_frame_columns`)."""
     import pandas as pd
 
-    columns: dict[str, np.ndarray] = {name: U[good, j] for j, name in enumerate(names)}
+    columns: dict[str, np.ndarray] = {"sample": good}
+    for j, name in enumerate(names):
+        columns[name] = U[good, j]
     for i, joint in enumerate(mech.joint_names):
         columns[f"q_{joint}"], columns[f"v_{joint}"], columns[f"a_{joint}"] = Q[:, i], V[:, i], A[:, i]
     for link in links:
         angle = frame_columns[f"{link}_angle"]
         angle[:] = np.unwrap(angle)
     columns.update(frame_columns)
-    block = np.empty((len(columns), len(good)))  # the float columns in one block, each row of it a column
-    for j, values in enumerate(columns.values()):
-        block[j] = values
-    table = pd.DataFrame(block.T, columns=list(columns), copy=False)
-    table.insert(0, "sample", good)
+    table = pd.DataFrame(columns, copy=False)  # pandas keeps the arrays as they are (one block each)
     failure_columns = ["sample", *names, "reason"]
     return SweepResult(mech, table, pd.DataFrame(failures, columns=failure_columns), Q,
                        V, A, measures, points, links)
