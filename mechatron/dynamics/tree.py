@@ -24,7 +24,6 @@ from __future__ import annotations
 import functools
 import math
 import os
-import sys
 from collections.abc import Callable, Mapping
 
 import numpy as np
@@ -87,25 +86,10 @@ def generalized_forces(mech: Mechanism, q: ArrayLike, forces: Mapping[str, float
 
 
 def joint_space_inertia(model: pin.Model, data: pin.Data, q: ArrayLike) -> Array:
-    """M(q) (nv, nv; kg, kg·m, kg·m²) from CRBA, whose upper triangle is the matrix: symmetrised from it."""
-    return _symmetric(pin.crba(model, data, q))
-
-
-def _symmetric(M: Array) -> Array:
-    """The symmetric matrix whose upper triangle is that of M (n, n)."""
-    return np.where(_below_diagonal(len(M)), M.T, M)
-
-
-@functools.lru_cache(maxsize=32)
-def _below_diagonal(n: int) -> NDArray[np.bool_]:
-    """The (n, n) mask of the entries below the diagonal."""
-    return np.tri(n, k=-1, dtype=bool)
-
-
-@functools.lru_cache(maxsize=32)
-def _above_diagonal(n: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """Rows and columns of the entries above the diagonal of an (n, n) matrix (``np.triu_indices`` costs ~10 µs)."""
-    return np.triu_indices(n, 1)
+    """M(q) (nv, nv; kg, kg·m, kg·m²) from CRBA. Pinocchio's C++ CRBA fills the upper triangle; its Python ``crba``
+    zeroes ``data.M``, runs it and copies the upper triangle to the lower one (``make_symmetric``), so the matrix
+    it returns is symmetric bit for bit (tests/test_dynamics_fast_path.py checks this)."""
+    return pin.crba(model, data, q)
 
 
 #: Environment variable fixing the thread count of batched RNEA/ABA/CRBA when no ``threads=`` is given: a whole
@@ -189,45 +173,35 @@ def _states(mech: Mechanism, q: ArrayLike, *rates: ArrayLike) -> tuple[bool, Arr
 
 
 _FLOAT64 = np.dtype(np.float64)
-#: Index of the byte holding the sign and the seven high exponent bits of a float64 in memory.
-_TOP_BYTE = 7 if sys.byteorder == "little" else 0
 
 
-def _moderate(*arrays: Array) -> bool:
-    """Whether every entry of these float64 arrays is finite, by a test that may say no to finite numbers of
-    magnitude >= 2**1009 (~5e303), never yes to a non-finite one.
-
-    IEEE 754: a double is inf or NaN exactly when its 11 exponent bits are all ones, so its top byte (sign bit and
-    the seven high exponent bits) is 0x7F or 0xFF; a top byte that is neither means a finite number. The top bytes
-    are one slice of the arrays' bytes and two substring searches: ~0.3 µs for a few short arrays, where a NumPy
-    reduction costs ~2 µs (``np.isfinite(x).all()``) and ``sum(x.tolist())`` ~0.3 µs an array."""
-    top = b"".join([x.tobytes() for x in arrays])[_TOP_BYTE::8]
-    return b"\x7f" not in top and b"\xff" not in top
-
-
-def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: object, v: object, x: object) -> Array | None:
-    """``algorithm(model, data, q, v, x)`` (``pin.rnea``, or ABA in the world convention) at one state — q, v, x
-    float64 arrays, all (n,) or all (1, n) — if q and v are finite and the result is; else ``None`` (the caller
-    then runs the full checks, which name what is wrong, and its general path). Returns (nv,) or (1, nv).
+def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: object, v: object, x: object,
+               *options: object) -> Array | None:
+    """``algorithm(model, data, q, v, x, *options)`` (``pin.rnea``; ``pin.aba``, world convention) at one state —
+    q, v, x arrays, all (n,) or all (1, n), q and v float64 — if q, v and the result are finite; else ``None``
+    (the caller then runs the full checks, which name what is wrong, and its general path). Returns (nv,) or
+    (1, nv). A finite sum has only finite terms (a sum that overflows only sends finite numbers the long way).
 
     Why the result's check covers x (q̈ for RNEA, τ for ABA): τ = M(q) q̈ + h(q, q̇) and q̈ = M⁻¹ (τ − h) are
     affine in x with the positive diagonals M_kk and (M⁻¹)_kk of a positive-definite M, so every component of the
     result is computed from the x_k of its joint, and IEEE arithmetic turns any result computed from a NaN into NaN
     and from an inf into inf or NaN (no step divides by x or compares it). q and q̇ are checked themselves: the
-    torques need not depend on them (g(q) does not depend on a vertical first axis's angle; a translating body
-    has no velocity-dependent forces, and Pinocchio then gives finite torques for a NaN slider velocity). Wrong
-    lengths raise in Pinocchio (``ValueError``), anything that is not an array in NumPy (``AttributeError``),
-    other dtypes and shapes fail the first test; all of these return ``None``."""
+    result need not depend on them (g(q) does not depend on a vertical first axis's angle; a translating body has
+    no velocity-dependent forces, and Pinocchio gives finite torques for a NaN slider velocity). Wrong lengths
+    raise in Pinocchio (``ValueError``), what is not an array in NumPy (``AttributeError``), other dtypes in
+    eigenpy (``TypeError``): all return ``None``."""
     if type(q) is type(v) is np.ndarray and q.dtype is v.dtype is _FLOAT64:
         try:
-            if q.ndim == v.ndim == x.ndim == 1:
-                out = algorithm(mech.model, mech.data, q, v, x)
-                return out if _moderate(q, v, out) else None
-            if q.ndim == v.ndim == x.ndim == 2 and len(q) == len(v) == len(x) == 1:
-                out = algorithm(mech.model, mech.data, q[0], v[0], x[0])
-                return out[None] if _moderate(q, v, out) else None
+            ndim = q.ndim
+            if ndim == 2 == v.ndim == x.ndim and len(q) == len(v) == len(x) == 1:
+                q, v, x = q[0], v[0], x[0]
+            elif not ndim == 1 == v.ndim == x.ndim:
+                return None
+            out = algorithm(mech.model, mech.data, q, v, x, *options)
         except (AttributeError, TypeError, ValueError):
             return None
+        if math.isfinite(sum(q.tolist()) + sum(v.tolist()) + sum(out.tolist())):
+            return out if ndim == 1 else out[None]
     return None
 
 
@@ -235,21 +209,18 @@ def _one_configuration(mech: Mechanism, q: object) -> Array | None:
     """M(q) (nv, nv), or (1, nv, nv) for a batch of one, by ``pin.crba`` if q is a float64 array (nq,) or (1, nq)
     with finite entries and M is finite; else ``None`` (as :func:`_one_state`)."""
     if type(q) is np.ndarray and q.dtype is _FLOAT64:
+        ndim = q.ndim
+        if ndim == 2 and len(q) == 1:
+            q = q[0]
+        elif ndim != 1:
+            return None
         try:
-            if q.ndim == 1:
-                M = pin.crba(mech.model, mech.data, q)
-                return _symmetric(M) if _moderate(q, M) else None
-            if q.ndim == 2 and len(q) == 1:
-                M = pin.crba(mech.model, mech.data, q[0])
-                return _symmetric(M)[None] if _moderate(q, M) else None
+            M = pin.crba(mech.model, mech.data, q)
         except (TypeError, ValueError):
             return None
+        if math.isfinite(sum(q.tolist()) + sum(M.ravel().tolist())):
+            return M if ndim == 1 else M[None]
     return None
-
-
-def _aba_world(model: pin.Model, data: pin.Data, q: Array, v: Array, tau: Array) -> Array:
-    """``pin.aba`` in the world convention (the convention of ``abaInParallel``: the same bits at any N)."""
-    return pin.aba(model, data, q, v, tau, pin.Convention.WORLD)
 
 
 def _finite(out: Array, what: str) -> Array:
@@ -305,7 +276,7 @@ def forward_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, tau: ArrayLike
     (as :func:`inverse_dynamics`); every state is ABA in its world-frame convention, so one state and any thread
     count give the same bits (within ~1e-13 relative of ``pin.aba``'s default local convention)."""
     if threads is None:
-        out = _one_state(_aba_world, mech, q, v, tau)
+        out = _one_state(pin.aba, mech, q, v, tau, pin.Convention.WORLD)
         if out is not None:
             return out
     single, Q, (V, T) = _states(mech, q, v, tau)
@@ -313,25 +284,25 @@ def forward_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, tau: ArrayLike
         return _finite(_compiled(pin.abaInParallel, mech, thread_count(len(Q), threads), Q, V, T), "ABA")
     if threads is not None:
         thread_count(1, threads)
-    out = _finite(_aba_world(mech.model, mech.data, Q[0], V[0], T[0]), "ABA")
+    out = _finite(pin.aba(mech.model, mech.data, Q[0], V[0], T[0], pin.Convention.WORLD), "ABA")
     return out if single else out[None]
 
 
-#: Samples per block of the batched CRBA's symmetrisation (~0.5 MB of temporary for six joints).
-SYMMETRISED_BLOCK = 4096
+#: Samples per block of the batched CRBA: the block's matrices are listed before they are copied into the output
+#: (~1.6 MB of temporary for six joints).
+CRBA_BLOCK = 4096
 
 
 def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Array:
-    """Joint-space inertia matrix M(q) (kg, kg·m, kg·m²; CRBA, symmetrised), including the armature: (nv, nv) or
-    (N, nv, nv). ½ q̇ᵀ M q̇ is the kinetic energy [Egorov, 6.2].
+    """Joint-space inertia matrix M(q) (kg, kg·m, kg·m²; CRBA, symmetric: :func:`joint_space_inertia`), including
+    the armature: (nv, nv) or (N, nv, nv). ½ q̇ᵀ M q̇ is the kinetic energy [Egorov, 6.2].
 
     q is checked itself, not through M: M does not depend on the coordinates of a joint on the ground (CRBA in the
-    joints' frames gives a finite M for a NaN first angle). A batch is ``pin.crba`` mapped over the samples (upper
-    triangles) and symmetrised every :data:`SYMMETRISED_BLOCK` samples (a bounded temporary of 8·nv(nv−1)/2 bytes a
-    sample, while the block is in cache). ``threads`` is checked as in :func:`inverse_dynamics` but CRBA always
-    runs on one thread: Pinocchio has no parallel CRBA, its Python ``crba`` holds the GIL, and M from nv + 1
-    parallel RNEA columns costs more than a serial CRBA on fewer than four idle cores (7 × 1.3 µs vs 2.1 µs a
-    sample for the PUMA 560), so the result is the same at every count."""
+    joints' frames gives a finite M for a NaN first angle); M is checked for overflow. A batch is ``pin.crba``
+    mapped over blocks of :data:`CRBA_BLOCK` samples (~5 % less than a loop writing rows). ``threads`` is checked
+    as in :func:`inverse_dynamics` but CRBA always runs on one thread: Pinocchio has no parallel CRBA, its Python
+    ``crba`` holds the GIL, and M from nv + 1 parallel RNEA columns costs more than a serial CRBA on fewer than
+    four idle cores (7 × 1.3 µs vs 2.1 µs a sample for the PUMA 560), so the result is the same at every count."""
     if threads is None:
         M = _one_configuration(mech, q)
         if M is not None:
@@ -344,12 +315,9 @@ def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Ar
         M = _finite(joint_space_inertia(model, data, Q[0]), "CRBA")
         return M if single else M[None]
     out = np.empty((len(Q), mech.nv, mech.nv))
-    rows, columns = _above_diagonal(mech.nv)
     crba = functools.partial(pin.crba, model, data)
-    for start in range(0, len(Q), SYMMETRISED_BLOCK):
-        block = out[start:start + SYMMETRISED_BLOCK]
-        block[:] = list(map(crba, Q[start:start + SYMMETRISED_BLOCK]))  # ~5 % less than a loop writing rows
-        block[:, columns, rows] = block[:, rows, columns]  # lower triangle from the upper, block still in cache
+    for start in range(0, len(Q), CRBA_BLOCK):
+        out[start:start + CRBA_BLOCK] = list(map(crba, Q[start:start + CRBA_BLOCK]))
     return _finite(out, "CRBA")
 
 
