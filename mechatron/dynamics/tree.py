@@ -8,14 +8,15 @@ inertia of a drive is reflected into its joint once, as Pinocchio's ``armature``
 
 Every function takes one state or a batch: q of shape (nq,) or (N, nq), v and a of shape (nv,) or (N, nv).
 Batched RNEA and ABA run in Pinocchio's compiled loops over the samples (``rneaInParallel``/``abaInParallel``), CRBA
-in a Python loop; the thread count is ``threads=``, else the environment variable ``MECHATRON_THREADS``, else
-chosen by the batch size and the idle cores (:func:`thread_count`: serial below :data:`SAMPLES_PER_THREAD` samples
-a thread). Every thread count gives the same bits.
+is ``pin.crba`` mapped over the samples; the thread count is ``threads=``, else the environment variable
+``MECHATRON_THREADS``, else chosen by the batch size and the idle cores (:func:`thread_count`: serial below
+:data:`SAMPLES_PER_THREAD` samples a thread). Every thread count gives the same bits.
 
-One state — (nq,), or a batch of one (1, nq) — of float64 arrays takes a lean path (:func:`_one_state`): Pinocchio's
-call itself plus a few hundred nanoseconds of checks, so a Python loop over states costs no more than a loop over
-``pin.rnea``/``pin.aba``/``pin.crba``. Every path refuses non-finite inputs with the same :class:`InputError` naming
-the argument, and refuses a result that overflows (finite inputs too large for the model) instead of returning inf.
+One state — (nq,), or a batch of one (1, nq) — of float64 arrays takes a lean path (:func:`_one_state`,
+:func:`_one_configuration`): Pinocchio's call plus ~1–1.5 µs of shape and finiteness checks (a plain loop's indexing
+and row writes cost ~1 µs; measured by benchmarks/dynamics.py). Every path refuses non-finite inputs with the same
+:class:`InputError` naming the argument, and a result that overflows (finite inputs too large for the model) instead
+of returning inf.
 Units: N·m for revolute and N for prismatic joints, J for energies, SI everywhere.
 """
 
@@ -178,7 +179,7 @@ _FLOAT64 = np.dtype(np.float64)
 def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: object, v: object, x: object,
                *options: object) -> Array | None:
     """``algorithm(model, data, q, v, x, *options)`` (``pin.rnea``; ``pin.aba``, world convention) at one state —
-    q, v, x arrays, all (n,) or all (1, n), q and v float64 — if q, v and the result are finite; else ``None``
+    q, v, x float64 arrays, all (n,) or all (1, n) — if q, v and the result are finite; else ``None``
     (the caller then runs the full checks, which name what is wrong, and its general path). Returns (nv,) or
     (1, nv). A finite sum has only finite terms (a sum that overflows only sends finite numbers the long way).
 
@@ -188,20 +189,21 @@ def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: object, v: o
     and from an inf into inf or NaN (no step divides by x or compares it). q and q̇ are checked themselves: the
     result need not depend on them (g(q) does not depend on a vertical first axis's angle; a translating body has
     no velocity-dependent forces, and Pinocchio gives finite torques for a NaN slider velocity). Wrong lengths
-    raise in Pinocchio (``ValueError``), what is not an array in NumPy (``AttributeError``), other dtypes in
-    eigenpy (``TypeError``): all return ``None``."""
-    if type(q) is type(v) is np.ndarray and q.dtype is v.dtype is _FLOAT64:
-        try:
-            ndim = q.ndim
-            if ndim == 2 == v.ndim == x.ndim and len(q) == len(v) == len(x) == 1:
-                q, v, x = q[0], v[0], x[0]
-            elif not ndim == 1 == v.ndim == x.ndim:
-                return None
-            out = algorithm(mech.model, mech.data, q, v, x, *options)
-        except (AttributeError, TypeError, ValueError):
+    raise in Pinocchio (``ValueError``), what is not an array in NumPy (``AttributeError``): both return
+    ``None``, as do other dtypes and shapes."""
+    try:
+        if not (type(q) is type(v) is np.ndarray and q.dtype is v.dtype is x.dtype is _FLOAT64):
             return None
-        if math.isfinite(sum(q.tolist()) + sum(v.tolist()) + sum(out.tolist())):
-            return out if ndim == 1 else out[None]
+        ndim = q.ndim
+        if ndim == 2 == v.ndim == x.ndim and len(q) == len(v) == len(x) == 1:
+            q, v, x = q[0], v[0], x[0]
+        elif not ndim == 1 == v.ndim == x.ndim:
+            return None
+        out = algorithm(mech.model, mech.data, q, v, x, *options)
+    except (AttributeError, TypeError, ValueError):
+        return None
+    if math.isfinite(sum(q.tolist()) + sum(v.tolist()) + sum(out.tolist())):
+        return out if ndim == 1 else out[None]
     return None
 
 
