@@ -4,8 +4,9 @@ Each mechatron call (``inverse_dynamics``, ``forward_dynamics``, ``mass_matrix``
 chosen by size and idle cores unless ``--threads``) is timed against:
 
 - **plain loop** — what a competent Pinocchio user writes: a Python loop calling ``pin.rnea`` / ``pin.aba`` /
-  ``pin.crba`` on one preallocated ``Data``, writing rows of a preallocated output (CRBA: upper triangles,
-  symmetrised once at the end by precomputed indices). Goal: mechatron at most 1.0x at every N.
+  ``pin.crba`` on one preallocated ``Data``, writing rows of a preallocated output (CRBA: the matrices as
+  ``pin.crba`` returns them, already symmetric — its Python binding copies the upper triangle down). Goal: mechatron
+  at most 1.0x at every N.
 - **compiled floor** — Pinocchio's own C++ batch loop, ``rneaInParallel`` / ``abaInParallel`` with one thread on a
   ``ModelPool`` (no Python per state and no argument checks): what a Python API can approach at best. The wheel has
   no compiled CRBA batch, so CRBA has no floor.
@@ -48,10 +49,9 @@ def plain_aba(model, data, Q, V, T, out):
     return out
 
 
-def plain_crba(model, data, Q, out, upper):
+def plain_crba(model, data, Q, out):
     for i in range(len(Q)):
         out[i] = pin.crba(model, data, Q[i])
-    out[:, upper[1], upper[0]] = out[:, upper[0], upper[1]]
     return out
 
 
@@ -67,11 +67,10 @@ def rows(name: str, mech, n: int, repeats: int, threads: int | None, toolbox) ->
     V, A = rng.normal(size=(n, mech.nv)), rng.normal(size=(n, mech.nv))
     model, data, pool = mech.model, mech.model.createData(), pin.ModelPool(mech.model, 1)
     out, M = np.empty((n, mech.nv)), np.empty((n, mech.nv, mech.nv))
-    upper = np.triu_indices(mech.nv, 1)
     T = plain_rnea(model, data, Q, V, A, out).copy()
     assert np.array_equal(tree.inverse_dynamics(mech, Q, V, A, threads=threads), T)
     assert np.allclose(tree.forward_dynamics(mech, Q, V, T, threads=threads), A, atol=1e-9)
-    assert np.array_equal(tree.mass_matrix(mech, Q, threads=threads), plain_crba(model, data, Q, M, upper))
+    assert np.array_equal(tree.mass_matrix(mech, Q, threads=threads), plain_crba(model, data, Q, M))
     cases = {
         "rnea": (lambda: tree.inverse_dynamics(mech, Q, V, A, threads=threads),
                  lambda: plain_rnea(model, data, Q, V, A, out),
@@ -80,7 +79,7 @@ def rows(name: str, mech, n: int, repeats: int, threads: int | None, toolbox) ->
                 lambda: plain_aba(model, data, Q, V, T, out),
                 lambda: compiled(pin.abaInParallel, pool, Q, V, T, out)),
         "crba": (lambda: tree.mass_matrix(mech, Q, threads=threads),
-                 lambda: plain_crba(model, data, Q, M, upper), None),
+                 lambda: plain_crba(model, data, Q, M), None),
     }
     lines = []
     for algorithm, (ours, plain, floor) in cases.items():

@@ -8,9 +8,15 @@ inertia of a drive is reflected into its joint once, as Pinocchio's ``armature``
 
 Every function takes one state or a batch: q of shape (nq,) or (N, nq), v and a of shape (nv,) or (N, nv).
 Batched RNEA and ABA run in Pinocchio's compiled loops over the samples (``rneaInParallel``/``abaInParallel``), CRBA
-in a Python loop; the thread count is ``threads=``, else the environment variable ``MECHATRON_THREADS``, else
-chosen by the batch size and the idle cores (:func:`thread_count`: serial below :data:`SAMPLES_PER_THREAD` samples
-a thread). Every thread count gives the same bits.
+is ``pin.crba`` mapped over the samples; the thread count is ``threads=``, else the environment variable
+``MECHATRON_THREADS``, else chosen by the batch size and the idle cores (:func:`thread_count`: serial below
+:data:`SAMPLES_PER_THREAD` samples a thread). Every thread count gives the same bits.
+
+One state — (nq,), or a batch of one (1, nq) — of float64 arrays takes a lean path (:func:`_one_state`,
+:func:`_one_configuration`): Pinocchio's call plus ~1–1.5 µs of shape and finiteness checks (a plain loop's indexing
+and row writes cost ~1 µs; measured by benchmarks/dynamics.py). Every path refuses non-finite inputs with the same
+:class:`InputError` naming the argument, and a result that overflows (finite inputs too large for the model) instead
+of returning inf.
 Units: N·m for revolute and N for prismatic joints, J for energies, SI everywhere.
 """
 
@@ -19,7 +25,7 @@ from __future__ import annotations
 import functools
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 import pinocchio as pin
@@ -81,21 +87,10 @@ def generalized_forces(mech: Mechanism, q: ArrayLike, forces: Mapping[str, float
 
 
 def joint_space_inertia(model: pin.Model, data: pin.Data, q: ArrayLike) -> Array:
-    """M(q) (nv, nv; kg, kg·m, kg·m²) from CRBA, whose upper triangle is the matrix: symmetrised from it."""
-    M = pin.crba(model, data, q)
-    return np.where(_below_diagonal(model.nv), M.T, M)
-
-
-@functools.lru_cache(maxsize=32)
-def _below_diagonal(n: int) -> NDArray[np.bool_]:
-    """The (n, n) mask of the entries below the diagonal."""
-    return np.tri(n, k=-1, dtype=bool)
-
-
-@functools.lru_cache(maxsize=32)
-def _above_diagonal(n: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """Rows and columns of the entries above the diagonal of an (n, n) matrix (``np.triu_indices`` costs ~10 µs)."""
-    return np.triu_indices(n, 1)
+    """M(q) (nv, nv; kg, kg·m, kg·m²) from CRBA. Pinocchio's C++ CRBA fills the upper triangle; its Python ``crba``
+    zeroes ``data.M``, runs it and copies the upper triangle to the lower one (``make_symmetric``), so the matrix
+    it returns is symmetric bit for bit (tests/test_dynamics_fast_path.py checks this)."""
+    return pin.crba(model, data, q)
 
 
 #: Environment variable fixing the thread count of batched RNEA/ABA/CRBA when no ``threads=`` is given: a whole
@@ -164,8 +159,7 @@ def _compiled(algorithm, mech: Mechanism, threads: int, Q: np.ndarray, V: np.nda
 def _states(mech: Mechanism, q: ArrayLike, *rates: ArrayLike) -> tuple[bool, Array, list[Array]]:
     """:func:`~mechatron.kinematics.frames.samples` (single?, Q (N, nq), rates (N, nv)) with a shortcut for what a
     loop over states passes: float64 arrays of the right shapes whose sums are finite (a finite sum has only finite
-    entries; a sum that overflows falls back to the full check). One state then costs about a microsecond of checks
-    instead of tens."""
+    entries; a sum that overflows falls back to the full check)."""
     nq, nv = mech.nq, mech.nv
     if type(q) is not np.ndarray or q.dtype != np.float64 or q.ndim not in (1, 2) or q.shape[-1] != nq:
         return samples(mech, q, *rates)
@@ -177,6 +171,66 @@ def _states(mech: Mechanism, q: ArrayLike, *rates: ArrayLike) -> tuple[bool, Arr
         if not math.isfinite(x.sum() if x.size > 64 else sum(x.tolist() if x.ndim == 1 else x.ravel().tolist())):
             return samples(mech, q, *rates)
     return q.ndim == 1, q.reshape(-1, nq), [x.reshape(-1, nv) for x in rates]
+
+
+_FLOAT64 = np.dtype(np.float64)
+
+
+def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: object, v: object, x: object,
+               *options: object) -> Array | None:
+    """``algorithm(model, data, q, v, x, *options)`` (``pin.rnea``; ``pin.aba``, world convention) at one state —
+    q, v, x float64 arrays, all (n,) or all (1, n) — if q, v and the result are finite; else ``None``
+    (the caller then runs the full checks, which name what is wrong, and its general path). Returns (nv,) or
+    (1, nv). A finite sum has only finite terms (a sum that overflows only sends finite numbers the long way).
+
+    Why the result's check covers x (q̈ for RNEA, τ for ABA): τ = M(q) q̈ + h(q, q̇) and q̈ = M⁻¹ (τ − h) are
+    affine in x with the positive diagonals M_kk and (M⁻¹)_kk of a positive-definite M, so every component of the
+    result is computed from the x_k of its joint, and IEEE arithmetic turns any result computed from a NaN into NaN
+    and from an inf into inf or NaN (no step divides by x or compares it). q and q̇ are checked themselves: the
+    result need not depend on them (g(q) does not depend on a vertical first axis's angle; a translating body has
+    no velocity-dependent forces, and Pinocchio gives finite torques for a NaN slider velocity). Wrong lengths
+    raise in Pinocchio (``ValueError``), what is not an array in NumPy (``AttributeError``): both return
+    ``None``, as do other dtypes and shapes."""
+    try:
+        if not (type(q) is type(v) is np.ndarray and q.dtype is v.dtype is x.dtype is _FLOAT64):
+            return None
+        ndim = q.ndim
+        if ndim == 2 == v.ndim == x.ndim and len(q) == len(v) == len(x) == 1:
+            q, v, x = q[0], v[0], x[0]
+        elif not ndim == 1 == v.ndim == x.ndim:
+            return None
+        out = algorithm(mech.model, mech.data, q, v, x, *options)
+    except (AttributeError, TypeError, ValueError):
+        return None
+    if math.isfinite(sum(q.tolist()) + sum(v.tolist()) + sum(out.tolist())):
+        return out if ndim == 1 else out[None]
+    return None
+
+
+def _one_configuration(mech: Mechanism, q: object) -> Array | None:
+    """M(q) (nv, nv), or (1, nv, nv) for a batch of one, by ``pin.crba`` if q is a float64 array (nq,) or (1, nq)
+    with finite entries and M is finite; else ``None`` (as :func:`_one_state`)."""
+    if type(q) is np.ndarray and q.dtype is _FLOAT64:
+        ndim = q.ndim
+        if ndim == 2 and len(q) == 1:
+            q = q[0]
+        elif ndim != 1:
+            return None
+        try:
+            M = pin.crba(mech.model, mech.data, q)
+        except (TypeError, ValueError):
+            return None
+        if math.isfinite(sum(q.tolist()) + sum(M.ravel().tolist())):
+            return M if ndim == 1 else M[None]
+    return None
+
+
+def _finite(out: Array, what: str) -> Array:
+    """``out`` if all its entries are finite, else an :class:`InputError`: the inputs passed their checks (finite,
+    right shapes), so the model's numbers at these inputs overflow double precision (|x| > 1.8e308)."""
+    if math.isfinite(out.sum()) or np.isfinite(out).all():
+        return out
+    raise InputError(f"{what} overflows (beyond 1.8e308) at these finite inputs: check their magnitudes and units")
 
 
 def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, loads: Loads = None,
@@ -196,19 +250,24 @@ def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, 
         unless the batch is long and cores are idle), bit for bit the loop over ``pin.rnea``; with loads, a Python
         loop (the external forces depend on each configuration).
     """
+    if loads is None and threads is None:
+        tau = _one_state(pin.rnea, mech, q, v, a)
+        if tau is not None:
+            return tau
     single, Q, (V, A) = _states(mech, q, v, a)
     model, data = mech.model, mech.data
     loads = as_loads(loads)
     if not loads and len(Q) > 1:
-        return _compiled(pin.rneaInParallel, mech, thread_count(len(Q), threads), Q, V, A)
+        return _finite(_compiled(pin.rneaInParallel, mech, thread_count(len(Q), threads), Q, V, A), "RNEA")
     if threads is not None:
         thread_count(1, threads)  # checked; one state or loads run serially
-    if not loads:
-        tau = pin.rnea(model, data, Q[0], V[0], A[0])
-        return tau if single else tau[None]
     out = np.empty((len(Q), mech.nv))
     for i in range(len(Q)):
-        out[i] = pin.rnea(model, data, Q[i], V[i], A[i], external_forces(mech, Q[i], loads))
+        if loads:
+            out[i] = pin.rnea(model, data, Q[i], V[i], A[i], external_forces(mech, Q[i], loads))
+        else:
+            out[i] = pin.rnea(model, data, Q[i], V[i], A[i])
+    out = _finite(out, "RNEA")
     return out[0] if single else out
 
 
@@ -218,43 +277,44 @@ def forward_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, tau: ArrayLike
     state (q, q̇): (nv,) or (N, nv). A batch runs in Pinocchio's compiled ``abaInParallel`` on ``threads`` threads
     (as :func:`inverse_dynamics`); every state is ABA in its world-frame convention, so one state and any thread
     count give the same bits (within ~1e-13 relative of ``pin.aba``'s default local convention)."""
+    if threads is None:
+        out = _one_state(pin.aba, mech, q, v, tau, pin.Convention.WORLD)
+        if out is not None:
+            return out
     single, Q, (V, T) = _states(mech, q, v, tau)
     if len(Q) > 1:
-        return _compiled(pin.abaInParallel, mech, thread_count(len(Q), threads), Q, V, T)
+        return _finite(_compiled(pin.abaInParallel, mech, thread_count(len(Q), threads), Q, V, T), "ABA")
     if threads is not None:
         thread_count(1, threads)
-    out = pin.aba(mech.model, mech.data, Q[0], V[0], T[0], pin.Convention.WORLD).copy()
+    out = _finite(pin.aba(mech.model, mech.data, Q[0], V[0], T[0], pin.Convention.WORLD), "ABA")
     return out if single else out[None]
 
 
-#: Samples per block of the batched CRBA's symmetrisation (~0.5 MB of temporary for six joints).
-SYMMETRISED_BLOCK = 4096
-
-
 def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Array:
-    """Joint-space inertia matrix M(q) (kg, kg·m, kg·m²; CRBA, symmetrised), including the armature: (nv, nv) or
-    (N, nv, nv). ½ q̇ᵀ M q̇ is the kinetic energy [Egorov, 6.2].
+    """Joint-space inertia matrix M(q) (kg, kg·m, kg·m²; CRBA, symmetric: :func:`joint_space_inertia`), including
+    the armature: (nv, nv) or (N, nv, nv). ½ q̇ᵀ M q̇ is the kinetic energy [Egorov, 6.2].
 
-    A batch is a loop over ``pin.crba`` (upper triangles) symmetrised every :data:`SYMMETRISED_BLOCK` samples (a
-    bounded temporary of 8·nv(nv−1)/2 bytes a sample, while the block is in cache). ``threads`` is checked as in
-    :func:`inverse_dynamics` but CRBA always runs on one thread: Pinocchio has no parallel CRBA, its Python
+    q is checked itself, not through M: M does not depend on the coordinates of a joint on the ground (CRBA in the
+    joints' frames gives a finite M for a NaN first angle); M is checked for overflow. A batch is ``pin.crba``
+    mapped over the samples straight into the output (``np.fromiter``: no temporary, 0–10 % less than a loop
+    writing rows). ``threads`` is checked
+    as in :func:`inverse_dynamics` but CRBA always runs on one thread: Pinocchio has no parallel CRBA, its Python
     ``crba`` holds the GIL, and M from nv + 1 parallel RNEA columns costs more than a serial CRBA on fewer than
     four idle cores (7 × 1.3 µs vs 2.1 µs a sample for the PUMA 560), so the result is the same at every count."""
+    if threads is None:
+        M = _one_configuration(mech, q)
+        if M is not None:
+            return M
     single, Q, _ = _states(mech, q)
     if threads is not None:
         thread_count(len(Q), threads)
     model, data = mech.model, mech.data
     if len(Q) == 1:
-        M = joint_space_inertia(model, data, Q[0])
+        M = _finite(joint_space_inertia(model, data, Q[0]), "CRBA")
         return M if single else M[None]
-    out = np.empty((len(Q), mech.nv, mech.nv))
-    rows, columns = _above_diagonal(mech.nv)
-    for start in range(0, len(Q), SYMMETRISED_BLOCK):
-        block = out[start:start + SYMMETRISED_BLOCK]
-        for i, q_i in enumerate(Q[start:start + SYMMETRISED_BLOCK]):
-            block[i] = pin.crba(model, data, q_i)
-        block[:, columns, rows] = block[:, rows, columns]  # lower triangle from the upper, block still in cache
-    return out
+    matrix = np.dtype((np.float64, (mech.nv, mech.nv)))
+    out = np.fromiter(map(functools.partial(pin.crba, model, data), Q), dtype=matrix, count=len(Q))
+    return _finite(out, "CRBA")
 
 
 def bias_forces(mech: Mechanism, q: ArrayLike, v: ArrayLike) -> Array:
