@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_accuracy import geometric_parameters  # the parameters that keep the drawn inputs in range
 
 import mechatron
 from mechatron.accuracy import nonlinear, study
@@ -14,7 +15,6 @@ from mechatron.accuracy.nonlinear import PerturbedLoop, PerturbedLoops, _elimina
 from mechatron.accuracy.sources import ErrorSource
 from mechatron.accuracy.study import run_study
 from mechatron.kinematics.loops import assemble
-from test_accuracy import geometric_parameters  # the parameters that keep the drawn inputs in range
 
 PLANAR = [("crank_slider", {"q1": 1.0}, "C"), ("six_bar_bucket", {"L1": 1.5}, "K"),
           ("seven_bar", {"s1": 0.6, "s2": 0.65}, None), ("slotted_link", {"q1": 2.0}, None),
