@@ -1,17 +1,28 @@
 """The fast paths of the closed-loop Monte Carlo: the planar evaluator (placements as complex numbers) against the
 spatial one and against one Pinocchio loop solve per sample, at random samples, to 1e-12 m; the vectorized Gaussian
 elimination of the Newton systems against LAPACK, with its pivot test and fallbacks; the bucket's study statistics
-by both paths and seeded runs."""
+by both paths and seeded runs, and its memory within the Monte Carlo's estimate; the shortened series and the blocked
+transpose of the serial evaluator."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from test_accuracy import geometric_parameters  # the parameters that keep the drawn inputs in range
+from test_bounded import peak
 
 import mechatron
 from mechatron.accuracy import nonlinear, study
-from mechatron.accuracy.nonlinear import PerturbedLoop, PerturbedLoops, _eliminate, _solve_batch
+from mechatron.accuracy.nonlinear import (
+    SERIES_LIMIT,
+    PerturbedLoop,
+    PerturbedLoops,
+    _cos_sin,
+    _eliminate,
+    _screw,
+    _solve_batch,
+    _transposed,
+)
 from mechatron.accuracy.sources import ErrorSource
 from mechatron.accuracy.study import run_study
 from mechatron.kinematics.loops import assemble
@@ -100,3 +111,35 @@ def test_bucket_study_by_both_paths_and_seeded(monkeypatch):
     assert np.allclose(fast.poses[columns].to_numpy(float), spatial.poses[columns].to_numpy(float), rtol=1e-9,
                        atol=1e-13)
     assert np.allclose(fast.samples, spatial.samples, atol=1e-12, rtol=0)
+
+
+def test_bucket_study_memory_within_the_estimate():
+    """The closed-loop Monte Carlo's traced peak stays within the Monte Carlo's memory estimate."""
+    mech = mechatron.load("six_bar_bucket")
+    sources = [ErrorSource(n, "parameter", "m", 1e-3) for n in mech.parameters]
+    sources += [ErrorSource(n, "coordinate", "m", 5e-4) for n in mech.actuated]
+    run_study(mech, sources, [[1.5]], frame="K", methods=["mc"], samples=1000)
+    measured, _ = peak(lambda: run_study(mech, sources, [[1.5]], frame="K", methods=["mc"], samples=70_000))
+    assert measured <= study.monte_carlo_budget(70_000, len(sources), 1)
+
+
+@pytest.mark.parametrize("largest", [1e-9, 1e-6, 4e-4, 3e-3, SERIES_LIMIT, 0.5])
+def test_series_with_the_fewest_terms_are_exact_to_rounding(largest):
+    """cos, sin (about an offset too) and the screw factors (1 − cos θ)/θ, (θ − sin θ)/θ by the shortened series
+    equal the library functions to rounding at every magnitude."""
+    angle = np.linspace(-largest, largest, 101)
+    c, s = _cos_sin(angle)
+    assert np.allclose(c, np.cos(angle), atol=2e-16, rtol=0) and np.allclose(s, np.sin(angle), atol=2e-16, rtol=0)
+    c, s = _cos_sin(angle, 0.7)
+    assert np.allclose(c, np.cos(0.7 + angle), atol=3e-16) and np.allclose(s, np.sin(0.7 + angle), atol=3e-16)
+    if largest > SERIES_LIMIT:
+        return
+    a, b = _screw(angle)
+    a_exact = 2 * np.sin(angle / 2) ** 2 / np.where(angle == 0, 1.0, angle)  # (1 − cos θ)/θ without cancellation
+    b_exact = angle ** 2 / 6 - angle ** 4 / 120 + angle ** 6 / 5040 - angle ** 8 / 362880  # error < 3e-23
+    assert np.allclose(a, a_exact, atol=1e-17, rtol=1e-14) and np.allclose(b, b_exact, atol=1e-17, rtol=1e-14)
+
+
+def test_blocked_transpose():
+    a = np.random.default_rng(0).normal(size=(1300, 7))
+    assert np.array_equal(_transposed(a), a.T) and _transposed(a).flags.c_contiguous

@@ -529,6 +529,7 @@ class _PlanarLoops:
             self.weights[k, c + 1] += w.imag
         self.signs = {j: float(axis[2]) if kind == "revolute" else complex(*axis[:2])
                       for j, (kind, axis) in loops.axes.items()}
+        self.turned = {loops.frame_ids[name] for name in loops.angled}
         frame = model.frames[loops.fid]
         self.z = frame.placement.translation[2] + sum(model.jointPlacements[j].translation[2]
                                                       for j in model.supports[frame.parentJoint] if j != 0)
@@ -577,7 +578,8 @@ class _PlanarLoops:
 
     def world(self, q: Floats, constants: list[Planar], point_only: bool = False
               ) -> tuple[dict[int, Planar], dict[int, Planar]]:
-        """World placements (z, p) of the frames used (or only the studied one) and of their joints at q (N, nq)."""
+        """World placements (z, p) of the frames used (or only the studied one) and of their joints at q (N, nq); a
+        frame's z only where a slider needs its angle (else None)."""
         loops, model = self.loops, self.loops.mech.model
         index = {key: m for m, key in enumerate(self.keys)}
         joints: dict[int, Planar] = {0: (1.0 + 0j, 0j)}
@@ -595,7 +597,7 @@ class _PlanarLoops:
         for f in [loops.fid] if point_only else loops.frames:
             z, p = joints[model.frames[f].parentJoint]
             z0, p0 = constants[index[("frame", f)]]
-            frames[f] = z * z0, p + z * p0
+            frames[f] = z * z0 if f in self.turned else None, p + z * p0
         return frames, joints
 
     def quantities(self, q: Floats, constants: list[Planar]) -> tuple[dict, dict, dict]:
@@ -751,34 +753,35 @@ class PerturbedLoops(_Factors):
         path = self.planar.quantities if self.planar else self._quantities
         position, angle, linear, turn = path(q, constants)
         n, n_dep = len(q), len(self.dep)
-        rows, jacobians = [], []
+        phi, J = np.empty((self.solver.system.nrows, n)), np.empty((self.solver.system.nrows, n_dep, n))
+        r = 0
         for c in self.closures:
             if isinstance(c, Pin):
                 for i in range(c.nrows):
-                    rows.append(position[c.a][i] - position[c.b][i])
-                    jacobians.append(linear[c.a][i] - linear[c.b][i])
+                    np.subtract(position[c.a][i], position[c.b][i], out=phi[r + i])
+                    np.subtract(linear[c.a][i], linear[c.b][i], out=J[r + i])
             elif isinstance(c, Slider):  # the point's offset r from the line frame along the normal of its x axis
                 cos, sin = np.cos(angle[c.line]), np.sin(angle[c.line])
                 rx, ry = (position[c.point][i] - position[c.line][i] for i in range(2))
                 drx, dry = (linear[c.point][i] - linear[c.line][i] for i in range(2))
-                rows.append(cos * ry - sin * rx)
-                jacobians.append(cos * dry - sin * drx - (cos * rx + sin * ry) * turn[c.line])
+                phi[r] = cos * ry - sin * rx
+                J[r] = cos * dry - sin * drx - (cos * rx + sin * ry) * turn[c.line]
                 if c.lock_angle:
-                    rows.append(_wrap(angle[c.point] - angle[c.line] - c.angle_offset))
-                    jacobians.append(np.broadcast_to(turn[c.point] - turn[c.line], (n_dep, n)))
+                    phi[r + 1] = _wrap(angle[c.point] - angle[c.line] - c.angle_offset)
+                    J[r + 1] = turn[c.point] - turn[c.line]
             elif isinstance(c, OnCurve):
                 x, y = position[c.point][0], position[c.point][1]
-                rows.append(y - _curve(c.f, x))
-                jacobians.append(linear[c.point][1] - _curve(c.df, x) * linear[c.point][0])
+                phi[r] = y - _curve(c.f, x)
+                J[r] = linear[c.point][1] - _curve(c.df, x) * linear[c.point][0]
             else:  # Gear
                 a, b = c.columns
-                rows.append(q[:, b] - c.ratio * q[:, a] - c.offset)
-                row = np.zeros((n_dep, 1))
+                phi[r] = q[:, b] - c.ratio * q[:, a] - c.offset
+                J[r] = 0.0
                 for column, value in ((a, -c.ratio), (b, 1.0)):
                     if column in self.dep:
-                        row[list(self.dep).index(column)] += value
-                jacobians.append(np.broadcast_to(row, (n_dep, n)))
-        return np.stack(rows), np.stack(jacobians)
+                        J[r, list(self.dep).index(column)] += value
+            r += c.nrows
+        return phi, J
 
     # --------------------------------------------------------------------------------------- Newton
     def _close(self, q: Floats, constants: dict | list) -> tuple[Floats, NDArray[np.bool_]]:
