@@ -17,8 +17,9 @@ Three evaluators of the same model, each with ``positions(q, dl, dq) -> (N, 3)``
   placements, the factor exponentials and the joint motions; revolute, continuous and prismatic joints): millions
   of samples per second;
 - :class:`PerturbedLoops` — a closed loop, vectorized over samples: the placements of the tree for every sample
-  (NumPy SE(3) products), the closures solved by Newton's method for all samples at once, from the first-order
-  prediction of the dependent coordinates, with the Jacobians by central differences of the residual;
+  (complex numbers for a planar mechanism, NumPy SE(3) products otherwise), the closures solved by Newton's method
+  for all samples at once, from the first-order prediction of the dependent coordinates, with the Jacobians from
+  the frame Jacobians and the small Newton systems by Gaussian elimination written over the samples;
 - :class:`PerturbedLoop` — any mechanism, one sample at a time with Pinocchio: a copy of the model takes the
   perturbed placements, the loops are closed again by the loop solver's Newton method with the actuated
   coordinates at their perturbed values, and the point is read from the frame placement. It is the reference of
