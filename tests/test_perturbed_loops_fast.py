@@ -143,3 +143,14 @@ def test_series_with_the_fewest_terms_are_exact_to_rounding(largest):
 def test_blocked_transpose():
     a = np.random.default_rng(0).normal(size=(1300, 7))
     assert np.array_equal(_transposed(a), a.T) and _transposed(a).flags.c_contiguous
+
+
+@pytest.mark.parametrize("planar", [True, False])
+def test_no_sample_and_one_sample(planar):
+    mech = mechatron.load("six_bar_bucket")
+    q, names = assemble(mech, {"L1": 1.5}), list(mech.parameters)
+    loops = PerturbedLoops(mech, "K", names, planar=planar)
+    assert loops.positions(q, np.zeros((0, len(names))), np.zeros((0, 1))).shape == (0, 3)
+    dl, dq = np.full((1, len(names)), 1e-3), np.full((1, 1), -2e-3)
+    assert np.allclose(loops.positions(q, dl, dq), PerturbedLoop(mech, "K", names).positions(q, dl, dq), atol=1e-12,
+                       rtol=0)

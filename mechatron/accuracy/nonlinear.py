@@ -825,7 +825,10 @@ class PerturbedLoops(_Factors):
         """Point positions (N, 3) (m) at the assembled nominal configuration ``q`` (nq,) with parameter errors
         ``dl`` (N, n_l) (m, rad) and errors of the actuated coordinates ``dq`` (N, n_act) (rad, m); NaN where the
         loops do not close."""
-        q, dl, dq = np.asarray(q, dtype=float), np.asarray(dl, dtype=float), np.asarray(dq, dtype=float)
+        q, dq = np.asarray(q, dtype=float), np.asarray(dq, dtype=float)
+        dl = np.ascontiguousarray(dl, dtype=float)  # matrix products of a strided view do not go to BLAS
+        if not len(dq):
+            return np.zeros((0, 3))
         dq_dl, S = loop_derivatives(self.mech, self.solver, self.derivatives, q)
         start = q + dl @ dq_dl.T + dq @ S.T  # the actuated coordinates exactly at their values, the others predicted
         constants = self._constants(dl)
