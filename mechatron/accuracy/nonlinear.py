@@ -631,6 +631,13 @@ class _PlanarLoops:
         return np.stack([p.real, p.imag, np.full(len(q), self.z)], axis=1)
 
 
+def _take(a, rows: NDArray[np.intp], n: int, select: Callable | None = None):
+    """The samples ``rows`` of ``a`` (samples last, or by ``select(a, rows)``), ``a`` itself when the rows are all n."""
+    if len(rows) == n:
+        return a
+    return select(a, rows) if select else a[..., rows]
+
+
 class PerturbedLoops(_Factors):
     """The position of ``frame`` of a closed-loop mechanism for N samples of parameter errors (N, n_l) and errors
     of the actuated coordinates (N, n_act) at one assembled configuration, vectorized over the samples.
@@ -794,17 +801,16 @@ class PerturbedLoops(_Factors):
             rows = np.flatnonzero(error >= TOLERANCE)  # NaN errors are failures: not iterated further
             if not len(rows):
                 break
-            every = len(rows) == n
-            local = constants if every else self._select(constants, rows)
-            step = _solve_batch(J if every else J[:, :, rows], -(phi if every else phi[:, rows]))
+            local = _take(constants, rows, n, self._select)
+            step = _solve_batch(_take(J, rows, n), -_take(phi, rows, n))
             t = np.ones(len(rows))
             pending = np.arange(len(rows))
             while len(pending):  # halve the step where it makes the residual grow
-                at = rows[pending]
-                trial = q[at]
-                trial[:, self.dep] += (t[pending] * step[:, pending]).T
-                phi_t, J_t = self._evaluate(trial, local if len(pending) == len(rows) else
-                                            self._select(local, pending))
+                at = _take(rows, pending, len(rows))
+                trial = q.copy() if len(at) == n else q[at]
+                move = _take(step, pending, len(rows))
+                trial[:, self.dep] += (move if len(pending) == len(rows) else t[pending] * move).T  # t = 1 at first
+                phi_t, J_t = self._evaluate(trial, _take(local, pending, len(rows), self._select))
                 error_t = np.abs(phi_t).max(axis=0, initial=0.0)
                 accept = (error_t < error[at]) | (t[pending] < 1e-3)
                 if len(at) == n and accept.all():
@@ -817,7 +823,9 @@ class PerturbedLoops(_Factors):
                 t[pending] /= 2
         closed = error < TOLERANCE
         rows = np.flatnonzero(closed & (error > 0))
-        if len(rows):  # one more step: the residual to rounding level
+        if len(rows) == n:  # one more step: the residual to rounding level
+            q[:, self.dep] += _solve_batch(J, -phi).T
+        elif len(rows):
             q[rows[:, None], self.dep] += _solve_batch(J[:, :, rows], -phi[:, rows]).T
         return q, closed
 
