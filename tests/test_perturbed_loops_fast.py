@@ -19,6 +19,7 @@ from mechatron.accuracy.nonlinear import (
     PerturbedLoops,
     _cos_sin,
     _eliminate,
+    _rows_product,
     _screw,
     _solve_batch,
     _transposed,
@@ -140,9 +141,11 @@ def test_series_with_the_fewest_terms_are_exact_to_rounding(largest):
     assert np.allclose(a, a_exact, atol=1e-17, rtol=1e-14) and np.allclose(b, b_exact, atol=1e-17, rtol=1e-14)
 
 
-def test_blocked_transpose():
-    a = np.random.default_rng(0).normal(size=(1300, 7))
+def test_blocked_transpose_and_product():
+    rng = np.random.default_rng(0)
+    a, B = rng.normal(size=(1300, 7)), rng.normal(size=(7, 3))
     assert np.array_equal(_transposed(a), a.T) and _transposed(a).flags.c_contiguous
+    assert np.allclose(_rows_product(a, B), a @ B, atol=1e-13, rtol=0)
 
 
 @pytest.mark.parametrize("planar", [True, False])
