@@ -15,7 +15,8 @@ the six-bar bucket linkage (two closed loops) with errors on its 4 parameters an
    carried back through Rz(θ+q) Tz(d) Tx(a) Rx(α) of the 24 perturbed DH values and 6 joint errors, one cos/sin
    pair per angle, over all samples at once) on the same draws (goal: at most 1.5x per sample), and the whole
    Monte Carlo (draws, evaluation, streamed statistics) against drawing the same errors and running that chain.
-5. The closed-loop Monte Carlo (bucket) against the serial one (PUMA) per sample (goal: at most 5x).
+5. The closed-loop Monte Carlo (bucket) against the serial one (PUMA) per sample (goal: at most 5x), and its
+   evaluator's planar path (placements as complex numbers) against its spatial path (3x3 rotations) on the same draws.
 6. The peak resident memory of a 1e8-sample PUMA study, run in a subprocess (goal: under 1 GB; the statistics are
    streamed in chunks, see mechatron/accuracy/streaming.py).
 
@@ -139,6 +140,15 @@ def closed_loops(samples: int, repeats: int, serial: float) -> float:
           f"{'ok' if t_mc < 3 else 'SLOWER'}")
     print(f"{'  per-sample Pinocchio loop solver (scaled)':<44}{t_loop:>8.1f} s   ratio {t_mc / t_loop:.4f} "
           f"({t_loop / t_mc:.0f}x faster; agree to 1e-12 m on {len(draws)} samples)")
+    draws = draw_errors(errors, 32768, np.random.default_rng(2), 3.0)
+    dl, dq = draws[:, : len(names)], draws[:, len(names):]
+    spatial = PerturbedLoops(bucket, "K", names, planar=False)
+    assert fast.planar is not None
+    assert np.allclose(fast.positions(q, dl, dq), spatial.positions(q, dl, dq), atol=1e-12, rtol=0)
+    t_planar = best_time(lambda: fast.positions(q, dl, dq), repeats) / len(dl)
+    t_spatial = best_time(lambda: spatial.positions(q, dl, dq), repeats) / len(dl)
+    print(f"{'  evaluator, planar path, per sample':<44}{t_planar * 1e6:>7.2f} µs   ratio {t_planar / t_spatial:.2f} "
+          f"vs the spatial path ({t_spatial * 1e6:.2f} µs; agree to 1e-12 m on {len(dl)} samples)")
     per_sample = t_mc / samples
     print(f"{'  per sample vs the serial (PUMA) Monte Carlo':<44}{per_sample * 1e6:>7.2f} µs   ratio "
           f"{per_sample / serial:.2f} (serial {serial * 1e6:.2f} µs)   goal <= 5: "

@@ -17,8 +17,9 @@ Three evaluators of the same model, each with ``positions(q, dl, dq) -> (N, 3)``
   placements, the factor exponentials and the joint motions; revolute, continuous and prismatic joints): millions
   of samples per second;
 - :class:`PerturbedLoops` — a closed loop, vectorized over samples: the placements of the tree for every sample
-  (NumPy SE(3) products), the closures solved by Newton's method for all samples at once, from the first-order
-  prediction of the dependent coordinates, with the Jacobians by central differences of the residual;
+  (complex numbers for a planar mechanism, NumPy SE(3) products otherwise), the closures solved by Newton's method
+  for all samples at once, from the first-order prediction of the dependent coordinates, with the Jacobians from
+  the frame Jacobians and the small Newton systems by Gaussian elimination written over the samples;
 - :class:`PerturbedLoop` — any mechanism, one sample at a time with Pinocchio: a copy of the model takes the
   perturbed placements, the loops are closed again by the loop solver's Newton method with the actuated
   coordinates at their perturbed values, and the point is read from the frame placement. It is the reference of
@@ -96,22 +97,54 @@ def _factor_order(mech: Mechanism, derivatives: PlacementDerivatives, probe: flo
 
 
 # ------------------------------------------------------------------------------------------ SE(3) over samples
-#: Below this |angle| the sines and cosines come from their Taylor series (error < 1e-18).
+#: Below this |angle| the sines and cosines come from their Taylor series.
 SERIES_LIMIT = 0.01
+#: The series stop at the first term whose bound is below this (absolute, for unit values: below rounding).
+SERIES_ERROR = 1e-17
+#: Taylor coefficients: cos x = Σ (−1)^k x^2k/(2k)!, sin x = x Σ (−1)^k x^2k/(2k+1)!,
+#: (1 − cos x)/x = x Σ (−1)^k x^2k/(2k+2)!, (x − sin x)/x = x² Σ (−1)^k x^2k/(2k+3)!.
+COSINE, SINE, VERSINE, EXCESS = ([1 / math.factorial(2 * k + j) for k in range(5)] for j in (0, 1, 2, 3))
+
+
+def _series(x2: Floats, coefficients: Sequence[float], largest: float) -> Floats:
+    """Σ_k (−1)^k c_k x2^k by Horner's rule, with the fewest terms K whose first omitted one is below
+    :data:`SERIES_ERROR` at the largest |x| (``largest``, at most :data:`SERIES_LIMIT`): the error of an alternating
+    series with decreasing terms is below its first omitted term, c_K largest^2K. At |x| ≤ 4e-4 (errors of a
+    Monte Carlo) two terms suffice, at 0.01 four."""
+    K = next((k for k in range(1, len(coefficients)) if coefficients[k] * largest ** (2 * k) <= SERIES_ERROR),
+             len(coefficients))
+    if K == 1:
+        return np.full_like(x2, coefficients[0])
+    p = coefficients[K - 2] - x2 * coefficients[K - 1]
+    for k in range(K - 3, -1, -1):
+        p = coefficients[k] - x2 * p
+    return p
 
 
 def _cos_sin(angle: Floats, offset: float = 0.0) -> tuple[Floats, Floats]:
-    """cos and sin of offset + angle; with small angles by series and the addition theorem (no trigonometric
-    calls per sample)."""
-    if np.abs(angle).max(initial=0.0) > SERIES_LIMIT:
+    """cos and sin of offset + angle; with small angles by series (:func:`_series`) and the addition theorem (no
+    trigonometric calls per sample)."""
+    largest = np.abs(angle).max(initial=0.0)
+    if not largest <= SERIES_LIMIT:  # NaN too takes np.cos, np.sin
         return np.cos(offset + angle), np.sin(offset + angle)
     a2 = angle * angle
-    c = 1 - a2 / 2 * (1 - a2 / 12 * (1 - a2 / 30))
-    s = angle * (1 - a2 / 6 * (1 - a2 / 20 * (1 - a2 / 42)))
+    c, s = _series(a2, COSINE, largest), angle * _series(a2, SINE, largest)
     if offset == 0.0:
         return c, s
     c0, s0 = math.cos(offset), math.sin(offset)
     return c0 * c - s0 * s, s0 * c + c0 * s
+
+
+def _screw(theta: Floats, c: Floats | None = None, s: Floats | None = None) -> tuple[Floats, Floats]:
+    """(1 − cos θ)/θ and (θ − sin θ)/θ (0 at θ = 0), the translation factors of a screw motion; by series below
+    :data:`SERIES_LIMIT`, else from cos θ, sin θ (``c``, ``s`` if known)."""
+    largest = np.abs(theta).max(initial=0.0)
+    if not largest <= SERIES_LIMIT:
+        c, s = (np.cos(theta), np.sin(theta)) if c is None else (c, s)
+        safe = np.where(theta == 0, 1.0, theta)
+        return np.where(theta == 0, 0.0, (1 - c) / safe), np.where(theta == 0, 0.0, (theta - s) / safe)
+    t2 = theta * theta
+    return theta * _series(t2, VERSINE, largest), t2 * _series(t2, EXCESS, largest)
 
 
 def _skew(axis: Floats) -> Floats:
@@ -141,14 +174,7 @@ def _exp_parts(xi: Floats, t: Floats) -> tuple[Floats | None, Floats, Floats]:
         return None, np.zeros_like(t), t[:, None] * v
     axis = w / norm
     theta = norm * t
-    if np.abs(theta).max(initial=0.0) > SERIES_LIMIT:
-        safe = np.where(theta == 0, 1.0, theta)
-        a = np.where(theta == 0, 0.0, (1 - np.cos(theta)) / safe)
-        b = np.where(theta == 0, 0.0, (theta - np.sin(theta)) / safe)
-    else:
-        t2 = theta * theta
-        a = theta / 2 * (1 - t2 / 12 * (1 - t2 / 30))
-        b = t2 / 6 * (1 - t2 / 20 * (1 - t2 / 42))
+    a, b = _screw(theta)
     K = _skew(axis)
     Kv = K @ v
     return axis, theta, t[:, None] * v + (a * t)[:, None] * Kv + (b * t)[:, None] * (K @ Kv)
@@ -293,15 +319,37 @@ def _exp_point(x: Point, xi: Floats, t: Floats) -> Point:
     Kv, KKv = K @ v, K @ (K @ v)
     if not (v.any() or Kv.any()):
         return x
-    if np.abs(theta).max(initial=0.0) > SERIES_LIMIT:
-        safe = np.where(theta == 0, 1.0, theta)
-        a = np.where(theta == 0, 0.0, (1 - c) / safe) * t
-        b = np.where(theta == 0, 0.0, (theta - s) / safe) * t
-    else:
-        t2 = theta * theta
-        a = theta / 2 * (1 - t2 / 12 * (1 - t2 / 30)) * t
-        b = t2 / 6 * (1 - t2 / 20 * (1 - t2 / 42)) * t
+    a, b = _screw(theta, c, s)
+    a, b = a * t, b * t
     return tuple(x[n] + _sum([(float(v[n]), t), (float(Kv[n]), a), (float(KKv[n]), b)]) for n in range(3))
+
+
+#: Rows of a tall matrix multiplied at a time by :func:`_rows_product`.
+PRODUCT_BLOCK = 512
+
+
+def _rows_product(a: Floats, B: Floats) -> Floats:
+    """a @ B for a tall a (N, k) and a small B (k, m), :data:`PRODUCT_BLOCK` rows at a time: each block is below
+    OpenBLAS's threading threshold (about 2.6e5 multiply-adds), so the product runs on one thread — on a busy
+    two-core machine the threads of one large product wait for each other (5–7× slower measured, 1.5 ms against
+    10 ms for 32,768 × 20 × 5)."""
+    out = np.empty((len(a), B.shape[1]))
+    for start in range(0, len(a), PRODUCT_BLOCK):
+        np.matmul(a[start:start + PRODUCT_BLOCK], B, out=out[start:start + PRODUCT_BLOCK])
+    return out
+
+
+#: Rows of a tall array transposed at a time by :func:`_transposed`.
+TRANSPOSE_BLOCK = 512
+
+
+def _transposed(a: Floats) -> Floats:
+    """a.T (m, N) contiguous for a (N, m), copied in blocks of :data:`TRANSPOSE_BLOCK` rows that stay in the cache
+    (one transposed copy of a tall array strides through memory, several times slower)."""
+    out = np.empty(a.shape[::-1])
+    for start in range(0, len(a), TRANSPOSE_BLOCK):
+        out[:, start:start + TRANSPOSE_BLOCK] = a[start:start + TRANSPOSE_BLOCK].T
+    return out
 
 
 class PerturbedChain(_Factors):
@@ -333,8 +381,8 @@ class PerturbedChain(_Factors):
         (m, rad) and joint coordinate errors ``dq`` (N, nv) (rad, m)."""
         model = self.mech.model
         q = np.asarray(q, dtype=float)
-        dl = np.ascontiguousarray(np.asarray(dl, dtype=float).T)  # rows: one error over the samples
-        dq = np.ascontiguousarray(np.asarray(dq, dtype=float).T)
+        dl = _transposed(np.asarray(dl, dtype=float))  # rows: one error over the samples
+        dq = _transposed(np.asarray(dq, dtype=float))
         n = dl.shape[1] if dl.size or not dq.size else dq.shape[1]
         zero = np.zeros(n)
         x = self._factors((zero, zero, zero), model.njoints + self.fid, dl)
@@ -372,14 +420,237 @@ def _curve(f: Callable[[float], float], x: Floats) -> Floats:
     return np.array([f(float(v)) for v in x])
 
 
+#: Square systems up to this size are solved by :func:`_eliminate`, larger ones by LAPACK.
+ELIMINATED = 6
+#: Threshold of the pivots of :func:`_eliminate`: |pivot| at least this fraction of its column's largest entry.
+PIVOT_THRESHOLD = 0.5
+
+
 def _solve_batch(A: Floats, b: Floats) -> Floats:
-    """x (N, n) with A x = b for N systems (least squares where A is not square or singular)."""
+    """x (n, N) with A x = b for N systems, samples last (A (m, n, N), b (m, N)): :func:`_eliminate` for square
+    systems up to :data:`ELIMINATED`, else (and where elimination fails its pivot test) LU (``np.linalg.solve``);
+    least squares (``pinv``) where A is not square or singular."""
+    if A.shape[0] == A.shape[1] and A.shape[0] <= ELIMINATED and A.shape[2]:
+        x, good = _eliminate(A, b)
+        bad = np.flatnonzero(~good)
+        if len(bad):
+            x[:, bad] = _lapack_solve(A[:, :, bad], b[:, bad])
+        return x
+    return _lapack_solve(A, b)
+
+
+def _lapack_solve(A: Floats, b: Floats) -> Floats:
+    """:func:`_solve_batch` by LAPACK, one system after the other."""
+    A, b = A.transpose(2, 0, 1), b.T[..., None]
     if A.shape[1] == A.shape[2]:
         try:
-            return np.linalg.solve(A, b[..., None])[..., 0]
+            return np.linalg.solve(A, b)[..., 0].T
         except np.linalg.LinAlgError:
             pass
-    return (np.linalg.pinv(A) @ b[..., None])[..., 0]
+    return (np.linalg.pinv(A) @ b)[..., 0].T
+
+
+def _pivot_order(A: Floats) -> list[int]:
+    """The row order of Gaussian elimination with partial pivoting of one matrix A (m, m) (identity if A is not
+    finite)."""
+    m = len(A)
+    if not np.isfinite(A).all():
+        return list(range(m))
+    A, order = A.copy(), list(range(m))
+    for k in range(m):
+        p = k + int(np.abs(A[k:, k]).argmax())
+        A[[k, p]], order[k], order[p] = A[[p, k]], order[p], order[k]
+        if A[k, k] != 0:
+            A[k + 1:] -= np.outer(A[k + 1:, k] / A[k, k], A[k])
+    return order
+
+
+def _eliminate(A: Floats, b: Floats) -> tuple[Floats, NDArray[np.bool_]]:
+    r"""Solve A_k x_k = b_k for N small square systems, samples last (A (m, m, N), b (m, N)), by Gaussian
+    elimination written on (N,) arrays, one entry at a time (no per-matrix LAPACK call: about m³/3 multiply-adds
+    over all N at once). The rows are taken in one order for all systems, partial pivoting's order for the first
+    one (the systems of a Monte Carlo differ little); a system is *good* where each pivot is at least
+    :data:`PIVOT_THRESHOLD` of the largest entry of its column (threshold partial pivoting: growth at most
+    (1 + 1/threshold)^(m−1), a rounding error of the order of that times cond(A) ε, as for LU) and the solution is
+    finite. Returns (x (m, N), good (N,))."""
+    m = len(A)
+    rows = [[A[r, j] for j in range(m)] + [b[r]] for r in _pivot_order(A[:, :, 0])]
+    good = np.ones(A.shape[2], dtype=bool)
+    with np.errstate(all="ignore"):
+        for k in range(m):
+            pivot = rows[k][k]
+            largest = np.abs(pivot)
+            for i in range(k + 1, m):
+                largest = np.maximum(largest, np.abs(rows[i][k]))
+            good &= np.abs(pivot) >= PIVOT_THRESHOLD * largest
+            for i in range(k + 1, m):
+                f = rows[i][k] / pivot
+                rows[i] = rows[i][:k + 1] + [rows[i][j] - f * rows[k][j] for j in range(k + 1, m + 1)]
+        x = [rows[0][0]] * m
+        for k in range(m - 1, -1, -1):
+            total = rows[k][m]
+            for j in range(k + 1, m):
+                total = total - rows[k][j] * x[j]
+            x[k] = total / rows[k][k]
+        x = np.stack(x)
+        good &= np.isfinite(x).all(axis=0)
+    return x, good
+
+
+#: Planar mechanisms: placements whose rotation leaves z and twists whose z and tilt parts are below this.
+PLANAR_TOLERANCE = 1e-14
+
+Planar = tuple[complex | Floats, complex | Floats]  # a planar placement: rotation e^{iθ}, translation x + iy
+
+
+def _unit(angle: Floats) -> Floats:
+    """e^{i angle} (N,) complex: the cosines and sines by :func:`_cos_sin` about the first angle (series when
+    all angles lie within :data:`SERIES_LIMIT` of it)."""
+    a0 = float(angle[0]) if len(angle) and np.isfinite(angle[0]) else 0.0
+    c, s = _cos_sin(angle - a0, a0)
+    out = np.empty(len(angle), dtype=complex)
+    out.real, out.imag = c, s
+    return out
+
+
+class _PlanarLoops:
+    r"""The placements of a planar mechanism (revolute joints about ±z, prismatic ones in the plane, placements that
+    turn about z, parameter twists [v_x, v_y, 0, 0, 0, ω_z]) as complex numbers: a placement is (e^{iθ}, x + iy),
+    composed as (z₁, p₁)(z₂, p₂) = (z₁ z₂, p₁ + z₁ p₂) — four real products for a rotation instead of 27, one
+    complex ufunc call each. The parameter factors of a placement that are all translations (the common case) sum to
+    p₀ + Σ_k Δl_k z₀ v_k, one matrix product for all such placements; a rotating factor exp(ξ t) is
+    (e^{i ω t}, p) with p from :func:`_exp_parts`. The z coordinates are constant (every motion is in the plane):
+    the point's z is its nominal one. The same numbers as the spatial path to rounding."""
+
+    def __init__(self, loops: PerturbedLoops) -> None:
+        self.loops = loops
+        model = loops.mech.model
+        self.keys = [("joint", j) for j in loops.joints] + [("frame", f) for f in loops.frames]
+        placements = [(j, model.jointPlacements[j]) for j in loops.joints]
+        placements += [(model.njoints + f, model.frames[f].placement) for f in loops.frames]
+        self.nominal, self.moving, columns = [], [], []
+        for m, (index, M) in enumerate(placements):
+            z0, p0 = complex(M.rotation[0, 0], M.rotation[1, 0]), complex(*M.translation[:2])
+            twists, order = loops.twists(index)
+            self.nominal.append((z0, p0))
+            if any(twists[k][5] != 0 for k in order):  # a rotating factor: the factors one by one
+                self.moving.append((m, [(twists[k], k) for k in order]))
+            else:
+                columns.extend((m, k, z0 * complex(*twists[k][:2])) for k in order)
+        self.translated = sorted({m for m, _, _ in columns})
+        self.weights = np.zeros((len(loops.derivatives.names), 2 * len(self.translated)))  # (n_l, 2 P): re, im
+        for m, k, w in columns:
+            c = 2 * self.translated.index(m)
+            self.weights[k, c] += w.real
+            self.weights[k, c + 1] += w.imag
+        self.signs = {j: float(axis[2]) if kind == "revolute" else complex(*axis[:2])
+                      for j, (kind, axis) in loops.axes.items()}
+        self.turned = {loops.frame_ids[name] for name in loops.angled}
+        frame = model.frames[loops.fid]
+        self.z = frame.placement.translation[2] + sum(model.jointPlacements[j].translation[2]
+                                                      for j in model.supports[frame.parentJoint] if j != 0)
+
+    @staticmethod
+    def applies(loops: PerturbedLoops) -> bool:
+        """Whether the mechanism is planar in the sense above and its pins compare x and y only."""
+        model = loops.mech.model
+        if any(isinstance(c, Pin) and c.nrows != 2 for c in loops.closures):
+            return False
+        for kind, axis in loops.axes.values():
+            if np.abs(axis[:2] if kind == "revolute" else axis[2:]).max() > PLANAR_TOLERANCE:
+                return False
+        indices = list(loops.joints) + [model.njoints + f for f in loops.frames]
+        placements = [model.jointPlacements[j] for j in loops.joints] + [model.frames[f].placement
+                                                                          for f in loops.frames]
+        for index, M in zip(indices, placements):
+            R = M.rotation
+            if max(np.abs(R[2, :2]).max(), np.abs(R[:2, 2]).max(), abs(R[2, 2] - 1)) > PLANAR_TOLERANCE:
+                return False
+            twists, order = loops.twists(index)
+            if order and np.abs(twists[list(order)][:, 2:5]).max() > PLANAR_TOLERANCE:
+                return False
+        return True
+
+    def constants(self, dl: Floats) -> list[Planar]:
+        """The perturbed constant placements (z, p) of the keys, each (N,) or one for all samples."""
+        out: list[Planar] = list(self.nominal)
+        if len(self.translated):
+            moved = np.ascontiguousarray(_rows_product(dl, self.weights).view(complex).T)  # (P, N): Σ Δl_k z₀ v_k
+            for row, m in zip(moved, self.translated):
+                out[m] = (out[m][0], row + out[m][1])
+        for m, factors in self.moving:
+            z, p = out[m]
+            for twist, k in factors:
+                axis, theta, shift = _exp_parts(twist, dl[:, k])
+                p = p + z * (shift[:, 0] + 1j * shift[:, 1])
+                if axis is not None:
+                    z = z * _unit(axis[2] * theta)
+            out[m] = (z, p)
+        return out
+
+    @staticmethod
+    def select(constants: list[Planar], rows: NDArray[np.intp]) -> list[Planar]:
+        return [(z[rows] if np.ndim(z) else z, p[rows] if np.ndim(p) else p) for z, p in constants]
+
+    def world(self, q: Floats, constants: list[Planar], point_only: bool = False
+              ) -> tuple[dict[int, Planar], dict[int, Planar]]:
+        """World placements (z, p) of the frames used (or only the studied one) and of their joints at q (N, nq); a
+        frame's z only where a slider needs its angle (else None)."""
+        loops, model = self.loops, self.loops.mech.model
+        index = {key: m for m, key in enumerate(self.keys)}
+        joints: dict[int, Planar] = {0: (1.0 + 0j, 0j)}
+        for j in loops.point_joints if point_only else loops.joints:
+            zp, pp = joints[model.parents[j]]
+            z0, p0 = constants[index[("joint", j)]]
+            value = _joint_value(model.joints[j], q)
+            sign = self.signs[j]
+            if isinstance(sign, float):  # revolute about ±z
+                joints[j] = zp * z0 * _unit(sign * value), pp + zp * p0
+            else:  # prismatic along the in-plane axis
+                z = zp * z0
+                joints[j] = z, pp + zp * p0 + z * (sign * value)
+        frames = {}
+        for f in [loops.fid] if point_only else loops.frames:
+            z, p = joints[model.frames[f].parentJoint]
+            z0, p0 = constants[index[("frame", f)]]
+            frames[f] = z * z0 if f in self.turned else None, p + z * p0
+        return frames, joints
+
+    def quantities(self, q: Floats, constants: list[Planar]) -> tuple[dict, dict, dict]:
+        """Per closure frame: the position (x, y), the linear Jacobian columns (∂x/∂q_d, ∂y/∂q_d) (n_dep, N) each
+        (revolute: i s (p_f − p_j); prismatic: z_j a), the angular one ∂θ/∂q_d (n_dep, 1), and the angles of the
+        slider frames (arg z)."""
+        loops = self.loops
+        frames, joints = self.world(q, constants)
+        position, linear, turn, angle = {}, {}, {}, {}
+        for name, f in loops.frame_ids.items():
+            z, p = frames[f]
+            position[name] = (p.real, p.imag)
+            columns = np.zeros((len(loops.dep), len(q)), dtype=complex)
+            spin = np.zeros((len(loops.dep), 1))
+            for c, j in loops.moved_by[f]:
+                sign = self.signs[j]
+                if isinstance(sign, float):
+                    columns[c] = 1j * sign * (p - joints[j][1])
+                    spin[c] = sign
+                else:
+                    columns[c] = joints[j][0] * sign
+            linear[name], turn[name] = (columns.real, columns.imag), spin
+            if name in loops.angled:
+                angle[name] = np.angle(z)
+        return position, angle, linear, turn
+
+    def point(self, q: Floats, constants: list[Planar]) -> Floats:
+        """The studied point (N, 3) at q (N, nq)."""
+        p = self.world(q, constants, point_only=True)[0][self.loops.fid][1]
+        return np.stack([p.real, p.imag, np.full(len(q), self.z)], axis=1)
+
+
+def _take(a, rows: NDArray[np.intp], n: int, select: Callable | None = None):
+    """The samples ``rows`` of ``a`` (samples last, or by ``select(a, rows)``), ``a`` itself when the rows are all n."""
+    if len(rows) == n:
+        return a
+    return select(a, rows) if select else a[..., rows]
 
 
 class PerturbedLoops(_Factors):
@@ -391,13 +662,17 @@ class PerturbedLoops(_Factors):
     q + ∂q/∂l Δl + S Δq_a (the implicit-function theorem), with the step halved where it makes a residual grow,
     until every residual is below the loop solver's tolerance, and one more step. The closure Jacobians ∂Φ/∂q_d
     come from the frame Jacobians (ω = R a, v = ω × (p_f − p_j) for a revolute joint, v = R a for a prismatic one) as
-    :mod:`mechatron.model.closures` forms them. Samples whose loops do not close in :data:`MAX_ITERATIONS` steps
-    give NaN."""
+    :mod:`mechatron.model.closures` forms them; the Newton systems are solved by :func:`_solve_batch`. Samples whose
+    loops do not close in :data:`MAX_ITERATIONS` steps give NaN.
+
+    A planar mechanism (``planar``, the default, and :meth:`_PlanarLoops.applies`) takes the planar path: its
+    placements are complex numbers (:class:`_PlanarLoops`); any other one the spatial path: (N, 3, 3) rotations and
+    (N, 3) translations. Both give the same numbers to rounding."""
 
     #: Newton steps at the most.
     MAX_ITERATIONS = 50
 
-    def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
+    def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str], planar: bool = True) -> None:
         if not mech.closures:
             raise InputError(f"{mech.name} has no closures: use PerturbedChain")
         if not vectorizable(mech):
@@ -420,6 +695,8 @@ class PerturbedLoops(_Factors):
         self.dep_joints = [by_index[int(i)] for i in self.dep]
         self.moved_by = {f: [(c, j) for c, j in enumerate(self.dep_joints)
                              if j in model.supports[model.frames[f].parentJoint]] for f in self.frame_ids.values()}
+        self.angled = {name for c in self.closures if isinstance(c, Slider) for name in (c.line, c.point)}
+        self.planar = _PlanarLoops(self) if planar and _PlanarLoops.applies(self) else None
 
     # --------------------------------------------------------------------------------------- placements
     def _constant(self, placement: int, M: pin.SE3, dl: Floats) -> tuple[Floats, Floats]:
@@ -432,23 +709,26 @@ class PerturbedLoops(_Factors):
                 p = p + dl[:, k, None] * _turn(R, twists[k][:3])
         return R, p
 
-    def _constants(self, dl: Floats) -> dict[tuple[str, int], tuple[Floats, Floats]]:
+    def _constants(self, dl: Floats) -> dict | list:
         """The perturbed constant placements of the joints and frames used, one per sample (or one for all)."""
+        if self.planar:
+            return self.planar.constants(dl)
         model = self.mech.model
         out = {("joint", j): self._constant(j, model.jointPlacements[j], dl) for j in self.joints}
         out.update({("frame", f): self._constant(model.njoints + f, model.frames[f].placement, dl)
                     for f in self.frames})
         return out
 
-    @staticmethod
-    def _select(constants: dict, rows: NDArray[np.intp]) -> dict:
+    def _select(self, constants: dict | list, rows: NDArray[np.intp]) -> dict | list:
+        if self.planar:
+            return self.planar.select(constants, rows)
         return {key: (R[rows] if R.ndim == 3 else R, p[rows] if p.ndim == 2 else p)
                 for key, (R, p) in constants.items()}
 
     def _placements(self, q: Floats, constants: dict, point_only: bool = False
                     ) -> tuple[dict[int, tuple[Floats, Floats]], dict[int, tuple[Floats, Floats]]]:
         """World placements (R, p) of the frames used and of the joints at the configurations q (N, nq); with
-        ``point_only`` only the studied frame's and its joints'."""
+        ``point_only`` only the studied frame's and its joints' (spatial path)."""
         model = self.mech.model
         world: dict[int, tuple[Floats, Floats]] = {0: (np.eye(3), np.zeros(3))}
         for j in self.point_joints if point_only else self.joints:
@@ -467,102 +747,120 @@ class PerturbedLoops(_Factors):
             frames[f] = np.broadcast_to(R, (n, 3, 3)), np.broadcast_to(p, (n, 3))
         return frames, world
 
-    def _frame_jacobians(self, frames: dict, world: dict, n: int) -> dict[int, tuple[Floats, Floats]]:
-        """(∂p/∂q_d (N, 3, n_dep), ∂ω/∂q_d (N, 3, n_dep)) of every closure frame, world-aligned."""
-        out = {}
-        for f in self.frame_ids.values():
-            linear, angular = np.zeros((n, 3, len(self.dep))), np.zeros((n, 3, len(self.dep)))
+    def _quantities(self, q: Floats, constants: dict) -> tuple[dict, dict, dict, dict]:
+        """Per closure frame (spatial path): the position (x, y, z) (N,) each, the angle about z of the slider
+        frames, the linear Jacobian columns (∂x/∂q_d, ∂y/∂q_d, ∂z/∂q_d) (n_dep, N) each and ∂θ_z/∂q_d (n_dep, N),
+        world-aligned: ω = R a, v = ω × (p_f − p_j) for a revolute joint, v = R a for a prismatic one."""
+        frames, world = self._placements(q, constants)
+        n = len(q)
+        position, angle, linear, turn = {}, {}, {}, {}
+        for name, f in self.frame_ids.items():
+            R, p = frames[f]
+            lin, ang = np.zeros((3, len(self.dep), n)), np.zeros((3, len(self.dep), n))
             for c, j in self.moved_by[f]:
                 kind, axis = self.axes[j]
-                R, p = world[j]
-                direction = np.broadcast_to(_turn(R, axis), (n, 3))
+                Rj, pj = world[j]
+                direction = np.broadcast_to(_turn(Rj, axis), (n, 3))
                 if kind == "revolute":
-                    angular[:, :, c] = direction
-                    linear[:, :, c] = np.cross(direction, frames[f][1] - p)
+                    ang[:, c] = direction.T
+                    lin[:, c] = np.cross(direction, p - pj).T
                 else:
-                    linear[:, :, c] = direction
-            out[f] = linear, angular
-        return out
+                    lin[:, c] = direction.T
+            position[name], linear[name], turn[name] = tuple(p.T), tuple(lin), ang[2]
+            if name in self.angled:
+                angle[name] = np.arctan2(R[:, 1, 0], R[:, 0, 0])
+        return position, angle, linear, turn
 
-    def _evaluate(self, q: Floats, constants: dict) -> tuple[Floats, Floats]:
-        """(Φ (N, rows), ∂Φ/∂q_d (N, rows, n_dep)) of every closure at the configurations q (N, nq)."""
-        frames, world = self._placements(q, constants)
-        J = self._frame_jacobians(frames, world, len(q))
-        position = {name: frames[f][1] for name, f in self.frame_ids.items()}
-        angle = {name: np.arctan2(frames[f][0][:, 1, 0], frames[f][0][:, 0, 0]) for name, f in self.frame_ids.items()}
-        linear = {name: J[f][0] for name, f in self.frame_ids.items()}
-        turn = {name: J[f][1][:, 2] for name, f in self.frame_ids.items()}  # ∂θ/∂q_d of a planar angle
-        rows, jacobians = [], []
+    def _evaluate(self, q: Floats, constants: dict | list) -> tuple[Floats, Floats]:
+        """(Φ (rows, N), ∂Φ/∂q_d (rows, n_dep, N)) of every closure at the configurations q (N, nq), samples last."""
+        path = self.planar.quantities if self.planar else self._quantities
+        position, angle, linear, turn = path(q, constants)
+        n, n_dep = len(q), len(self.dep)
+        phi, J = np.empty((self.solver.system.nrows, n)), np.empty((self.solver.system.nrows, n_dep, n))
+        r = 0
         for c in self.closures:
             if isinstance(c, Pin):
-                rows.append((position[c.a] - position[c.b])[:, : c.nrows])
-                jacobians.append((linear[c.a] - linear[c.b])[:, : c.nrows])
-            elif isinstance(c, Slider):
-                theta = angle[c.line]
-                d = np.stack([np.cos(theta), np.sin(theta)], axis=1)
-                normal = np.stack([-d[:, 1], d[:, 0]], axis=1)
-                r = (position[c.point] - position[c.line])[:, :2]
-                rows.append(np.einsum("ni,ni->n", normal, r)[:, None])
-                dr = (linear[c.point] - linear[c.line])[:, :2]
-                jacobians.append((np.einsum("ni,nic->nc", normal, dr)
-                                  - np.einsum("ni,ni->n", d, r)[:, None] * turn[c.line])[:, None])
+                for i in range(c.nrows):
+                    np.subtract(position[c.a][i], position[c.b][i], out=phi[r + i])
+                    np.subtract(linear[c.a][i], linear[c.b][i], out=J[r + i])
+            elif isinstance(c, Slider):  # the point's offset r from the line frame along the normal of its x axis
+                cos, sin = np.cos(angle[c.line]), np.sin(angle[c.line])
+                rx, ry = (position[c.point][i] - position[c.line][i] for i in range(2))
+                drx, dry = (linear[c.point][i] - linear[c.line][i] for i in range(2))
+                phi[r] = cos * ry - sin * rx
+                J[r] = cos * dry - sin * drx - (cos * rx + sin * ry) * turn[c.line]
                 if c.lock_angle:
-                    rows.append(_wrap(angle[c.point] - theta - c.angle_offset)[:, None])
-                    jacobians.append((turn[c.point] - turn[c.line])[:, None])
+                    phi[r + 1] = _wrap(angle[c.point] - angle[c.line] - c.angle_offset)
+                    J[r + 1] = turn[c.point] - turn[c.line]
             elif isinstance(c, OnCurve):
-                x, y = position[c.point][:, 0], position[c.point][:, 1]
-                rows.append((y - _curve(c.f, x))[:, None])
-                jacobians.append((linear[c.point][:, 1] - _curve(c.df, x)[:, None] * linear[c.point][:, 0])[:, None])
+                x, y = position[c.point][0], position[c.point][1]
+                phi[r] = y - _curve(c.f, x)
+                J[r] = linear[c.point][1] - _curve(c.df, x) * linear[c.point][0]
             else:  # Gear
                 a, b = c.columns
-                rows.append((q[:, b] - c.ratio * q[:, a] - c.offset)[:, None])
-                row = np.zeros(len(self.dep))
+                phi[r] = q[:, b] - c.ratio * q[:, a] - c.offset
+                J[r] = 0.0
                 for column, value in ((a, -c.ratio), (b, 1.0)):
                     if column in self.dep:
-                        row[list(self.dep).index(column)] += value
-                jacobians.append(np.broadcast_to(row, (len(q), 1, len(self.dep))))
-        return np.concatenate(rows, axis=1), np.concatenate(jacobians, axis=1)
+                        J[r, list(self.dep).index(column)] += value
+            r += c.nrows
+        return phi, J
 
     # --------------------------------------------------------------------------------------- Newton
-    def _close(self, q: Floats, constants: dict) -> tuple[Floats, NDArray[np.bool_]]:
+    def _close(self, q: Floats, constants: dict | list) -> tuple[Floats, NDArray[np.bool_]]:
         """The configurations (N, nq) with the closures solved for the dependent coordinates, and which closed."""
         phi, J = self._evaluate(q, constants)
-        error = np.abs(phi).max(axis=1, initial=0.0)
+        error = np.abs(phi).max(axis=0, initial=0.0)
+        n = len(q)
         for _ in range(self.MAX_ITERATIONS):
             rows = np.flatnonzero(error >= TOLERANCE)  # NaN errors are failures: not iterated further
             if not len(rows):
                 break
-            local = self._select(constants, rows)
-            step = _solve_batch(J[rows], -phi[rows])
+            local = _take(constants, rows, n, self._select)
+            step = _solve_batch(_take(J, rows, n), -_take(phi, rows, n))
             t = np.ones(len(rows))
             pending = np.arange(len(rows))
             while len(pending):  # halve the step where it makes the residual grow
-                at = rows[pending]
-                trial = q[at].copy()
-                trial[:, self.dep] += t[pending, None] * step[pending]
-                phi_t, J_t = self._evaluate(trial, self._select(local, pending))
-                error_t = np.abs(phi_t).max(axis=1, initial=0.0)
+                at = _take(rows, pending, len(rows))
+                trial = q.copy() if len(at) == n else q[at]
+                move = _take(step, pending, len(rows))
+                trial[:, self.dep] += (move if len(pending) == len(rows) else t[pending] * move).T  # t = 1 at first
+                phi_t, J_t = self._evaluate(trial, _take(local, pending, len(rows), self._select))
+                error_t = np.abs(phi_t).max(axis=0, initial=0.0)
                 accept = (error_t < error[at]) | (t[pending] < 1e-3)
-                done = at[accept]
-                q[done], phi[done], J[done], error[done] = trial[accept], phi_t[accept], J_t[accept], error_t[accept]
+                if len(at) == n and accept.all():
+                    q, phi, J, error = trial, phi_t, J_t, error_t
+                else:
+                    done = at[accept]
+                    q[done], error[done] = trial[accept], error_t[accept]
+                    phi[:, done], J[:, :, done] = phi_t[:, accept], J_t[:, :, accept]
                 pending = pending[~accept]
                 t[pending] /= 2
         closed = error < TOLERANCE
         rows = np.flatnonzero(closed & (error > 0))
-        if len(rows):  # one more step: the residual to rounding level
-            q[rows[:, None], self.dep] += _solve_batch(J[rows], -phi[rows])
+        if len(rows) == n:  # one more step: the residual to rounding level
+            q[:, self.dep] += _solve_batch(J, -phi).T
+        elif len(rows):
+            q[rows[:, None], self.dep] += _solve_batch(J[:, :, rows], -phi[:, rows]).T
         return q, closed
 
     def positions(self, q: ArrayLike, dl: ArrayLike, dq: ArrayLike) -> Floats:
         """Point positions (N, 3) (m) at the assembled nominal configuration ``q`` (nq,) with parameter errors
         ``dl`` (N, n_l) (m, rad) and errors of the actuated coordinates ``dq`` (N, n_act) (rad, m); NaN where the
         loops do not close."""
-        q, dl, dq = np.asarray(q, dtype=float), np.asarray(dl, dtype=float), np.asarray(dq, dtype=float)
+        q, dq = np.asarray(q, dtype=float), np.asarray(dq, dtype=float)
+        dl = np.ascontiguousarray(dl, dtype=float)  # matrix products of a strided view do not go to BLAS
+        if not len(dq):
+            return np.zeros((0, 3))
         dq_dl, S = loop_derivatives(self.mech, self.solver, self.derivatives, q)
-        start = q + dl @ dq_dl.T + dq @ S.T  # the actuated coordinates exactly at their values, the others predicted
+        # the actuated coordinates exactly at their values, the others predicted
+        start = q + _rows_product(dl, dq_dl.T) + _rows_product(dq, S.T)
         constants = self._constants(dl)
         closed_q, closed = self._close(start, constants)
-        out = self._placements(closed_q, constants, point_only=True)[0][self.fid][1].copy()
+        if self.planar:
+            out = self.planar.point(closed_q, constants)
+        else:
+            out = self._placements(closed_q, constants, point_only=True)[0][self.fid][1].copy()
         out[~closed] = np.nan
         return out
 
