@@ -25,6 +25,7 @@ LAYERS = [
     ("drives", "accuracy"),
     ("machines",),
     ("library",),
+    ("studies",),
     ("cli",),
     ("__main__",),
 ]

@@ -1,0 +1,37 @@
+"""The analyses a study runs on every design, by name. Each is a module with
+
+- ``OUTPUTS``: the names of the columns it adds (units in the names: ``mass_kg``, ``force_N``), for the docs;
+- ``check(mech: Mechanism, options: dict) -> None``: raise :class:`~mechatron.errors.InputError` (one line naming
+  the spec's ``[analyses.NAME]`` field) when the options are wrong or the mechanism cannot have this analysis, before
+  any design runs;
+- ``outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float | bool]``: the outputs of one design (SI
+  units, finite numbers); a design that cannot be analysed (does not assemble, no feasible drive, …) raises a
+  :class:`~mechatron.errors.MechatronError` whose message becomes the row's reason. ``seed`` seeds any random draw,
+  so that a design gives the same row wherever it runs.
+"""
+
+from __future__ import annotations
+
+import importlib
+from types import ModuleType
+
+from ...errors import InputError
+
+#: Analysis name → module (imported when a study asks for it).
+MODULES = {
+    "linkage": "mechatron.studies.analyses.linkage",
+    "dynamics": "mechatron.studies.analyses.dynamics",
+    "sizing": "mechatron.studies.analyses.sizing",
+    "accuracy": "mechatron.studies.analyses.accuracy",
+}
+
+
+def analysis(name: str) -> ModuleType:
+    """The module of the analysis ``name``.
+
+    Raises:
+        InputError: for an unknown name (the known ones listed).
+    """
+    if name not in MODULES:
+        raise InputError(f"unknown analysis {name!r}; known: {', '.join(MODULES)}")
+    return importlib.import_module(MODULES[name])
