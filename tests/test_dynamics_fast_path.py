@@ -139,6 +139,24 @@ def test_overflow_raises_instead_of_returning_inf(rng):
         tree.mass_matrix(slider, np.tile(far, (3, 1)))
 
 
+def test_the_mass_matrix_of_revolute_joints_is_bounded(rng):
+    """Revolute joints about one axis: M(q) depends on q only through cos q and sin q, so its entries are bounded by
+    the masses and lengths — at q = 1e300 as at any angle: M equals Pinocchio's and is not checked for overflow
+    (the single and batched paths skip that check for such mechanisms only)."""
+    for name in ("puma560", "ur5"):
+        mech = mechatron.load(name)
+        assert tree._revolute_only(mech)
+        q = np.full(mech.nq, 1e300)
+        M = pin.crba(mech.model, mech.model.createData(), q)
+        assert np.isfinite(M).all()
+        np.testing.assert_array_equal(tree.mass_matrix(mech, q), M)
+        np.testing.assert_array_equal(tree.mass_matrix(mech, np.tile(q, (3, 1)))[2], M)
+        bound = np.abs(np.array([pin.crba(mech.model, mech.model.createData(), x)
+                                 for x in mech.random_configuration(rng, size=200)])).max()
+        assert np.abs(M).max() <= 1.5 * bound
+    assert not tree._revolute_only(mechatron.load("cylindrical_rpp"))
+
+
 def test_the_result_check_catches_every_bad_acceleration_and_torque(rng):
     """The argument of ``_one_state``: a NaN/inf in q̈ (RNEA) or τ (ABA) makes the result non-finite, on every
     robot of the library at random states, while a bad q or q̇ need not (hence their own check)."""

@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..io.values import number
 from ..kinematics.frames import samples
+from ..model.batched import REVOLUTE
 from ..model.loads import Loads, as_loads
 from ..model.mechanism import Mechanism
 
@@ -220,9 +221,18 @@ def _one_configuration(mech: Mechanism, q: object) -> Array | None:
             M = pin.crba(mech.model, mech.data, q)
         except (TypeError, ValueError):
             return None
-        if math.isfinite(sum(q.tolist()) + sum(M.ravel().tolist())):
+        if math.isfinite(sum(q.tolist())) and (_revolute_only(mech) or math.isfinite(sum(M.ravel().tolist()))):
             return M if ndim == 1 else M[None]
     return None
+
+
+def _revolute_only(mech: Mechanism) -> bool:
+    """Whether every joint of ``mech`` is revolute about one axis with its angle as coordinate: then M(q) depends on
+    q only through cos q and sin q and is bounded by the model's masses and lengths, so a finite q cannot make it
+    overflow (no check of M needed). Not so for continuous joints, whose coordinates (cos θ, sin θ) are taken as
+    given."""
+    return mech.cached("revolute_only", lambda: all(mech.model.joints[i].shortname() in REVOLUTE
+                                                    for i in range(1, mech.model.njoints)))
 
 
 def _finite(out: Array, what: str) -> Array:
@@ -314,7 +324,7 @@ def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Ar
         return M if single else M[None]
     matrix = np.dtype((np.float64, (mech.nv, mech.nv)))
     out = np.fromiter(map(functools.partial(pin.crba, model, data), Q), dtype=matrix, count=len(Q))
-    return _finite(out, "CRBA")
+    return out if _revolute_only(mech) else _finite(out, "CRBA")
 
 
 def bias_forces(mech: Mechanism, q: ArrayLike, v: ArrayLike) -> Array:
