@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..io.values import number
-from ..kinematics.frames import samples
+from ..kinematics.frames import lean_samples, samples
 from ..model.batched import REVOLUTE
 from ..model.loads import Loads, as_loads
 from ..model.mechanism import Mechanism
@@ -157,23 +157,6 @@ def _compiled(algorithm, mech: Mechanism, threads: int, Q: np.ndarray, V: np.nda
     return out
 
 
-def _states(mech: Mechanism, q: ArrayLike, *rates: ArrayLike) -> tuple[bool, Array, list[Array]]:
-    """:func:`~mechatron.kinematics.frames.samples` (single?, Q (N, nq), rates (N, nv)) with a shortcut for what a
-    loop over states passes: float64 arrays of the right shapes whose sums are finite (a finite sum has only finite
-    entries; a sum that overflows falls back to the full check)."""
-    nq, nv = mech.nq, mech.nv
-    if type(q) is not np.ndarray or q.dtype != np.float64 or q.ndim not in (1, 2) or q.shape[-1] != nq:
-        return samples(mech, q, *rates)
-    shape = q.shape[:-1] + (nv,)
-    for x in rates:
-        if type(x) is not np.ndarray or x.dtype != np.float64 or x.shape != shape:
-            return samples(mech, q, *rates)
-    for x in (q, *rates):
-        if not math.isfinite(x.sum() if x.size > 64 else sum(x.tolist() if x.ndim == 1 else x.ravel().tolist())):
-            return samples(mech, q, *rates)
-    return q.ndim == 1, q.reshape(-1, nq), [x.reshape(-1, nv) for x in rates]
-
-
 _FLOAT64 = np.dtype(np.float64)
 
 
@@ -264,7 +247,7 @@ def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, 
         tau = _one_state(pin.rnea, mech, q, v, a)
         if tau is not None:
             return tau
-    single, Q, (V, A) = _states(mech, q, v, a)
+    single, Q, (V, A) = lean_samples(mech, q, v, a)
     model, data = mech.model, mech.data
     loads = as_loads(loads)
     if not loads and len(Q) > 1:
@@ -291,7 +274,7 @@ def forward_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, tau: ArrayLike
         out = _one_state(pin.aba, mech, q, v, tau, pin.Convention.WORLD)
         if out is not None:
             return out
-    single, Q, (V, T) = _states(mech, q, v, tau)
+    single, Q, (V, T) = lean_samples(mech, q, v, tau)
     if len(Q) > 1:
         return _finite(_compiled(pin.abaInParallel, mech, thread_count(len(Q), threads), Q, V, T), "ABA")
     if threads is not None:
@@ -315,7 +298,7 @@ def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Ar
         M = _one_configuration(mech, q)
         if M is not None:
             return M
-    single, Q, _ = _states(mech, q)
+    single, Q, _ = lean_samples(mech, q)
     if threads is not None:
         thread_count(len(Q), threads)
     model, data = mech.model, mech.data

@@ -12,6 +12,7 @@ angular acceleration E_i = dΩ_i/dt ([Egorov, 4.57]), σ_j = 1 for a revolute an
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 import numpy as np
@@ -57,6 +58,24 @@ def samples(mech: Mechanism, q: ArrayLike, *rates: ArrayLike
             raise InputError(f"{name} must be finite")
         out.append(arr)
     return single, Q, out
+
+
+def lean_samples(mech: Mechanism, q: ArrayLike, *rates: ArrayLike
+                 ) -> tuple[bool, NDArray[np.float64], list[NDArray[np.float64]]]:
+    """:func:`samples` (single?, Q (N, nq), rates (N, nv)) with a shortcut for what a
+    loop over states passes: float64 arrays of the right shapes whose sums are finite (a finite sum has only finite
+    entries; a sum that overflows falls back to the full check)."""
+    nq, nv = mech.nq, mech.nv
+    if type(q) is not np.ndarray or q.dtype != np.float64 or q.ndim not in (1, 2) or q.shape[-1] != nq:
+        return samples(mech, q, *rates)
+    shape = q.shape[:-1] + (nv,)
+    for x in rates:
+        if type(x) is not np.ndarray or x.dtype != np.float64 or x.shape != shape:
+            return samples(mech, q, *rates)
+    for x in (q, *rates):
+        if not math.isfinite(x.sum() if x.size > 64 else sum(x.tolist() if x.ndim == 1 else x.ravel().tolist())):
+            return samples(mech, q, *rates)
+    return q.ndim == 1, q.reshape(-1, nq), [x.reshape(-1, nv) for x in rates]
 
 
 def _offset(offset: ArrayLike | None) -> NDArray[np.float64] | None:
@@ -115,7 +134,7 @@ def fk_and_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", referenc
     maps q̇ (rad/s, m/s) to the frame's twist [v (m/s); ω (rad/s)] in ``reference`` (:func:`reference_frame`); its
     linear rows in ``"world_aligned"`` are ∂r/∂q of [Egorov, 4.47].
     """
-    _, Q, _ = samples(mech, q)
+    _, Q, _ = lean_samples(mech, q)
     fid = mech.frame_id(frame)
     rf = reference_frame(reference)
     model, data = mech.model, mech.data
