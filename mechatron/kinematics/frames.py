@@ -139,9 +139,13 @@ def fk_and_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", referenc
     rf = reference_frame(reference)
     model, data = mech.model, mech.data
     n = len(Q)
+    compute = pin.computeFrameJacobian
+    if n == 1:  # one configuration: no loop, no preallocation
+        jacobian = compute(model, data, Q[0], fid, rf)
+        homogeneous = data.oMf[fid].homogeneous
+        return homogeneous[None, :3, 3], homogeneous[None, :3, :3], jacobian[None]
     homogeneous, jacobians = np.empty((n, 4, 4)), np.empty((n, 6, mech.nv))
     placement = data.oMf[fid]  # a view into data, updated by every call below
-    compute = pin.computeFrameJacobian
     for i, qi in enumerate(Q):
         jacobians[i] = compute(model, data, qi, fid, rf)
         homogeneous[i] = placement.homogeneous  # one conversion instead of two (translation, rotation)
