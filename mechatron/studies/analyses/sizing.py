@@ -73,8 +73,10 @@ def field_names(analysis: str, options: dict, known: tuple[str, ...]) -> None:
 
 def field_number(analysis: str, options: dict, field: str, default: Any = None, **bounds) -> Any:
     """The option ``field`` checked as by :func:`~mechatron.io.values.number` (``default`` when left out)."""
-    value = options.get(field, default)
-    return number(f"[analyses.{analysis}] {field}", value, allow_none=True, **bounds)
+    try:
+        return number(field, options.get(field, default), allow_none=True, **bounds)
+    except InputError as exc:
+        raise field_error(analysis, field, exc.message.removeprefix(f"{field} ")) from None
 
 
 def field_flag(analysis: str, options: dict, field: str, default: bool) -> bool:
@@ -207,9 +209,15 @@ def summary(mech: Mechanism, result: SizingResult) -> dict[str, float | bool]:
     return out
 
 
-def outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float | bool]:
-    """The outputs of one design (see the module); ``seed`` is not used (the sizing draws nothing)."""
+def run(mech: Mechanism, options: dict) -> SizingResult:
+    """The sizing of ``mech`` with the options: :func:`mechatron.drives.sizing.size` (the task's mechanism, payload
+    included, is the one sized)."""
     from ...drives.sizing import size
 
     kwargs = arguments(mech, options)
-    return summary(mech, size(mech, kwargs.pop("task"), **kwargs))
+    return size(mech, kwargs.pop("task"), **kwargs)
+
+
+def outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float | bool]:
+    """The outputs of one design (see the module); ``seed`` is not used (the sizing draws nothing)."""
+    return summary(mech, run(mech, options))
