@@ -281,3 +281,29 @@ def test_accuracy_check_refuses_a_tolerance_of_an_unknown_parameter_naming_the_r
     write(tmp_path, "tolerances.csv", "parameter,tolerance\na1,1e-4\nl9,1e-4\n")
     with pytest.raises(InputError, match=r"^\[analyses\.accuracy\] tolerances: .*row 3: field 'parameter'"):
         accuracy.check(mechatron.load("planar_2r"), options)
+
+
+# -------------------------------------------------------------------------------------------------------- docs
+def test_the_example_of_the_docs_page_runs_on_puma_designs(puma):
+    """The TOML block of docs/study_analyses.md, its paths relative to examples/ (where such a spec sits), checks
+    and runs on a PUMA design; its sizing equals the sizing of the same task and catalogs called directly."""
+    import tomllib
+
+    text = (ROOT / "docs" / "study_analyses.md").read_text(encoding="utf-8")
+    spec = tomllib.loads(text.split("```toml\n", 1)[1].split("```", 1)[0])["analyses"]
+    folder = ROOT / "examples"
+    for name in ("sizing", "accuracy"):
+        for field in ("task", "motors", "gearboxes", "tolerances", "poses"):
+            if field in spec[name]:
+                spec[name][field] = str(folder / spec[name][field])
+        analysis(name).check(puma, spec[name])
+    design = puma.with_parameters(a2=PUMA_A2 * 1.05, d4=PUMA_D4 * 0.95)
+    out = sizing.outputs(design, spec["sizing"], seed=1)
+    task = read_task(folder / "data" / "pick_and_place.toml", design)
+    direct = size_mechanism(task.mechanism, task.trajectory, read_catalog(folder / "data" / "motors.csv", "motors"),
+                            read_catalog(folder / "data" / "gearboxes.csv", "gearboxes"), loads=task.loads,
+                            chain_efficiency=0.95)
+    assert out["drive_mass_kg"] == pytest.approx(direct.totals()["drive_mass_kg"], rel=1e-12)
+    assert out["feasible"] == direct.feasible
+    row = accuracy.outputs(design, spec["accuracy"], seed=1)
+    assert all(math.isfinite(v) for v in row.values()) and 0 <= row["yield"] <= 1
