@@ -117,18 +117,23 @@ def outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float]:
     values = settings(mech, options)
     sources, poses, labels = sources_and_poses(mech, values)
     common = dict(frame=values["frame"], k=values["k"])
+    # the options were checked: an error left is the design's (a pose it cannot reach), the reason of its row
     try:
         linear = run_study(mech, sources, poses, labels, methods=("worst", "rss"), **common).poses
-        quantile, within = 0.0, 1.0
-        for pose, label in zip(poses, labels):
-            # one pose at a time: the study keeps every Δr sample of its critical pose, so the quantile is exact
+    except InputError as exc:
+        raise MechatronError(f"accuracy of {mech.name}: {exc}") from None
+    quantile, within = 0.0, 1.0
+    for pose, label in zip(poses, labels):
+        # one pose at a time: the study keeps every Δr sample of its critical pose, so the quantile is exact
+        try:
             mc = run_study(mech, sources, pose, [label], methods=("mc",), samples=values["samples"], seed=seed,
                            **common)
-            r = np.linalg.norm(mc.samples, axis=1)
-            quantile = max(quantile, float(np.quantile(r, values["quantile"])))
-            within = min(within, np.count_nonzero(r <= values["limit"]) / values["samples"])
-    except InputError as exc:  # the options were checked: what is left is the design's (a pose it cannot reach)
-        raise MechatronError(f"accuracy of {mech.name}: {exc}") from None
+        except InputError as exc:  # the loops close at the pose but not for any sampled error
+            raise MechatronError(f"accuracy of {mech.name}: pose {label}: "
+                                 f"{exc.message.removeprefix('pose 1: ')}") from None
+        r = np.linalg.norm(mc.samples, axis=1)
+        quantile = max(quantile, float(np.quantile(r, values["quantile"])))
+        within = min(within, np.count_nonzero(r <= values["limit"]) / values["samples"])
     return {"worst_case_mm": float(linear["dr_worst"].max()) * 1e3, "rss_mm": float(linear["dr_rss"].max()) * 1e3,
             "mc_quantile_mm": quantile * 1e3, "yield": float(within)}
 
