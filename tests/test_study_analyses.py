@@ -4,6 +4,7 @@ finite differences of a closed loop's tool position, and the refusals of bad opt
 
 from __future__ import annotations
 
+import json
 import math
 import types
 from pathlib import Path
@@ -51,6 +52,7 @@ def test_sizing_outputs_equal_the_sizing_called_directly(puma, scale):
     design = puma.with_parameters(a2=PUMA_A2 * scale[0], a3=PUMA_A3 * scale[1], d4=PUMA_D4 * scale[2])
     out = sizing.outputs(design, {}, seed=0)
     assert set(out) == set(sizing.OUTPUTS)
+    json.dumps(out, allow_nan=False)  # plain numbers, none NaN or infinite
     task = read_task(ROOT / "robots" / "tasks" / "puma560.toml", design)
     catalogs = {kind: read_catalog(ROOT / "catalogs" / name, kind) for kind, name in
                 (("motors", "servo_motors.csv"), ("gearboxes", "gearboxes.csv"))}
@@ -166,6 +168,7 @@ def test_accuracy_worst_case_and_rss_of_a_planar_2r_are_the_closed_forms(tmp_pat
     accuracy.check(mech, options)
     out = accuracy.outputs(mech, options, seed=7)
     assert set(out) == set(accuracy.OUTPUTS)
+    json.dumps(out, allow_nan=False)
     l1, l2, t = 0.5, 0.4, np.array([2e-4, 1e-4, 1e-3, 5e-4])
     worst, rss = [], []
     for q1, q2 in np.radians([[0, 90], [30, -60], [-120, 150]]):

@@ -206,7 +206,7 @@ def summary(mech: Mechanism, result: SizingResult) -> dict[str, float | bool]:
     for key, value in out.items():
         if not math.isfinite(value):
             raise MechatronError(f"sizing of {mech.name}: {key} is not a finite number ({value})")
-    return out
+    return {key: value if key == "feasible" else float(value) for key, value in out.items()}
 
 
 def run(mech: Mechanism, options: dict) -> SizingResult:
