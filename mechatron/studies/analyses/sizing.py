@@ -1,0 +1,223 @@
+r"""The ``sizing`` analysis of a study: the drives of one design for a task (:func:`mechatron.drives.sizing.size`,
+the same sizing as ``mechatron size``), reduced to a row of numbers.
+
+Options (the spec's ``[analyses.sizing]`` table; every one optional, see ``docs/study_analyses.md``): ``task``
+(a task TOML or trajectory CSV; default the mechanism's own ``robots/tasks/<name>.toml``, else the generic
+out-and-back task), the catalogs ``motors``, ``gearboxes``, ``linear``, ``cylinders`` (CSV; default the example
+catalogs of ``catalogs/``), ``objective`` (``mass``, ``cost``, ``margin``, ``time``), ``inertia_ratio``,
+``direct``, ``pressure_mpa``, ``chain_efficiency``, ``single_pass``, ``max_iterations``, ``stop_torque`` (N·m),
+``stop_current`` (A), ``voltage`` (V), ``screw_life_h`` (h) — the options of ``mechatron size``.
+
+Outputs (SI): ``feasible``; ``drive_mass_kg`` and ``drive_cost`` (Σ of the drives' catalog masses and prices);
+``smallest_margin`` (min over the drives' checks of 1 − value/limit); ``energy_J`` (energy drawn per cycle:
+∫ max(P_bus, 0) dt of the common DC bus plus the pump's ∫ p Q dt, :meth:`~mechatron.drives.sizing.SizingResult.totals`);
+``peak_power_W`` (the bus's peak power plus the pump's peak power p·Q; each alone when the mechanism has only
+motors or only cylinders); ``cycle_time_s`` (the task's duration as sized: shorter than the task's with the
+``time`` objective).
+
+An infeasible design is a row, not an error: ``feasible`` is false and the other outputs are those of the
+closest candidates (the drive of each coordinate with the smallest worst load factor, as ``mechatron size``
+reports it), so that ``smallest_margin`` is negative — how far the design is from feasible — and the masses and
+costs are finite.
+
+The helpers ``field_*`` check the options of any analysis (one line naming ``[analyses.NAME] FIELD``).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ...errors import InputError, MechatronError
+from ...io.values import number
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+    from ...drives.report import DriveSizing
+    from ...drives.sizing import SizingResult
+    from ...model.mechanism import Mechanism
+
+OUTPUTS = ("feasible", "drive_mass_kg", "drive_cost", "smallest_margin", "energy_J", "peak_power_W", "cycle_time_s")
+
+#: The catalog options: the kinds of :data:`mechatron.drives.catalogs.SCHEMAS`.
+CATALOGS = ("motors", "gearboxes", "linear", "cylinders")
+#: The numeric options: their defaults and bounds (those of ``mechatron size``).
+NUMBERS: dict[str, tuple[float | None, dict]] = {
+    "inertia_ratio": (10.0, dict(positive=True)), "pressure_mpa": (32.0, dict(positive=True, maximum=1e4, unit="MPa")),
+    "chain_efficiency": (1.0, dict(minimum=0.01, maximum=1.0)),
+    "max_iterations": (10, dict(integer=True, minimum=2, maximum=1000)),
+    "stop_torque": (None, dict(positive=True, unit="N·m")), "stop_current": (None, dict(positive=True, unit="A")),
+    "voltage": (None, dict(positive=True, unit="V")), "screw_life_h": (None, dict(positive=True, unit="h"))}
+#: The options that are true or false.
+FLAGS = ("direct", "single_pass")
+OPTIONS = ("task", *CATALOGS, "objective", *NUMBERS, *FLAGS)
+
+
+# ------------------------------------------------------------------------------------- options of any analysis
+def field_error(analysis: str, field: str, message: str) -> InputError:
+    """The error of one option: ``[analyses.NAME] FIELD: message``."""
+    return InputError(f"[analyses.{analysis}] {field}: {message}")
+
+
+def field_names(analysis: str, options: dict, known: tuple[str, ...]) -> None:
+    """Refuse an option that is not one of ``known`` (the first, with the known ones listed)."""
+    if not isinstance(options, dict):
+        raise InputError(f"[analyses.{analysis}] must be a table of options, got {options!r}")
+    for key in options:
+        if key not in known:
+            raise field_error(analysis, key, f"unknown option; known: {', '.join(known)}")
+
+
+def field_number(analysis: str, options: dict, field: str, default: Any = None, **bounds) -> Any:
+    """The option ``field`` checked as by :func:`~mechatron.io.values.number` (``default`` when left out)."""
+    try:
+        return number(field, options.get(field, default), allow_none=True, **bounds)
+    except InputError as exc:
+        raise field_error(analysis, field, exc.message.removeprefix(f"{field} ")) from None
+
+
+def field_flag(analysis: str, options: dict, field: str, default: bool) -> bool:
+    """The option ``field``: ``true`` or ``false``."""
+    value = options.get(field, default)
+    if not isinstance(value, bool):
+        raise field_error(analysis, field, f"must be true or false, got {value!r}")
+    return value
+
+
+def field_file(analysis: str, options: dict, field: str) -> Path | None:
+    """The option ``field``: the path of a file that exists (absolute or relative to the working folder; the study
+    resolves the spec's relative paths), ``None`` when left out."""
+    value = options.get(field)
+    if value is None:
+        return None
+    if not isinstance(value, (str, Path)) or not str(value):
+        raise field_error(analysis, field, f"must be the path of a file, got {value!r}")
+    path = Path(value)
+    if not path.is_file():
+        raise field_error(analysis, field, f"no such file: '{path}'")
+    return path
+
+
+# ------------------------------------------------------------------------------------------------ the sizing
+@functools.lru_cache(maxsize=32)
+def _catalog(path: str, stamp: int, kind: str) -> pd.DataFrame:
+    """A catalog read once per process (and again when the file changes: ``stamp`` is its modification time)."""
+    from ...drives.catalogs import read_catalog
+
+    return read_catalog(path, kind)
+
+
+def catalogs(options: dict) -> dict[str, pd.DataFrame]:
+    """The four catalogs of the options (the example ones where left out), read and checked once per process."""
+    from ...drives.catalogs import DEFAULT_FILES
+    from ...io.data import data_dir
+
+    out = {}
+    for kind in CATALOGS:
+        path = field_file("sizing", options, kind) or data_dir("catalogs") / DEFAULT_FILES[kind]
+        try:
+            out[kind] = _catalog(str(path.resolve()), path.stat().st_mtime_ns, kind)
+        except InputError as exc:
+            raise field_error("sizing", kind, str(exc)) from None
+    return out
+
+
+def coordinates(mech: Mechanism) -> list[str]:
+    """The driven coordinates: the actuated ones of a closed-loop mechanism, every joint of a serial one."""
+    return list(mech.actuated) if mech.closures else list(mech.joint_names)
+
+
+def arguments(mech: Mechanism, options: dict) -> dict:
+    """The keyword arguments of :func:`mechatron.drives.sizing.size` for the options (checked; the task read for
+    ``mech``, the catalogs as DataFrames)."""
+    from ...drives.checks import SCREW_LIFE, DriveLimits
+    from ...drives.sizing import OBJECTIVES
+    from ...dynamics.task import default_task, read_task
+
+    field_names("sizing", options, OPTIONS)
+    if not coordinates(mech):
+        raise InputError(f"[analyses.sizing] {mech.name} has no actuated joint to size a drive for")
+    objective = options.get("objective", "mass")
+    if objective not in OBJECTIVES:
+        raise field_error("sizing", "objective", f"unknown objective {objective!r}; expected one of: "
+                                                 f"{', '.join(OBJECTIVES)}")
+    values = {name: field_number("sizing", options, name, default, **bounds)
+              for name, (default, bounds) in NUMBERS.items()}
+    if values["stop_torque"] is not None and values["stop_current"] is not None:
+        raise field_error("sizing", "stop_current", "give the emergency-stop limit as stop_torque or as "
+                                                    "stop_current, not both")
+    screw_life = SCREW_LIFE if values["screw_life_h"] is None else values["screw_life_h"] * 3600.0
+    path = field_file("sizing", options, "task")
+    try:
+        task = default_task(mech) if path is None else read_task(path, mech)
+    except InputError as exc:
+        raise field_error("sizing", "task", str(exc)) from None
+    return dict(task=task, **catalogs(options), objective=objective,
+                inertia_ratio_max=values["inertia_ratio"], direct=field_flag("sizing", options, "direct", True),
+                pressure=values["pressure_mpa"] * 1e6, chain_efficiency=values["chain_efficiency"],
+                single_pass=field_flag("sizing", options, "single_pass", False),
+                max_iterations=values["max_iterations"],
+                limits=DriveLimits(values["stop_torque"], values["stop_current"], screw_life, values["voltage"]))
+
+
+def check(mech: Mechanism, options: dict) -> None:
+    """Refuse unknown options, bad values, missing or malformed task and catalog files, and a mechanism without
+    an actuated joint (:class:`~mechatron.errors.InputError` naming ``[analyses.sizing] FIELD``)."""
+    arguments(mech, options)
+
+
+def _known(value: Any) -> float:
+    """A catalog number, 0 where the catalog leaves it out (``None``, NaN)."""
+    return 0.0 if value is None or not math.isfinite(float(value)) else float(value)
+
+
+def drive_mass_price(mech: Mechanism, sizing: DriveSizing) -> tuple[float, float]:
+    """The mass (kg) and price of a coordinate's drive: the chosen one, else (none feasible) the closest candidate
+    (the first row of ``closest``; for a cylinder its catalog mass + mass per stroke × stroke, times the count)."""
+    mass, price = sizing.drive_mass(), sizing.drive_price()
+    if mass is not None:
+        return mass, _known(price)
+    if "mass" in sizing.closest:
+        first = sizing.closest.iloc[0]
+        return _known(first["mass"]), _known(first["price"])
+    data, spec = sizing.cylinder_data, mech.cylinders[sizing.joint]
+    stroke = spec.stroke[1] - spec.stroke[0]
+    return (sizing.count * (_known(data.get("mass")) + _known(data.get("mass_per_stroke")) * stroke),
+            sizing.count * _known(data.get("price")))
+
+
+def summary(mech: Mechanism, result: SizingResult) -> dict[str, float | bool]:
+    """The outputs (see the module) of a sizing result of ``mech``.
+
+    Raises:
+        MechatronError: when an output is not a finite number (a catalog without the data it needs).
+    """
+    drives = [drive_mass_price(mech, j) for j in result.joints]
+    margins = [j.smallest_margin() for j in result.joints]
+    totals = result.totals()
+    out = {"feasible": bool(result.feasible), "drive_mass_kg": sum(m for m, _ in drives),
+           "drive_cost": sum(p for _, p in drives), "smallest_margin": min(margins),
+           "energy_J": totals["energy_per_cycle_j"],
+           "peak_power_W": (totals["peak_bus_power_w"] or 0.0) + (totals["peak_pump_power_w"] or 0.0),
+           "cycle_time_s": totals["cycle_time_s"]}
+    for key, value in out.items():
+        if not math.isfinite(value):
+            raise MechatronError(f"sizing of {mech.name}: {key} is not a finite number ({value})")
+    return {key: value if key == "feasible" else float(value) for key, value in out.items()}
+
+
+def run(mech: Mechanism, options: dict) -> SizingResult:
+    """The sizing of ``mech`` with the options: :func:`mechatron.drives.sizing.size` (the task's mechanism, payload
+    included, is the one sized)."""
+    from ...drives.sizing import size
+
+    kwargs = arguments(mech, options)
+    return size(mech, kwargs.pop("task"), **kwargs)
+
+
+def outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float | bool]:
+    """The outputs of one design (see the module); ``seed`` is not used (the sizing draws nothing)."""
+    return summary(mech, run(mech, options))
