@@ -250,7 +250,7 @@ def _check_analyses(spec: Spec, mech: Any) -> None:
     """Each analysis' ``check`` on the nominal mechanism with the first value of every targeted parameter."""
     from .analyses import analysis
 
-    first = {p.name: p.pick(0.0) for p in spec.parameters}
+    first = {p.name: p.pick(0.0) for p in spec.parameters if p.target}
     for name in spec.analyses:
         try:
             analysis(name).check(mech, spec.options(name, first))
