@@ -190,3 +190,34 @@ def test_result_protocol_and_pareto_goals(tmp_path):
     assert front["l2"].tolist() == pytest.approx([0.35] * 3)
     assert front["l1"].tolist() == pytest.approx([0.08, 0.10, 0.12])
     assert math.isclose(result.plot().axes[0].get_xlabel().count("(m)"), 1)
+
+
+def test_values_sent_to_an_analysis_option(tmp_path):
+    # target = "dynamics.amax": the planar 2R's joint 1 turns 1 rad (joint 2 held at 0) with amax 2 or 5 rad/s²;
+    # the peak torque of joint 1 is M11·amax with M11 = 0.92303545 kg·m² (tests/test_study_outputs.py), and the
+    # profile's name, a categorical value, reaches the analysis too (quintic: a smaller peak than trapezoidal).
+    path = tmp_path / "arm.toml"
+    path.write_text('mechanism = "planar_2r"\n'
+                    '[parameters.amax]\ntarget = "dynamics.amax"\nvalues = [2.0, 5.0]\n'
+                    '[parameters.profile]\ntarget = "dynamics.profile"\nvalues = ["trapezoidal", "quintic"]\n'
+                    '[designs]\nmethod = "grid"\n'
+                    '[analyses.dynamics]\nstart = [0.0, 0.0]\nend = [1.0, 0.0]\nvmax = 1.0\ndt = 0.0005\n')
+    table = run(path, tmp_path / "out")
+    assert table["profile"].tolist() == ["trapezoidal", "quintic"] * 2
+    peak = table.filter(like="_peak_Nm").iloc[:, 0].to_numpy()
+    assert peak[[0, 2]] == pytest.approx([0.92303545 * 2, 0.92303545 * 5], rel=1e-5)
+    assert peak[1] < peak[0] and peak[3] < peak[2]
+    bad = path.read_text().replace('"dynamics.profile"', '"sizing.profile"')
+    path.write_text(bad)
+    with pytest.raises(InputError, match=r"field 'parameters.profile.target'"):
+        read_spec(path)
+
+
+def test_a_running_scheduler(tmp_path):
+    # a scheduler started elsewhere (here: in this process, one worker thread) gets the chunks: the same table
+    from distributed import LocalCluster
+
+    spec = spec_file(tmp_path)
+    with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
+        remote = run(spec, tmp_path / "remote", scheduler=cluster.scheduler_address, chunk_size=4)
+    assert_frame_equal(run(spec, tmp_path / "serial", chunk_size=4), remote)
