@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from .common import add_output_options, emit, output_option
-from .values import COUNT, FILE
+from .values import COUNT
 
 
 def cmd_study(args: argparse.Namespace) -> int:
@@ -27,7 +27,7 @@ def cmd_study(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("study", help="a design study: designs of experiments over a mechanism's parameters times "
                                      "analyses, serially or on Dask, with its Pareto front and Sobol indices")
-    p.add_argument("spec", metavar="SPEC.toml", type=FILE, help="the study file (docs/study_file.md)")
+    p.add_argument("spec", metavar="SPEC.toml", help="the study file (docs/study_file.md)")
     output_option(p, "--out", kind="folder", metavar="DIR",
                   help="the study's folder: parts, designs.parquet and designs.csv (default: ./SPEC_study); a "
                        "study stopped there resumes")
