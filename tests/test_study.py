@@ -221,3 +221,13 @@ def test_a_running_scheduler(tmp_path):
     with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
         remote = run(spec, tmp_path / "remote", scheduler=cluster.scheduler_address, chunk_size=4)
     assert_frame_equal(run(spec, tmp_path / "serial", chunk_size=4), remote)
+
+
+def test_a_study_whose_designs_all_fail(tmp_path):
+    # l1 = 0.5 m > l2: no design assembles; the study ends with every row failed and its reason
+    result = run_study(spec_file(tmp_path, "values = [0.5]", 'method = "grid"\nlevels = 2'), tmp_path / "out")
+    table = result.to_frame()
+    assert table["status"].tolist() == ["failed", "failed"] and table["reason"].str.len().min() > 0
+    data = result.as_dict()
+    assert data["ok"] == 0 and data["failed"] == 2 and data["pareto"]["designs"] == []
+    assert "0 ok, 2 failed" in str(result)

@@ -77,9 +77,12 @@ class StudyResult(Result):
         parameter and the only output), both minimised."""
         if self.spec.pareto is not None:
             return self.spec.pareto
-        columns = self.outputs()
-        if len(columns) < 2:
-            columns = [self.spec.parameters[0].name, *columns] if self.spec.parameters else columns * 2
+        import pandas as pd
+
+        numeric = [p.name for p in self.spec.parameters if pd.api.types.is_numeric_dtype(self.table[p.name])]
+        columns = [*self.outputs(), *numeric, "design", "design"]
+        if len(self.outputs()) == 1 and numeric:  # the only output over the first parameter
+            columns = [numeric[0], *columns]
         return columns[0], "minimize", columns[1], "minimize"
 
     def pareto(self, x: str | None = None, y: str | None = None, x_goal: str = "minimize",
@@ -111,7 +114,7 @@ class StudyResult(Result):
                 "designs": len(self.table), "ok": len(self.ok), "failed": len(self.table) - len(self.ok),
                 "out_dir": str(self.out_dir) if self.out_dir else None,
                 "pareto": {"x": x, "x_goal": x_goal, "y": y, "y_goal": y_goal,
-                           "designs": [int(d) for d in self.pareto()["design"]]},
+                           "designs": [int(d) for d in self.pareto()["design"]] if len(self.ok) else []},
                 "sensitivity": frame_records(self.sensitivity) if self.sensitivity is not None else None,
                 "skipped": dict(self.skipped), "rows": frame_records(self.table)}
 

@@ -2,7 +2,8 @@
 
 The sweep (:func:`mechatron.kinematics.sweep.sweep`, ``samples`` positions, every input from its lower to its upper
 limit together, a full turn of an unlimited crank) gives the path of a point (the mechanism's tool point, or
-``point``): its reach (largest x), height (largest y), depth (largest −y) and its travels along x and y (m). With
+``point``): its reach (largest x), height (largest y), depth (largest −y) and its travels along x and y (m), and
+along z for a spatial loop. With
 ``working_range = true`` (a three-cylinder working device) the extremes are over the whole stroke box instead
 (:func:`mechatron.machines.excavator.working_range`, ``samples`` per side). For a central crank-slider the slider's
 x travel is 2 l1 [Egorov, fig. 4.18]: x_C = l1 cos q1 + √(l2² − l1² sin² q1) is largest at q1 = 0 and smallest at
@@ -26,7 +27,7 @@ import numpy as np
 from ...errors import InputError, MechatronError
 from ...io.values import number, numbers
 
-OUTPUTS = ("reach_m", "height_m", "depth_m", "x_travel_m", "y_travel_m", "min_transmission_angle_deg",
+OUTPUTS = ("reach_m", "height_m", "depth_m", "x_travel_m", "y_travel_m", "z_travel_m", "min_transmission_angle_deg",
            "CYLINDER_max_force_N", "CYLINDER_max_pressure_Pa")
 
 #: The options and their defaults.
@@ -111,8 +112,11 @@ def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
         cloud = working_range(mech, samples=opts["samples"])
         x, y = np.concatenate([cloud.cloud[:, 0], *[a[:, 0] for a in cloud.arcs]]), \
             np.concatenate([cloud.cloud[:, 1], *[a[:, 1] for a in cloud.arcs]])
-    out = {"reach_m": float(x.max()), "height_m": float(y.max()), "depth_m": float(-y.min()),
+    out = {"reach_m": float(x.max()), "height_m": float(y.max()), "depth_m": float(-y.min()) + 0.0,
            "x_travel_m": float(x.max() - x.min()), "y_travel_m": float(y.max() - y.min())}
+    if f"{point}_z" in result.table:  # a spatial loop: the travel along z too
+        z = result.table[f"{point}_z"].to_numpy()
+        out["z_travel_m"] = float(z.max() - z.min())
     angles = [m.name for m in mech.measures if m.kind == "transmission_angle"]
     if angles:
         out["min_transmission_angle_deg"] = float(np.degrees(result.table[angles].to_numpy().min()))
