@@ -54,6 +54,8 @@ def test_study_command_outputs(tmp_path, capfd):
     (('method = "grid"', 'method = "random"'), ["s.toml", "designs.method"]),
     (("levels = 2", "levels = 2\nseed = -1"), ["s.toml", "designs.seed"]),
     (('"crank_slider"', '"no_such_mechanism"'), ["no_such_mechanism"]),
+    (("levels = 2", "levels = 20000000"), ["s.toml", "designs.levels", "20,000,000 designs", "at most 10,000,000"]),
+    (('method = "grid"', 'method = "sobol"\nsamples = 4194304'), ["s.toml", "designs.samples", "12,582,912"]),
 ])
 def test_bad_study_files(tmp_path, capfd, change, names):
     write(tmp_path, GOOD.replace(*change))

@@ -163,8 +163,27 @@ def _designs(reader: FieldReader, folder: Path, parameters: list[Parameter]) -> 
         out["csv"] = str(path.resolve())
     elif not parameters:
         raise InputError("no [parameters.NAME] to vary", file=reader.file, field="parameters")
+    _count(reader, out, parameters)
     reader.finish()
     return out
+
+
+#: The most designs of one study (its tables must fit in memory: ~100 bytes a cell).
+MAX_DESIGNS = 10_000_000
+
+
+def _count(reader: FieldReader, designs: dict[str, Any], parameters: list[Parameter]) -> None:
+    """Refuse a study of more than :data:`MAX_DESIGNS` designs, naming the field that sets their number."""
+    method = designs["method"]
+    if method == "grid":
+        count, key = math.prod(len(p.values) if p.values is not None else designs["levels"] for p in parameters), \
+            "levels"
+    elif method in ("lhs", "sobol"):
+        count, key = designs["samples"] * ((len(parameters) + 2) if method == "sobol" else 1), "samples"
+    else:
+        return
+    if count > MAX_DESIGNS:
+        raise reader.error(key, f"gives {count:,} designs; a study has at most {MAX_DESIGNS:,}")
 
 
 def _output(reader: FieldReader | None, method: str) -> dict[str, Any]:
