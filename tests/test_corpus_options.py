@@ -57,6 +57,7 @@ BASE = {
     "show": ["show", "planar_2r"],
     "structure": ["structure", "planar_2r"],
     "export-urdf": ["export-urdf", "planar_2r", "-o", "x.urdf"],
+    "study": ["study", "study.toml"],
 }
 
 

@@ -28,12 +28,13 @@ from . import (
     show,
     size,
     structure,
+    study,
     tolerance,
 )
 from .common import _join_negative_values, _Parser, outputs
 
 COMMANDS = (listing, show, pose, export, linkage, excavator, dynamics, reduced, size, tolerance, structure,
-            demo_command)
+            study, demo_command)
 
 
 def build_parser() -> argparse.ArgumentParser:

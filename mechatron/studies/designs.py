@@ -1,0 +1,92 @@
+"""The designs of a study: a table with ``design`` (0 … n−1), one column per parameter (SI, or the names of a
+categorical parameter) and ``seed``, the design's own seed, so that a design's row is the same wherever it runs.
+
+- ``grid``: the full factorial of ``levels`` evenly spaced values from ``low`` to ``high`` of every range and all
+  ``values`` of every list, the last parameter varying fastest;
+- ``lhs``: ``samples`` points of a scrambled Latin hypercube (``scipy.stats.qmc.LatinHypercube``, seeded);
+- ``sobol``: Saltelli's scheme on scrambled Sobol points (``SALib.sample.sobol``, itself on
+  ``scipy.stats.qmc.Sobol``, seeded): ``samples`` = N base points (a power of 2) give N (D + 2) designs for D
+  parameters — the matrices A, B and the D matrices A_B^(i) whose Sobol indices
+  :mod:`mechatron.studies.sensitivity` estimates;
+- ``csv``: the rows of a CSV file whose columns are the mechanism's parameters (SI units).
+
+Every point is drawn in the unit cube and mapped by :meth:`~mechatron.studies.spec.Parameter.pick`: a range
+linearly, a list of k values by ⌊u k⌋. A design's seed is the first word of ``np.random.SeedSequence([study seed,
+design])``.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import InputError
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+    from .spec import Spec
+
+
+def design_seed(study_seed: int, design: int) -> int:
+    """The seed of one design (a 32-bit integer) from the study's seed and the design's number."""
+    return int(np.random.SeedSequence([study_seed, design]).generate_state(1, np.uint32)[0])
+
+
+def unit_points(spec: Spec) -> np.ndarray:
+    """The designs of ``spec`` (grid, lhs or sobol) as points of the unit cube, (n, D)."""
+    from scipy.stats import qmc
+
+    d = len(spec.parameters)
+    if spec.method == "lhs":
+        return qmc.LatinHypercube(d=d, scramble=True, rng=np.random.default_rng(spec.seed)).random(spec.samples)
+    if spec.method == "sobol":
+        from SALib.sample import sobol
+
+        problem = {"num_vars": d, "names": [p.name for p in spec.parameters], "bounds": [[0.0, 1.0]] * d}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return sobol.sample(problem, spec.samples, calc_second_order=False, scramble=True, seed=spec.seed)
+    axes = [np.arange(len(p.values)) / len(p.values) if p.values is not None
+            else np.linspace(0.0, 1.0, spec.levels) for p in spec.parameters]
+    return np.stack([a.ravel() for a in np.meshgrid(*axes, indexing="ij")], axis=1)
+
+
+def make_designs(spec: Spec) -> pd.DataFrame:
+    """The designs table of ``spec`` (see the module docstring)."""
+    import pandas as pd
+
+    if spec.method == "csv":
+        table = read_designs_csv(spec.csv)
+    else:
+        points = unit_points(spec)
+        table = pd.DataFrame({p.name: [p.pick(u) for u in points[:, j]] for j, p in enumerate(spec.parameters)})
+    table.insert(0, "design", np.arange(len(table)))
+    table["seed"] = [design_seed(spec.seed, k) for k in range(len(table))]
+    return table
+
+
+def read_designs_csv(path: str | Path, known: dict[str, Any] | None = None) -> pd.DataFrame:
+    """A CSV of designs: a header of parameter names (of the mechanism: ``known``, when given) and one design per
+    row, every cell a finite number (SI). Errors name the file, the row (its line number) and the column."""
+    import pandas as pd
+
+    from ..io.tables import number, read_csv
+
+    cells = read_csv(path)
+    for column in cells.columns:
+        if known is not None and column not in known:
+            raise InputError(f"unknown parameter {column!r} (known: {', '.join(known)})", file=path, row=1,
+                             field=column)
+    out = {}
+    for column in cells.columns:
+        values = []
+        for line, text in zip(cells.index, cells[column]):
+            if not text:
+                raise InputError("missing value", file=path, row=int(line), field=column)
+            values.append(number(text, file=path, row=int(line), field=column))
+        out[column] = values
+    return pd.DataFrame(out)

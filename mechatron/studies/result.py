@@ -1,0 +1,171 @@
+"""The result of a study: the table of designs × outputs, its Pareto front and Sobol indices."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..report.result import Result, frame_records
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from .spec import Spec
+
+#: The unit of an output by the suffix of its name.
+UNITS = {"m": "m", "mm": "mm", "deg": "deg", "rad": "rad", "N": "N", "Nm": "N·m", "Pa": "Pa", "kg": "kg",
+         "s": "s", "W": "W"}
+
+
+def unit_of(column: str) -> str:
+    """The unit of a column from the suffix of its name (``reach_m`` → m), ``-`` if it has none."""
+    return UNITS.get(column.rsplit("_", 1)[-1], "-")
+
+
+def pareto_mask(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Which points (x, y) are not dominated when both are minimised: no other point is at most as large in both
+    and smaller in one. Sorted by x (then y), a point is on the front when its y is below every y before it (or
+    it repeats the last point of the front)."""
+    order = np.lexsort((y, x))
+    keep = np.zeros(len(x), dtype=bool)
+    best, last = np.inf, None
+    for i in order:
+        if y[i] < best or (last is not None and x[i] == x[last] and y[i] == y[last]):
+            keep[i] = True
+            best, last = min(best, y[i]), i
+    return keep
+
+
+@dataclass
+class StudyResult(Result):
+    """A finished study (:func:`mechatron.studies.runner.run_study`).
+
+    Attributes:
+        spec: The study's spec.
+        table: One row per design (sorted by ``design``): the parameters, ``seed``, ``status`` (``ok`` or
+            ``failed``), ``reason`` and the analyses' outputs (SI; units in the names).
+        out_dir: The study's folder.
+        sensitivity: Sobol indices (:func:`mechatron.studies.sensitivity.sobol_indices`), or None.
+        skipped: Outputs without indices → why.
+    """
+
+    spec: Spec
+    table: pd.DataFrame
+    out_dir: Path | None = None
+    sensitivity: pd.DataFrame | None = None
+    skipped: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> pd.DataFrame:
+        """The designs analysed without failure."""
+        return self.table[self.table["status"] == "ok"]
+
+    def outputs(self) -> list[str]:
+        """The numeric output columns."""
+        from .sensitivity import numeric_outputs
+
+        return numeric_outputs(self.spec, self.table)
+
+    def axes(self) -> tuple[str, str, str, str]:
+        """(x, x goal, y, y goal) of the Pareto chart: the spec's, else the first two outputs (or the first
+        parameter and the only output), both minimised."""
+        if self.spec.pareto is not None:
+            return self.spec.pareto
+        import pandas as pd
+
+        numeric = [p.name for p in self.spec.parameters if pd.api.types.is_numeric_dtype(self.table[p.name])]
+        columns = [*self.outputs(), *numeric, "design", "design"]
+        if len(self.outputs()) == 1 and numeric:  # the only output over the first parameter
+            columns = [numeric[0], *columns]
+        return columns[0], "minimize", columns[1], "minimize"
+
+    def pareto(self, x: str | None = None, y: str | None = None, x_goal: str = "minimize",
+               y_goal: str = "minimize") -> pd.DataFrame:
+        """The non-dominated ok designs for the outputs ``x`` and ``y`` (default: :meth:`axes`), each minimised or
+        maximised, sorted by ``x``."""
+        if x is None or y is None:
+            x, x_goal, y, y_goal = self.axes()
+        ok = self.ok
+        values = []
+        for column, goal, label in ((x, x_goal, "x"), (y, y_goal, "y")):
+            if column not in self.table.columns:
+                raise InputError(f"no column {column!r} in the study's table (columns: "
+                                 f"{', '.join(self.table.columns)})", file=self.spec.file,
+                                 field=f"output.pareto.{label}")
+            values.append(ok[column].to_numpy(dtype=float) * (1.0 if goal == "minimize" else -1.0))
+        finite = np.isfinite(values[0]) & np.isfinite(values[1])
+        mask = np.zeros(len(ok), dtype=bool)
+        mask[finite] = pareto_mask(values[0][finite], values[1][finite])
+        return ok[mask].sort_values(x, kind="stable")
+
+    # ------------------------------------------------------------------------------------------ the protocol
+    def to_frame(self) -> pd.DataFrame:
+        return self.table
+
+    def as_dict(self) -> dict[str, Any]:
+        x, x_goal, y, y_goal = self.axes()
+        return {"spec": self.spec.file, "mechanism": self.spec.mechanism, "method": self.spec.method,
+                "designs": len(self.table), "ok": len(self.ok), "failed": len(self.table) - len(self.ok),
+                "out_dir": str(self.out_dir) if self.out_dir else None,
+                "pareto": {"x": x, "x_goal": x_goal, "y": y, "y_goal": y_goal,
+                           "designs": [int(d) for d in self.pareto()["design"]] if len(self.ok) else []},
+                "sensitivity": frame_records(self.sensitivity) if self.sensitivity is not None else None,
+                "skipped": dict(self.skipped), "rows": frame_records(self.table)}
+
+    def plot(self, ax: Axes | None = None) -> Figure:
+        """Every ok design in the plane of the two chosen outputs, the Pareto front highlighted."""
+        from ..report.figures import figure_axes, style_axes
+
+        figure, ax = figure_axes(ax)
+        x, x_goal, y, y_goal = self.axes()
+        ok, front = self.ok, self.pareto()
+        ax.scatter(ok[x], ok[y], s=12, color="0.6", label=f"ok designs ({len(ok)})")
+        ax.plot(front[x], front[y], "o-", color="C3", label=f"Pareto front ({len(front)})")
+        style_axes(ax, f"{x} ({unit_of(x)}), {x_goal}d", f"{y} ({unit_of(y)}), {y_goal}d",
+                   f"{Path(self.spec.file).name}: {len(self.table)} designs", legend=True)
+        return figure
+
+    def __str__(self) -> str:
+        failed = self.table[self.table["status"] != "ok"]
+        lines = [f"study {Path(self.spec.file).name}: {self.spec.mechanism}, {len(self.table)} designs "
+                 f"({self.spec.method}), {len(self.ok)} ok, {len(failed)} failed"]
+        if len(failed):
+            lines.append(f"  first failure: design {int(failed['design'].iloc[0])}: {failed['reason'].iloc[0]}")
+        if len(self.ok):
+            x, _, y, _ = self.axes()
+            front = self.pareto()
+            shown = [c for c in ["design", *[p.name for p in self.spec.parameters], x, y]
+                     if c in front.columns]
+            lines.append(f"Pareto front of {x} and {y} ({len(front)} designs; first 10):")
+            lines.extend("  " + line for line in front[list(dict.fromkeys(shown))].head(10)
+                         .to_string(index=False, float_format=lambda v: f"{v:.6g}").splitlines())
+        if self.sensitivity is not None and len(self.sensitivity):
+            top = self.sensitivity.sort_values("ST", ascending=False).groupby("output", sort=False).head(1)
+            lines.append("Sobol indices (largest total index of each output):")
+            lines.extend(f"  {r.output}: {r.parameter} S1 = {r.S1:.3f} ± {r.S1_conf:.3f}, ST = {r.ST:.3f} ± "
+                         f"{r.ST_conf:.3f}" for r in top.itertuples())
+        for output, why in self.skipped.items():
+            lines.append(f"  no Sobol indices of {output}: {why}")
+        if self.out_dir is not None:
+            lines.append(f"table: {self.out_dir / 'designs.parquet'} and designs.csv")
+        return "\n".join(lines)
+
+
+def study_result(spec: Spec, table: pd.DataFrame, out_dir: Path | None = None) -> StudyResult:
+    """The result of a study's table: with its Sobol indices if the spec asks for them; the Pareto columns are
+    checked (an error naming ``output.pareto.x`` or ``y`` lists the table's columns)."""
+    sensitivity, skipped = None, {}
+    if spec.sensitivity:
+        from .sensitivity import sobol_indices
+
+        sensitivity, skipped = sobol_indices(spec, table)
+    result = StudyResult(spec, table, out_dir, sensitivity, skipped)
+    if len(result.ok):
+        result.pareto()
+    return result

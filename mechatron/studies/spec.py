@@ -1,0 +1,280 @@
+"""The study file (TOML, docs/study_file.md): which mechanism, which parameters over which ranges or values, how the
+designs are drawn, which analyses run on every design and what the result shows.
+
+:func:`read_spec` checks everything before any design runs — the mechanism loads, every parameter is one of its
+named parameters (or an analysis option: ``target = "ANALYSIS.OPTION"``), every range is non-empty, every analysis
+is known and its ``check`` accepts the mechanism and the options — and raises one
+:class:`~mechatron.errors.InputError` naming the file and the field otherwise. The :class:`Spec` it returns is
+plain, picklable data: a worker rebuilds the mechanism from ``Spec.mechanism`` and a design's overrides.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..io.schema import FieldReader
+
+#: The ways designs are drawn (:mod:`mechatron.studies.designs`).
+METHODS = ("grid", "lhs", "sobol", "csv")
+#: Unit suffixes of ``low``, ``high`` and ``values`` → factor to SI.
+UNIT_SUFFIXES = {"": 1.0, "_mm": 1e-3, "_deg": math.pi / 180}
+#: Directions of a Pareto axis.
+GOALS = ("minimize", "maximize")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One varied quantity: a range ``low``–``high`` (SI) or a list of ``values`` (numbers or names); ``target``
+    ``"ANALYSIS.OPTION"`` sends its value to an analysis' options instead of the mechanism's geometry."""
+
+    name: str
+    low: float | None = None
+    high: float | None = None
+    values: tuple[Any, ...] | None = None
+    target: str | None = None
+
+    def pick(self, u: float) -> Any:
+        """The value at the fraction ``u`` ∈ [0, 1): ``low + u (high − low)`` on a range, ``values[⌊u k⌋]`` of k
+        values (so that every value has the same share of a uniform sample)."""
+        if self.values is None:
+            return self.low + u * (self.high - self.low)
+        return self.values[min(int(u * len(self.values)), len(self.values) - 1)]
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A checked study file. Paths (the mechanism file, a CSV of designs, file names among option values) are
+    absolute; ``analyses`` maps each analysis to its options in the file's order."""
+
+    file: str
+    mechanism: str
+    parameters: tuple[Parameter, ...]
+    method: str = "lhs"
+    samples: int | None = None
+    levels: int | None = None
+    csv: str | None = None
+    seed: int = 0
+    analyses: dict[str, dict[str, Any]] = field(default_factory=dict)
+    pareto: tuple[str, str, str, str] | None = None  # x, x goal, y, y goal
+    sensitivity: bool = False
+
+    def digest(self) -> str:
+        """SHA-256 of everything that decides the study's rows (not the file's name)."""
+        data = asdict(self)
+        data.pop("file")
+        return hashlib.sha256(json.dumps(data, sort_keys=True, default=str).encode()).hexdigest()
+
+    def options(self, name: str, design: dict[str, Any]) -> dict[str, Any]:
+        """The options of analysis ``name`` for one design: the file's, with the targeted parameters' values."""
+        out = dict(self.analyses[name])
+        for p in self.parameters:
+            if p.target and p.target.split(".", 1)[0] == name:
+                out[p.target.split(".", 1)[1]] = design[p.name]
+        return out
+
+    def geometry(self, design: dict[str, Any]) -> dict[str, float]:
+        """The mechanism's parameters a design overrides (m, rad)."""
+        return {p.name: float(design[p.name]) for p in self.parameters if p.target is None}
+
+
+def _resolve(value: Any, folder: Path) -> Any:
+    """A string naming a file relative to the study file's folder → its absolute path; anything else as it is."""
+    if isinstance(value, str) and value and (folder / value).is_file():
+        return str((folder / value).resolve())
+    return value
+
+
+def _quantity(reader: FieldReader, key: str) -> tuple[str, float] | None:
+    """Which of ``key``, ``key_mm``, ``key_deg`` is given (one at most) and its factor to SI."""
+    given = [(key + s, f) for s, f in UNIT_SUFFIXES.items() if reader.has(key + s)]
+    if len(given) > 1:
+        raise reader.error(key, f"give only one of {' and '.join(k for k, _ in given)}")
+    return given[0] if given else None
+
+
+def _parameter(reader: FieldReader, name: str, known: dict, analyses: dict, mech_name: str,
+               folder: Path) -> Parameter:
+    target = reader.string("target", None)
+    if target is None and name not in known:
+        raise InputError(f"unknown parameter {name!r} of {mech_name} (its parameters: {', '.join(known)}; or give "
+                         "target = \"ANALYSIS.OPTION\")", file=reader.file, field=reader.path)
+    if target is not None:
+        analysis, _, option = target.partition(".")
+        if analysis not in analyses or not option:
+            raise reader.error("target", f"must be ANALYSIS.OPTION with one of this study's analyses "
+                                         f"({', '.join(analyses) or 'none'}), got {target!r}")
+    values, bounds = _quantity(reader, "values"), [_quantity(reader, "low"), _quantity(reader, "high")]
+    relative = reader.number("relative", None, positive=True)
+    if values is not None:
+        if any(bounds) or relative is not None:
+            raise reader.error(values[0], "give either values or a range (low and high, or relative), not both")
+        return Parameter(name, values=_values(reader, *values, folder, numeric=target is None), target=target)
+    if relative is not None:
+        if any(bounds) or target is not None:
+            raise reader.error("relative", "relative (± a fraction of the nominal value) is for the mechanism's "
+                                           "parameters, alone")
+        nominal = known[name].value
+        low, high = sorted((nominal * (1 - relative), nominal * (1 + relative)))
+        if not low < high:
+            raise reader.error("relative", f"gives an empty range: the nominal value of {name} is {nominal:g}")
+        return Parameter(name, low, high, target=target)
+    if not all(bounds):
+        raise reader.error("low" if bounds[0] is None else "high", "missing: give low and high (SI, or _mm, "
+                                                                   "_deg), relative, or values")
+    low, high = (reader.number(k) * f for k, f in bounds)
+    if not low < high:
+        raise reader.error(bounds[0][0], f"empty range: low {low:g} must be < high {high:g} (SI)")
+    return Parameter(name, low, high, target=target)
+
+
+def _values(reader: FieldReader, key: str, factor: float, folder: Path, numeric: bool) -> tuple[Any, ...]:
+    raw = reader.raw(key)
+    if not isinstance(raw, list) or not raw:
+        raise reader.error(key, f"expected a non-empty list, got {raw!r}")
+    if all(isinstance(v, str) for v in raw) and not numeric:
+        return tuple(_resolve(v, folder) for v in raw)
+    values = tuple(reader.to_float(f"{key}[{i}]", v) * factor for i, v in enumerate(raw))
+    if len(set(values)) != len(values):
+        raise reader.error(key, "lists a value twice")
+    return values
+
+
+def _designs(reader: FieldReader, folder: Path, parameters: list[Parameter]) -> dict[str, Any]:
+    method = reader.string("method", "lhs", choices=METHODS)
+    out: dict[str, Any] = {"method": method, "seed": reader.whole("seed", 0, minimum=0)}
+    if method in ("lhs", "sobol"):
+        out["samples"] = reader.whole("samples", minimum=1)
+        if method == "sobol" and out["samples"] & (out["samples"] - 1):
+            raise reader.error("samples", f"must be a power of 2 for Sobol points (Saltelli's scheme gives "
+                                          f"samples × (parameters + 2) designs), got {out['samples']}")
+    if method == "grid":
+        out["levels"] = reader.whole("levels", 5 if any(p.values is None for p in parameters) else None,
+                                     minimum=2)
+    if method == "csv":
+        path = folder / reader.string("file")
+        if not path.is_file():
+            raise reader.error("file", f"no such file: {path}")
+        out["csv"] = str(path.resolve())
+    elif not parameters:
+        raise InputError("no [parameters.NAME] to vary", file=reader.file, field="parameters")
+    _count(reader, out, parameters)
+    reader.finish()
+    return out
+
+
+#: The most designs of one study (its tables must fit in memory: ~100 bytes a cell).
+MAX_DESIGNS = 10_000_000
+
+
+def _count(reader: FieldReader, designs: dict[str, Any], parameters: list[Parameter]) -> None:
+    """Refuse a study of more than :data:`MAX_DESIGNS` designs, naming the field that sets their number."""
+    method = designs["method"]
+    if method == "grid":
+        count, key = math.prod(len(p.values) if p.values is not None else designs["levels"] for p in parameters), \
+            "levels"
+    elif method in ("lhs", "sobol"):
+        count, key = designs["samples"] * ((len(parameters) + 2) if method == "sobol" else 1), "samples"
+    else:
+        return
+    if count > MAX_DESIGNS:
+        raise reader.error(key, f"gives {count:,} designs; a study has at most {MAX_DESIGNS:,}")
+
+
+def _output(reader: FieldReader | None, method: str) -> dict[str, Any]:
+    if reader is None:
+        return {"pareto": None, "sensitivity": method == "sobol"}
+    pareto = reader.table("pareto", None)
+    if pareto is not None:
+        axes = (pareto.string("x"), pareto.string("x_goal", "minimize", choices=GOALS),
+                pareto.string("y"), pareto.string("y_goal", "minimize", choices=GOALS))
+        pareto.finish()
+        pareto = axes
+    sensitivity = reader.boolean("sensitivity", method == "sobol")
+    if sensitivity and method != "sobol":
+        raise reader.error("sensitivity", "Sobol indices need [designs] method = \"sobol\" (Saltelli's scheme)")
+    reader.finish()
+    return {"pareto": pareto, "sensitivity": sensitivity}
+
+
+def _analyses(reader: FieldReader, folder: Path) -> dict[str, dict[str, Any]]:
+    from .analyses import analysis
+
+    tables = reader.raw("analyses")
+    if not isinstance(tables, dict) or not tables:
+        raise reader.error("analyses", "expected at least one [analyses.NAME] table (linkage, dynamics, sizing, "
+                                       "accuracy)")
+    out = {}
+    for name, options in tables.items():
+        try:
+            analysis(name)
+        except InputError as exc:
+            raise InputError(exc.message, file=reader.file, field=f"analyses.{name}") from None
+        if not isinstance(options, dict):
+            raise reader.error(f"analyses.{name}", "expected a table [analyses.NAME] of options")
+        out[name] = {k: _resolve(v, folder) for k, v in options.items()}
+    return out
+
+
+def _mechanism(reader: FieldReader, folder: Path) -> tuple[str, Any]:
+    from ..library import load
+
+    given = reader.string("mechanism")
+    where = str((folder / given).resolve()) if (folder / given).is_file() else given
+    try:
+        return where, load(where)
+    except InputError as exc:
+        if exc.file:
+            raise
+        raise InputError(exc.message, file=reader.file, field="mechanism") from None
+
+
+def read_spec(path: str | Path) -> Spec:
+    """Read and check a study file (docs/study_file.md); see the module docstring for what is checked."""
+    from ..io.toml import read_toml
+
+    path = Path(path)
+    reader = FieldReader(read_toml(path), file=path)
+    folder = path.resolve().parent
+    mechanism, mech = _mechanism(reader, folder)
+    analyses = _analyses(reader, folder)
+    tables = reader.table("parameters", {})
+    parameters = []
+    for name in (tables.data if isinstance(tables, FieldReader) else {}):
+        table = tables.table(name)
+        parameters.append(_parameter(table, name, mech.parameters, analyses, mech.name, folder))
+        table.finish()
+    designs = _designs(reader.table("designs", FieldReader({}, file=path, path="designs")), folder, parameters)
+    if designs["method"] == "csv":
+        from .designs import read_designs_csv
+
+        if parameters:
+            raise InputError("a CSV of designs names its parameters in its columns: give no [parameters.NAME]",
+                             file=path, field="parameters")
+        columns = read_designs_csv(designs["csv"], mech.parameters).columns
+        parameters = [Parameter(name) for name in columns]
+    output = _output(reader.table("output", None), designs["method"])
+    reader.finish()
+    spec = Spec(str(path), mechanism, tuple(parameters), analyses=analyses, **designs, **output)
+    _check_analyses(spec, mech)
+    return spec
+
+
+def _check_analyses(spec: Spec, mech: Any) -> None:
+    """Each analysis' ``check`` on the nominal mechanism with the first value of every targeted parameter."""
+    from .analyses import analysis
+
+    first = {p.name: p.pick(0.0) for p in spec.parameters if p.target}
+    for name in spec.analyses:
+        try:
+            analysis(name).check(mech, spec.options(name, first))
+        except InputError as exc:
+            if exc.file:
+                raise
+            field_name = f"analyses.{name}" + (f".{exc.field}" if exc.field else "")
+            raise InputError(exc.message, file=spec.file, field=field_name) from None
