@@ -35,6 +35,25 @@ def test_puma_example_varies_the_arm_by_ten_percent():
     assert {"sizing", "dynamics"} <= set(data["analyses"])
 
 
+def test_puma_example_reads_and_sizes_its_first_designs():
+    """The example's spec passes every analysis' check; its first two designs are sized and moved, each row equal
+    to the sizing analysis run on the rebuilt arm directly (the analysis is tested against size_mechanism)."""
+    import mechatron
+    from mechatron.studies.analyses import sizing
+
+    spec = read_spec(ROOT / "examples/studies/puma560_sizing.toml")
+    designs = make_designs(spec)
+    assert len(designs) == 200
+    rows = evaluate(spec, designs.iloc[:2])
+    assert (rows["status"] == "ok").all()
+    for k in range(2):
+        geometry = {name: float(designs.iloc[k][name]) for name in ("a2", "a3", "d4")}
+        direct = sizing.outputs(mechatron.load("puma560").with_parameters(geometry), {}, 0)
+        for name, value in direct.items():
+            column = name if name in rows else f"sizing.{name}"
+            assert rows.iloc[k][column] == value, name
+
+
 def test_crank_slider_example_reads_and_its_first_block_runs():
     # 64 × (2 + 2) Saltelli designs; in the first block (A, A_B1, A_B2, B) the travel is 2·l1 on every row
     spec = read_spec(ROOT / "examples/studies/crank_slider_sobol.toml")
