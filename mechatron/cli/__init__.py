@@ -23,6 +23,7 @@ from . import (
     export,
     linkage,
     listing,
+    optimize,
     pose,
     reduced,
     show,
@@ -33,7 +34,7 @@ from . import (
 from .common import _join_negative_values, _Parser, outputs
 
 COMMANDS = (listing, show, pose, export, linkage, excavator, dynamics, reduced, size, tolerance, structure,
-            demo_command)
+            optimize, demo_command)
 
 
 def build_parser() -> argparse.ArgumentParser:
