@@ -96,6 +96,7 @@ class OptimalDesignProblem(ABC):
             return self._functions
         x, s = self.x, self.s
         self._functions = {"loops": ca.Function("loops", [x, s], [self.loops]),
+                           "newton": ca.Function("newton", [x, s], [self.loops, ca.jacobian(self.loops, s)]),
                 "quantities": ca.Function("quantities", [x, s], [self.quantities]),
                 "derivatives": ca.Function("derivatives", [x, s],
                                            [ca.jacobian(self.loops, x), ca.jacobian(self.loops, s),
@@ -108,14 +109,16 @@ class OptimalDesignProblem(ABC):
         s = np.asarray(self.state_guess(x) if guess is None else guess, dtype=float)
         if s.size == 0:
             return s
-        for _ in range(50):
-            phi = np.array(f["loops"](x, s)).ravel()
+        for _ in range(30):
+            phi, Js = (np.array(m) for m in f["newton"](x, s))
             if np.abs(phi).max() < 1e-13:
                 break
-            _, Js, _, _ = f["derivatives"](x, s)
             try:
-                s = s - np.linalg.solve(np.array(Js), phi)
+                step = np.linalg.solve(Js, phi.ravel())
             except np.linalg.LinAlgError:  # a singular position: left unsolved (the caller checks Φ)
+                break
+            s = s - step
+            if np.abs(step).max() < 1e-15:
                 break
         return s
 
