@@ -67,12 +67,7 @@ class BucketProblem(OptimalDesignProblem):
         import casadi as ca
 
         d = BucketInputs()
-        self.mech = mech
-        self.variables = tuple(bounds)
-        self.lower = np.array([bounds[v][0] for v in self.variables], dtype=float)
-        self.upper = np.array([bounds[v][1] for v in self.variables], dtype=float)
-        middle = (self.lower + self.upper) / 2
-        self.start = np.array([(start or {}).get(v, m) for v, m in zip(self.variables, middle)], dtype=float)
+        self.set_box(mech, bounds, start)
         self.base = mech.parameter_values()
         p = self.base
         if abs(p["D_x"]) > 1e-12 or abs(p["D_y"]) > 1e-12 or abs(p["F_y"]) > 1e-12:

@@ -66,6 +66,15 @@ class OptimalDesignProblem(ABC):
     scale: float = 1.0
     title: str = ""
 
+    def set_box(self, mech: Any, bounds: dict[str, tuple[float, float]], start: dict[str, float] | None) -> None:
+        """Set ``mech``, the variables and their bounds (m) and the start (default: the middle of the box)."""
+        self.mech = mech
+        self.variables = tuple(bounds)
+        self.lower = np.array([bounds[v][0] for v in self.variables], dtype=float)
+        self.upper = np.array([bounds[v][1] for v in self.variables], dtype=float)
+        middle = (self.lower + self.upper) / 2
+        self.start = np.array([(start or {}).get(v, m) for v, m in zip(self.variables, middle)], dtype=float)
+
     @abstractmethod
     def state_guess(self, x: Vector) -> Vector:
         """States s near the solution of Φ(x, s) = 0 on the mechanism's assembly branch (from the Pinocchio model)."""

@@ -79,12 +79,7 @@ class ShovelProblem(OptimalDesignProblem):
                  tooth_force: tuple[float, float] = (0.0, 0.0), positions: int = 9) -> None:
         import casadi as ca
 
-        self.mech = mech
-        self.variables = tuple(bounds)
-        self.lower = np.array([bounds[v][0] for v in self.variables], dtype=float)
-        self.upper = np.array([bounds[v][1] for v in self.variables], dtype=float)
-        middle = (self.lower + self.upper) / 2
-        self.start = np.array([(start or {}).get(v, m) for v, m in zip(self.variables, middle)], dtype=float)
+        self.set_box(mech, bounds, start)
         free = {v[0] for v in self.variables}
         self.cylinders = tuple(cylinders) if cylinders else tuple(c for c, pins in CYLINDERS.items()
                                                                     if free & set(pins[:2]))
