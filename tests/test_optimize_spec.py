@@ -60,6 +60,7 @@ def test_command_writes_json_csv_and_plot(tmp_path, capfd):
     (('"six_bar_bucket"', '"no_such_machine"'), ["s.toml", "mechanism"]),
     (("points = 16", "pionts = 16"), ["s.toml", "doe.pionts", "unknown field"]),
     (("points = 16", 'method = "grid"'), ["s.toml", "doe.method"]),
+    (("c = 0.45\nL2 = 0.52", "c = 0.35\nL2 = 0.45"), ["s.toml", "start", "cannot be evaluated"]),
 ])
 def test_bad_specs_fail_with_one_line(tmp_path, capfd, change, names):
     (tmp_path / "s.toml").write_text(BUCKET.replace(*change))

@@ -6,8 +6,9 @@ the problem (:mod:`~mechatron.studies.optimal_bucket`: the bucket synthesis [Buc
 :mod:`~mechatron.studies.optimal_shovel`: the front shovel [Shovel] with the least largest cylinder force);
 :func:`optimize` solves it with ``casadi.nlpsol("ipopt")`` on SX expressions of the loop equations
 (:mod:`~mechatron.studies.optimal_solve`), evaluates the optimum with the Pinocchio model, and compares it with the
-best of a DOE (scrambled Sobol or Latin-hypercube points of the same box). The :class:`OptimumResult` follows the
-result protocol.
+best of a DOE (scrambled Sobol or Latin-hypercube points of the same box; the best feasible point by the CasADi
+expressions that the Pinocchio model confirms, of the ten best). The :class:`OptimumResult` follows the result
+protocol.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ class Spec:
 
     name: str
     problem: OptimalDesignProblem
+    path: Path | None = None
     max_iterations: int = 200
     tolerance: float = 1e-12
     doe_points: int = 256
@@ -157,7 +159,7 @@ def read_spec(path: str | Path) -> Spec:
             raise requirements.error("max_digging_radius", exc.message) from None
     solver = reader.table("solver", None) or FieldReader({}, file=path, path="solver")
     doe = reader.table("doe", None) or FieldReader({}, file=path, path="doe")
-    spec = Spec(name, problem, solver.whole("max_iterations", 200, minimum=1),
+    spec = Spec(name, problem, path, solver.whole("max_iterations", 200, minimum=1),
                 solver.number("tolerance", 1e-12, positive=True), doe.whole("points", 256, minimum=2),
                 doe.string("method", "sobol", choices=("sobol", "lhs")), doe.whole("seed", 0, minimum=0))
     for table in (solver, doe, reader):
@@ -173,15 +175,28 @@ def optimize(spec: Spec | str | Path) -> OptimumResult:
 
     spec = spec if isinstance(spec, Spec) else read_spec(spec)
     p = spec.problem
+    try:
+        start_objective, start_requirements = p.judge(p.evaluate(p.start))
+    except MechatronError as exc:
+        raise InputError(f"the start design cannot be evaluated: {getattr(exc, 'message', exc)}", file=spec.path,
+                         field="start") from None
     solution = solve(p, max_iterations=spec.max_iterations, tolerance=spec.tolerance)
-    objective, requirements, difference = judge_with_pinocchio(p, solution.x)
-    start_objective, start_requirements = p.judge(p.evaluate(p.start))
+    try:
+        objective, requirements, difference = judge_with_pinocchio(p, solution.x)
+    except MechatronError as exc:
+        raise MechatronError(f"{spec.name}: ipopt ended ({solution.status}) at a design the Pinocchio model cannot "
+                             f"evaluate: {getattr(exc, 'message', exc)}") from None
     doe = design_of_experiments(p, spec.doe_points, spec.doe_method, spec.seed)
-    best = doe.best
     doe_best = None
-    if best is not None:
-        value, met, _ = judge_with_pinocchio(p, doe.points[best])
-        doe_best = {"x": doe.points[best], "objective": value, "met": all(r.met() for r in met)}
+    order = np.argsort(np.where(doe.feasible, doe.objective, np.inf))
+    for i in order[:min(10, int(np.count_nonzero(doe.feasible)))]:  # the best the Pinocchio model confirms
+        try:
+            value, met, _ = judge_with_pinocchio(p, doe.points[i])
+        except MechatronError:
+            continue
+        if all(r.met() for r in met):
+            doe_best = {"x": doe.points[i], "objective": value, "met": True}
+            break
     return OptimumResult(spec.name, p.mech.name, p.title, p.variables, p.lower, p.upper, p.start, solution.x,
                          p.objective_name, p.objective_unit, objective, requirements, start_objective,
                          start_requirements, solution.success, solution.status, solution.iterations,
