@@ -49,6 +49,16 @@ def test_command_writes_json_csv_and_plot(tmp_path, capfd):
     assert (tmp_path / "o.csv").read_text().startswith("kind,name,optimum") and (tmp_path / "o.png").stat().st_size
 
 
+def test_sqpmethod_finds_the_same_synthesis(tmp_path):
+    from mechatron.studies.optimize import optimize
+
+    spec = tmp_path / "bucket.toml"
+    spec.write_text(BUCKET + '[solver]\nmethod = "sqpmethod"\n')
+    result = optimize(spec)
+    assert result.solver == "sqpmethod" and result.success
+    assert result.x == pytest.approx([0.41034909463438546, 0.4931083814651282], abs=1e-8)
+
+
 @pytest.mark.parametrize("change, names", [
     (("c = [0.30, 0.55]", "l99 = [0.30, 0.55]"), ["s.toml", "variables.l99", "unknown parameter"]),
     (("c = [0.30, 0.55]", "L3 = [0.30, 0.55]"), ["s.toml", "variables.L3", "not a design variable"]),

@@ -54,6 +54,7 @@ def solve(problem: OptimalDesignProblem, *, max_iterations: int = 200, tolerance
                             "acceptable_tol": tolerance}
     else:
         options.update({"qpsol": "qrqp", "max_iter": max_iterations, "print_header": False, "print_iteration": False,
+                        "print_status": False,
                         "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
                         "tol_pr": tolerance, "tol_du": tolerance})
     nlp = ca.nlpsol("optimal_design", solver, {"x": w, "f": f, "g": constraints}, options)

@@ -41,6 +41,7 @@ class Spec:
     name: str
     problem: OptimalDesignProblem
     path: Path | None = None
+    method: str = "ipopt"
     max_iterations: int = 200
     tolerance: float = 1e-12
     doe_points: int = 256
@@ -159,7 +160,8 @@ def read_spec(path: str | Path) -> Spec:
             raise requirements.error("max_digging_radius", exc.message) from None
     solver = reader.table("solver", None) or FieldReader({}, file=path, path="solver")
     doe = reader.table("doe", None) or FieldReader({}, file=path, path="doe")
-    spec = Spec(name, problem, path, solver.whole("max_iterations", 200, minimum=1),
+    method = solver.string("method", "ipopt", choices=("ipopt", "sqpmethod"))
+    spec = Spec(name, problem, path, method, solver.whole("max_iterations", 200, minimum=1),
                 solver.number("tolerance", 1e-12, positive=True), doe.whole("points", 256, minimum=2),
                 doe.string("method", "sobol", choices=("sobol", "lhs")), doe.whole("seed", 0, minimum=0))
     for table in (solver, doe, reader):
@@ -180,12 +182,12 @@ def optimize(spec: Spec | str | Path) -> OptimumResult:
     except MechatronError as exc:
         raise InputError(f"the start design cannot be evaluated: {getattr(exc, 'message', exc)}", file=spec.path,
                          field="start") from None
-    solution = solve(p, max_iterations=spec.max_iterations, tolerance=spec.tolerance)
+    solution = solve(p, max_iterations=spec.max_iterations, tolerance=spec.tolerance, solver=spec.method)
     try:
         objective, requirements, difference = judge_with_pinocchio(p, solution.x)
     except MechatronError as exc:
-        raise MechatronError(f"{spec.name}: ipopt ended ({solution.status}) at a design the Pinocchio model cannot "
-                             f"evaluate: {getattr(exc, 'message', exc)}") from None
+        raise MechatronError(f"{spec.name}: {spec.method} ended ({solution.status}) at a design the Pinocchio model "
+                             f"cannot evaluate: {getattr(exc, 'message', exc)}") from None
     doe = design_of_experiments(p, spec.doe_points, spec.doe_method, spec.seed)
     doe_best = None
     order = np.argsort(np.where(doe.feasible, doe.objective, np.inf))
@@ -197,8 +199,8 @@ def optimize(spec: Spec | str | Path) -> OptimumResult:
         if all(r.met() for r in met):
             doe_best = {"x": doe.points[i], "objective": value, "met": True}
             break
-    return OptimumResult(spec.name, p.mech.name, p.title, p.variables, p.lower, p.upper, p.start, solution.x,
-                         p.objective_name, p.objective_unit, objective, requirements, start_objective,
+    return OptimumResult(spec.name, p.mech.name, p.title, spec.method, p.variables, p.lower, p.upper, p.start,
+                         solution.x, p.objective_name, p.objective_unit, objective, requirements, start_objective,
                          start_requirements, solution.success, solution.status, solution.iterations,
                          solution.history, difference, doe.method, doe.points, doe.objective, doe.feasible, doe_best)
 
@@ -212,6 +214,7 @@ class OptimumResult(Result):
     name: str
     mechanism: str
     title: str
+    solver: str
     variables: tuple[str, ...]
     lower: Vector
     upper: Vector
@@ -275,7 +278,7 @@ class OptimumResult(Result):
             "requirements": [{"name": r.name, "value": r.value, "limit": r.limit, "kind": r.kind, "unit": r.unit,
                               "margin": r.margin, "met": r.met()} for r in self.requirements],
             "feasible": self.feasible,
-            "solver": {"name": "ipopt", "success": self.success, "status": self.status,
+            "solver": {"name": self.solver, "success": self.success, "status": self.status,
                        "iterations": self.iterations, "history": self.history,
                        "casadi_pinocchio_difference": self.model_difference},
             "doe": {"method": self.doe_method, "points": len(self.doe_points),
@@ -327,8 +330,8 @@ class OptimumResult(Result):
 
     def __str__(self) -> str:
         lines = [f"{self.name}: {self.title} ({self.mechanism})",
-                 f"ipopt: {self.status} after {self.iterations} iterations; CasADi vs Pinocchio at the optimum: "
-                 f"{self.model_difference:.2g} (largest relative difference)",
+                 f"{self.solver}: {self.status} after {self.iterations} iterations; CasADi vs Pinocchio at the "
+                 f"optimum: {self.model_difference:.2g} (largest relative difference)",
                  f"{'variable':<12}{'optimum':>14}{'start':>12}{'lower':>10}{'upper':>10}  (m)"]
         for v, x, s, lo, hi in zip(self.variables, self.x, self.start, self.lower, self.upper):
             lines.append(f"{v:<12}{x:14.9f}{s:12.6f}{lo:10.4g}{hi:10.4g}")
