@@ -51,6 +51,7 @@ def solve(problem: OptimalDesignProblem, *, max_iterations: int = 200, tolerance
     options: dict[str, Any] = {"print_time": False}
     if solver == "ipopt":
         options["ipopt"] = {"print_level": 0, "sb": "yes", "tol": tolerance, "max_iter": max_iterations,
+                            "honor_original_bounds": "yes", "constr_viol_tol": tolerance,
                             "acceptable_tol": tolerance}
     else:
         options.update({"qpsol": "qrqp", "max_iter": max_iterations, "print_header": False, "print_iteration": False,
