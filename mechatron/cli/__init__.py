@@ -23,6 +23,7 @@ from . import (
     export,
     linkage,
     listing,
+    optimize,
     pose,
     reduced,
     show,
@@ -34,7 +35,7 @@ from . import (
 from .common import _join_negative_values, _Parser, outputs
 
 COMMANDS = (listing, show, pose, export, linkage, excavator, dynamics, reduced, size, tolerance, structure,
-            study, demo_command)
+            study, optimize, demo_command)
 
 
 def build_parser() -> argparse.ArgumentParser:
