@@ -3,7 +3,7 @@ parameter, with SALib.
 
 The designs of ``[designs] method = "sobol"`` are Saltelli's scheme (:mod:`mechatron.studies.designs`): for N base
 points and D parameters, the rows A, then the D rows A_B^(i) (A with column i from B), then B, of each block of
-D + 2 designs. SALib's estimators (Saltelli et al. 2010 for S₁, Jansen's for S_T, both in ``SALib.analyze.sobol``)
+D + 2 designs. SALib's estimators ([Saltelli] for S₁, [Jansen] for S_T, both in ``SALib.analyze.sobol``)
 take the outputs in that order: S₁,i = E[f(B)(f(A_B^(i)) − f(A))] / V(Y), S_T,i = E[(f(A) − f(A_B^(i)))²] / (2 V(Y)),
 each with a bootstrap confidence interval (95 %). The indices are of the parameters in the unit cube, which a
 range maps linearly and a list of values by ⌊u k⌋ (each value an equal share): valid for both.
