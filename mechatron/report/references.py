@@ -33,6 +33,12 @@ REFERENCES: dict[str, str] = {
                   "life L10 = (C_a/F_m)³·10⁶ revolutions).",
     "ISO 6015": "ISO 6015:2006, Earth-moving machinery — Hydraulic excavators and backhoe loaders — Methods of "
                 "determining tool forces.",
+    "Saltelli": 'A. Saltelli, P. Annoni, I. Azzini, F. Campolongo, M. Ratto, S. Tarantola, "Variance based sensitivity '
+                'analysis of model output. Design and estimator for the total sensitivity index", Computer Physics '
+                "Communications 181(2), 2010: the sampling scheme (matrices A, B and A_B⁽ⁱ⁾) and the first-order "
+                "estimator of Sobol indices.",
+    "Jansen": 'M. J. W. Jansen, "Analysis of variance designs for model output", Computer Physics Communications '
+              "117(1–2), 1999: the estimator of the total Sobol index.",
     "Pinocchio": "J. Carpentier et al., The Pinocchio C++ library, IEEE/SICE SII 2019: RNEA, ABA, CRBA and the "
                  "Lie-group operations (`integrate`, `difference`) every computation of mechatron rests on.",
     "vdStraete": 'H. J. van de Straete, P. Degezelle, J. De Schutter, R. J. M. Belmans, "Servo motor selection '
