@@ -301,14 +301,20 @@ class ShovelProblem(OptimalDesignProblem):
         for c in self.cylinders:
             j = list(CYLINDERS).index(c)
             rows += [self.scale * (t - sign * f) for f in parts["forces"][j::3] for sign in (1, -1)]
-            lo, hi = parts["sweep_lengths"][j], parts["sweep_lengths"][-3 + j]
-            rows += [self.max_ratio * lo - hi, self.max_ratio * hi - lo]
-            rows += [math.cos(self.mu_min) ** 2 - cos**2 for cos in parts["cosines"][j::3]]
-            if self.max_stroke is not None:
-                rows += [self.max_stroke - (hi - lo), self.max_stroke + (hi - lo)]
-            for L in parts["special_lengths"][j::3]:
-                rows += [(L - lo) * (hi - L)]  # inside the stroke, whichever way the cylinder extends
+            rows += self.cylinder_rows(parts, j)
         return t, self.scale * t, ca.vertcat(*rows)
+
+    def cylinder_rows(self, parts: dict[str, Any], j: int) -> list[Any]:
+        """The smooth rows g ≥ 0 of cylinder j's requirements (λ, transmission angle, stroke, special positions
+        inside the stroke) from the quantities split by :meth:`_split` (SX)."""
+        lo, hi = parts["sweep_lengths"][j], parts["sweep_lengths"][-3 + j]
+        rows = [self.max_ratio * lo - hi, self.max_ratio * hi - lo]
+        rows += [math.cos(self.mu_min) ** 2 - cos**2 for cos in parts["cosines"][j::3]]
+        if self.max_stroke is not None:
+            rows += [self.max_stroke - (hi - lo), self.max_stroke + (hi - lo)]
+        for L in parts["special_lengths"][j::3]:
+            rows += [(L - lo) * (hi - L)]  # inside the stroke, whichever way the cylinder extends
+        return rows
 
     def aux_guess(self, q: Vector) -> Vector:
         forces = self._split(q)["forces"]

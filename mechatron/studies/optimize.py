@@ -3,7 +3,9 @@ r"""Optimal design with CasADi: ``mechatron optimize SPEC.toml`` and :func:`opti
 A spec (docs/optimize_file.md) names a mechanism, the design variables (named parameters with bounds), the
 objective and the requirements. :func:`read_spec` checks it (one-line errors naming the file and field) and builds
 the problem (:mod:`~mechatron.studies.optimal_bucket`: the bucket synthesis [Bucket] as the bucket angle error;
-:mod:`~mechatron.studies.optimal_shovel`: the front shovel [Shovel] with the least largest cylinder force);
+:mod:`~mechatron.studies.optimal_shovel`: the front shovel [Shovel] with the least largest cylinder force;
+:mod:`~mechatron.studies.optimal_mass`: the same with the lightest catalog cylinders, a discrete choice solved by
+DOE-then-refine);
 :func:`optimize` solves it with ``casadi.nlpsol("ipopt")`` on SX expressions of the loop equations
 (:mod:`~mechatron.studies.optimal_solve`), evaluates the optimum with the Pinocchio model, and compares it with the
 best of a DOE (scrambled Sobol or Latin-hypercube points of the same box; the best feasible point by the CasADi
@@ -30,7 +32,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 DEG = math.pi / 180
-OBJECTIVES = ("bucket_angle_error", "max_cylinder_force")
+OBJECTIVES = ("bucket_angle_error", "max_cylinder_force", "cylinder_mass")
 WORKING_RANGE = ("max_digging_radius", "max_digging_height", "max_digging_depth", "min_digging_radius")
 
 
@@ -142,6 +144,10 @@ def read_spec(path: str | Path) -> Spec:
             raise objective.error("cylinders", f"expected a non-empty list of {', '.join(CYLINDERS)}, "
                                                f"got {cylinders!r}")
         tooth = objective.vector("tooth_force", 2, np.zeros(2))
+        kind_of, catalog = ShovelProblem, {}
+        if kind == "cylinder_mass":
+            from .optimal_mass import MassProblem, catalog_options
+            kind_of, catalog = MassProblem, catalog_options(objective, path.parent)
         working = {k: requirements.number(k, None, positive=True) for k in WORKING_RANGE}
         maximum_ratio = requirements.number("max_stroke_ratio", 1.7)
         if not maximum_ratio > 1:
@@ -152,10 +158,11 @@ def read_spec(path: str | Path) -> Spec:
         objective.finish()
         requirements.finish()
         try:
-            problem = ShovelProblem(mech, bounds, start, working_range={k: v for k, v in working.items() if v},
-                                    cylinders=tuple(cylinders) if cylinders else None, max_ratio=maximum_ratio,
-                                    min_transmission_angle=mu * DEG, max_stroke=stroke,
-                                    tooth_force=(float(tooth[0]), float(tooth[1])), positions=positions)
+            problem = kind_of(
+                mech, bounds, start, working_range={k: v for k, v in working.items() if v},
+                cylinders=tuple(cylinders) if cylinders else None, max_ratio=maximum_ratio,
+                min_transmission_angle=mu * DEG, max_stroke=stroke, tooth_force=(float(tooth[0]), float(tooth[1])),
+                positions=positions, **catalog)
         except InputError as exc:
             raise requirements.error("max_digging_radius", exc.message) from None
     solver = reader.table("solver", None) or FieldReader({}, file=path, path="solver")
@@ -182,13 +189,27 @@ def optimize(spec: Spec | str | Path) -> OptimumResult:
     except MechatronError as exc:
         raise InputError(f"the start design cannot be evaluated: {getattr(exc, 'message', exc)}", file=spec.path,
                          field="start") from None
-    solution = solve(p, max_iterations=spec.max_iterations, tolerance=spec.tolerance, solver=spec.method)
+    doe, steps, choice = None, None, None
+    if p.objective_name == "cylinder_mass":  # a discrete catalog choice: DOE first, then refine and descend
+        from .optimal_mass import descend
+
+        doe = design_of_experiments(p, spec.doe_points, spec.doe_method, spec.seed)
+        try:
+            solution, steps = descend(p, doe, max_iterations=spec.max_iterations, tolerance=spec.tolerance,
+                                      solver=spec.method)
+        except InputError as exc:
+            raise InputError(exc.message, file=spec.path, field=exc.field) from None
+    else:
+        solution = solve(p, max_iterations=spec.max_iterations, tolerance=spec.tolerance, solver=spec.method)
     try:
         objective, requirements, difference = judge_with_pinocchio(p, solution.x)
     except MechatronError as exc:
         raise MechatronError(f"{spec.name}: {spec.method} ended ({solution.status}) at a design the Pinocchio model "
                              f"cannot evaluate: {getattr(exc, 'message', exc)}") from None
-    doe = design_of_experiments(p, spec.doe_points, spec.doe_method, spec.seed)
+    if steps is not None:
+        choice = list(p.choice)  # the drives module's choice at the optimum, on the Pinocchio model's forces
+    if doe is None:
+        doe = design_of_experiments(p, spec.doe_points, spec.doe_method, spec.seed)
     doe_best = None
     order = np.argsort(np.where(doe.feasible, doe.objective, np.inf))
     for i in order[:min(10, int(np.count_nonzero(doe.feasible)))]:  # the best the Pinocchio model confirms
@@ -202,14 +223,18 @@ def optimize(spec: Spec | str | Path) -> OptimumResult:
     return OptimumResult(spec.name, p.mech.name, p.title, spec.method, p.variables, p.lower, p.upper, p.start,
                          solution.x, p.objective_name, p.objective_unit, objective, requirements, start_objective,
                          start_requirements, solution.success, solution.status, solution.iterations,
-                         solution.history, difference, doe.method, doe.points, doe.objective, doe.feasible, doe_best)
+                         solution.history, difference, doe.method, doe.points, doe.objective, doe.feasible, doe_best,
+                         choice, steps)
 
 
 @dataclass
 class OptimumResult(Result):
     """An optimal design: the optimum x (SI units) and its objective and requirements from the Pinocchio model, the
     start's, the solver's status and convergence history, the largest relative difference between the CasADi
-    expressions and the Pinocchio model at the optimum, and the DOE (points, objective, feasibility, its best)."""
+    expressions and the Pinocchio model at the optimum, and the DOE (points, objective, feasibility, its best). For
+    ``cylinder_mass``: ``catalog_choice``, per cylinder the catalog row the drives module chooses at the optimum
+    (key, count, bore, rod, stroke m, mass kg, its checks), and ``descent``, the steps of the search (step, rows,
+    mass kg)."""
 
     name: str
     mechanism: str
@@ -236,6 +261,8 @@ class OptimumResult(Result):
     doe_objective: Vector
     doe_feasible: Any
     doe_best: dict[str, Any] | None
+    catalog_choice: list[dict[str, Any]] | None = None
+    descent: list[dict[str, Any]] | None = None
 
     @property
     def feasible(self) -> bool:
@@ -265,6 +292,12 @@ class OptimumResult(Result):
         for r, s in zip(self.requirements, self.start_requirements):
             rows.append({"kind": "requirement", "name": r.name, "optimum": r.value, "start": s.value,
                          "limit": r.limit, "margin": r.margin, "met": r.met(), "unit": r.unit})
+        for c in self.catalog_choice or []:
+            rows.append({"kind": "cylinder", "name": f"{c['cylinder']} {c['key']} x{c['count']}",
+                         "optimum": c["mass"], "met": c["feasible"], "unit": "kg"})
+            rows += [{"kind": "catalog_check", "name": f"{c['cylinder']} {x['name']}", "optimum": x["value"],
+                      "limit": x["limit"], "margin": x["margin"], "met": x["pass"], "unit": x["unit"]}
+                     for x in c["checks"]]
         return pd.DataFrame(rows)
 
     def as_dict(self) -> dict:
@@ -287,6 +320,7 @@ class OptimumResult(Result):
                         "variables": dict(zip(self.variables, self.doe_best["x"])),
                         "objective": self.doe_best["objective"], "met": self.doe_best["met"]},
                     "optimum_at_least_as_good": self.beats_doe},
+            **({} if self.catalog_choice is None else {"cylinders": self.catalog_choice, "descent": self.descent}),
         })
 
     def plot(self, ax: Axes | None = None) -> Figure:
@@ -341,6 +375,14 @@ class OptimumResult(Result):
             sign = "≥" if r.kind == "min" else "≤"
             lines.append(f"  {r.name:<42} {r.value:12.6g} {sign} {r.limit:<10.6g} margin {r.margin:10.3g} {r.unit}"
                          f"  {'met' if r.met() else 'NOT MET'}")
+        for c in self.catalog_choice or []:
+            lines.append(f"  {c['cylinder']}: {c['count']}× {c['key']} (bore {c['bore'] * 1e3:g} mm, rod "
+                         f"{c['rod'] * 1e3:g} mm), stroke {c['stroke']:.4f} m, {c['mass']:.2f} kg; drives checks "
+                         + ", ".join(f"{x['name']} margin {x['margin']:.3g}" for x in c["checks"])
+                         + ("" if c["feasible"] else " NOT FEASIBLE"))
+        for step in self.descent or []:
+            rows = ", ".join(f"{k} {v}" for k, v in step["rows"].items())
+            lines.append(f"  search: {step['step']:<12} {rows}: {step['mass']:.2f} kg")
         feasible = int(np.count_nonzero(self.doe_feasible))
         if self.doe_best is None:
             lines.append(f"DOE: {len(self.doe_points)} {self.doe_method} points, none meets every requirement")
