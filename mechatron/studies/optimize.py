@@ -278,7 +278,8 @@ class OptimumResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per design variable (m), the objective and each requirement: the optimum, the start and the DOE's
-        best, bounds or limit, the margin (≥ 0 when met) and the unit."""
+        best, bounds or limit, the margin (≥ 0 when met) and the unit; for ``cylinder_mass`` also one row per
+        cylinder: its catalog row and count (name), mass (kg) and whether it passes the drives module's checks."""
         import pandas as pd
 
         best = self.doe_best["x"] if self.doe_best else [math.nan] * len(self.variables)
@@ -295,9 +296,6 @@ class OptimumResult(Result):
         for c in self.catalog_choice or []:
             rows.append({"kind": "cylinder", "name": f"{c['cylinder']} {c['key']} x{c['count']}",
                          "optimum": c["mass"], "met": c["feasible"], "unit": "kg"})
-            rows += [{"kind": "catalog_check", "name": f"{c['cylinder']} {x['name']}", "optimum": x["value"],
-                      "limit": x["limit"], "margin": x["margin"], "met": x["pass"], "unit": x["unit"]}
-                     for x in c["checks"]]
         return pd.DataFrame(rows)
 
     def as_dict(self) -> dict:
@@ -377,7 +375,7 @@ class OptimumResult(Result):
                          f"  {'met' if r.met() else 'NOT MET'}")
         for c in self.catalog_choice or []:
             lines.append(f"  {c['cylinder']}: {c['count']}× {c['key']} (bore {c['bore'] * 1e3:g} mm, rod "
-                         f"{c['rod'] * 1e3:g} mm), stroke {c['stroke']:.4f} m, {c['mass']:.2f} kg; drives checks "
+                         f"{c['rod'] * 1e3:g} mm), stroke {c['stroke']:.4f} m, {c['mass']:.2f} kg; margins 1 − value/limit: "
                          + ", ".join(f"{x['name']} margin {x['margin']:.3g}" for x in c["checks"])
                          + ("" if c["feasible"] else " NOT FEASIBLE"))
         for step in self.descent or []:
