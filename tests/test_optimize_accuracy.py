@@ -116,8 +116,8 @@ def test_dh_chain_worst_case_equals_the_accuracy_module_on_every_arm(robot):
     poses = rng.uniform([link.lower for link in links], [link.upper for link in links], (4, len(links)))
     length = next(n for n, p in mech.parameters.items() if p.kind == "length" and abs(p.value) > 0.05)
     nominal = mech.parameters[length].value
-    problem = PositioningProblem(mech, {length: tuple(sorted((0.8 * nominal, 1.2 * nominal)))}, sources=_every_source(mech),
-                                 poses=poses)
+    box = tuple(sorted((0.8 * nominal, 1.2 * nominal)))
+    problem = PositioningProblem(mech, {length: box}, sources=_every_source(mech), poses=poses)
     for x in (nominal, 1.1 * nominal):
         assert problem.values(np.array([x])) == pytest.approx(problem.evaluate(np.array([x])), rel=1e-10, abs=1e-15)
 
