@@ -32,7 +32,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 DEG = math.pi / 180
-OBJECTIVES = ("bucket_angle_error", "max_cylinder_force", "cylinder_mass")
+OBJECTIVES = ("bucket_angle_error", "max_cylinder_force", "positioning_error", "cylinder_mass")
 WORKING_RANGE = ("max_digging_radius", "max_digging_height", "max_digging_depth", "min_digging_radius")
 
 
@@ -96,6 +96,63 @@ def _start(reader: Any, bounds: dict[str, tuple[float, float]]) -> dict[str, flo
     return out
 
 
+def _data_file(table: Any, key: str, folder: Path) -> Path:
+    """A file named in ``key`` of ``table``, relative to the spec's folder."""
+    path = folder / table.string(key)
+    if not path.is_file():
+        raise table.error(key, f"no such file: {path}")
+    return path
+
+
+def _positioning_problem(reader: Any, objective: Any, requirements: Any, mech: Any, folder: Path
+                         ) -> OptimalDesignProblem:
+    """The positioning-error problem of a spec (:mod:`~mechatron.studies.optimal_accuracy`)."""
+    from ..accuracy.sources import read_poses, read_tolerances
+    from .optimal_accuracy import PositioningProblem, length_parameters
+
+    if mech.dh is None:
+        raise objective.error("type", f"{mech.name} is not a DH arm: positioning_error needs a robot file's DH table")
+    bounds = _bounds(reader, mech, length_parameters(mech))
+    start = _start(reader, bounds)
+    tolerances = _data_file(objective, "tolerances", folder)
+    sources = read_tolerances(tolerances, mech)
+    _no_graded_variables(tolerances, bounds)
+    poses, labels = read_poses(_data_file(objective, "poses", folder), mech)
+    reach = requirements.number("min_reach", None, positive=True)
+    pose = requirements.vector("reach_pose_deg", len(mech.dh.links), None)
+    if (reach is None) != (pose is None):
+        raise requirements.error("min_reach" if reach is None else "reach_pose_deg",
+                                 "give min_reach (m) and reach_pose_deg (the joint coordinates where it holds) "
+                                 "together")
+    objective.finish()
+    requirements.finish()
+    try:
+        return PositioningProblem(mech, bounds, start, sources=sources, poses=poses, labels=labels, min_reach=reach,
+                                  reach_pose=None if pose is None else _coordinates(mech, pose))
+    except InputError as exc:
+        raise objective.error("tolerances", exc.message) from None
+
+
+def _no_graded_variables(path: Path, bounds: dict[str, tuple[float, float]]) -> None:
+    """Refuse a design variable whose tolerance is a grade: an IT grade's tolerance steps with the nominal length
+    [ISO 286-1], which the solver's derivatives cannot follow."""
+    from ..io.tables import read_csv
+
+    frame = read_csv(path)
+    if "grade" not in frame.columns:
+        return
+    for i, row in zip(frame.index, frame.to_dict(orient="records")):
+        if row["grade"] and row["parameter"] in bounds:
+            raise InputError(f"{row['parameter']} is a design variable: give its tolerance in a tolerance column "
+                             f"(tolerance_mm, …), not as {row['grade']}, whose tolerance steps with the length",
+                             file=path, row=i, field="grade")
+
+
+def _coordinates(mech: Any, values_deg: Vector) -> Vector:
+    """Joint coordinates from a list in degrees for revolute joints and metres for prismatic ones."""
+    return np.array([v * DEG if link.is_revolute else v for v, link in zip(values_deg, mech.dh.links)])
+
+
 def read_spec(path: str | Path) -> Spec:
     """Read and check an optimisation spec (TOML, docs/optimize_file.md) and build its problem.
 
@@ -132,6 +189,8 @@ def read_spec(path: str | Path) -> Spec:
         problem: OptimalDesignProblem = BucketProblem(
             mech, bounds, start, min_transmission_angle=None if mu is None else mu * DEG, positions=positions,
             **options)
+    elif kind == "positioning_error":
+        problem = _positioning_problem(reader, objective, requirements, mech, path.parent)
     else:
         if sorted(mech.cylinders) != sorted(CYLINDERS) or not {"C_x", "F_x", "Q_x", "V_x"} <= set(mech.parameters):
             raise objective.error("type", f"{mech.name} is not a front-shovel working device [Shovel] (cylinders "
