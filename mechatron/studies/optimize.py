@@ -434,7 +434,8 @@ class OptimumResult(Result):
                          f"  {'met' if r.met() else 'NOT MET'}")
         for c in self.catalog_choice or []:
             lines.append(f"  {c['cylinder']}: {c['count']}× {c['key']} (bore {c['bore'] * 1e3:g} mm, rod "
-                         f"{c['rod'] * 1e3:g} mm), stroke {c['stroke']:.4f} m, {c['mass']:.2f} kg; margins 1 − value/limit: "
+                         f"{c['rod'] * 1e3:g} mm), stroke {c['stroke']:.4f} m, {c['mass']:.2f} kg; "
+                         "margins 1 − value/limit: "
                          + ", ".join(f"{x['name']} margin {x['margin']:.3g}" for x in c["checks"])
                          + ("" if c["feasible"] else " NOT FEASIBLE"))
         for step in self.descent or []:
