@@ -60,12 +60,12 @@ DEFAULT_PRESSURE = float(inspect.signature(size_cylinder).parameters["pressure"]
 BACK_OFF = 1e-8
 
 
-def cylinder_mass(row: Any, stroke: Any, count: int) -> Any:
+def cylinder_mass(row: pd.Series, stroke: Any, count: int) -> Any:
     """n (m + m' s) (kg) of ``count`` cylinders of a catalog row with stroke s (m; a number or SX); a mass left
-    empty in the catalog counts as 0."""
+    empty in the catalog (or its column missing) counts as 0, as in ``size_cylinder``."""
     def known(key: str) -> float:
-        value = row.get(key, math.nan) if hasattr(row, "get") else math.nan
-        return 0.0 if value is None or not math.isfinite(float(value)) else float(value)
+        value = float(row.get(key, math.nan))
+        return value if math.isfinite(value) else 0.0
 
     return count * (known("mass") + known("mass_per_stroke") * stroke)
 
@@ -220,18 +220,20 @@ def descend(problem: MassProblem, doe: DesignOfExperiments, *, max_iterations: i
     mass, requirements = problem.judge(problem.values(problem.start))
     if all(r.met() for r in requirements):
         candidates.append((mass, problem.start, "start"))
-    if not candidates:
+    # the lightest candidate whose every cylinder has a row passing the drives module's checks (exactly: a
+    # requirement counts as met 1e-6 beyond its limit, a drives check only 1e-9)
+    found = ((m, x, name, problem.rows_of(problem.values(x))) for m, x, name in sorted(candidates, key=lambda c: c[0]))
+    mass, x, name, rows = next((c for c in found if c[3] is not None), (0.0, None, "", None))
+    if rows is None:
         raise InputError(f"no catalog cylinders pass every check at any of the {len(doe.points)} DOE designs or the "
                          "start that meet the geometric requirements; give larger cylinders, a wider box or more DOE "
                          "points", field="objective.catalog")
-    mass, x, name = min(candidates, key=lambda c: c[0])
-    rows = problem.rows_of(problem.values(x))
-    assert rows is not None  # a feasible candidate has its rows
     key = problem.catalog["key"]
     steps = [{"step": name, "rows": {c: key[r] for c, r in rows.items()}, "mass": mass}]
     history: list[float] = []
     iterations = 0
-    solution = Solution(np.asarray(x, dtype=float), np.zeros(0), True, f"{name} kept", 0, [mass])
+    solution = Solution(np.asarray(x, dtype=float), np.zeros(0), False,
+                        f"{solver} did not refine the {name} design; kept", 0, [mass])
     refined = _refine(problem, x, rows, options)
     if refined is not None:
         solution, mass = refined
