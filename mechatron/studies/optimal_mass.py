@@ -27,8 +27,8 @@ The choice of rows is discrete, so the problem is solved by DOE-then-refine (:fu
    smooth rows g(x) ≥ 0 of the same SX forces and lengths (kept 1e-8 inside their limits, so that the Pinocchio
    model's forces, equal to ~1e-10, pass the drives module's checks).
 3. Descend: per cylinder, the catalog rows lighter at the current design are tried, the next lighter first, each by
-   the same NLP from the current design; a lighter total that meets every requirement is accepted, and the descent
-   repeats until no row is accepted.
+   the same NLP from the current design; a lighter total that meets every requirement (by the CasADi expressions
+   and by the Pinocchio model) is accepted, and the descent repeats until no row is accepted.
 
 Every accepted step lowers M, so the optimum is never heavier than the DOE's best by construction; it is a local
 optimum in the pins and in the discrete choice (one row changed at a time), not a global one. The optimum is judged
@@ -49,7 +49,7 @@ import pandas as pd
 from ..drives.cylinders import BUCKLING_SAFETY, size_cylinder
 from ..drives.duty import JointDuty
 from ..drives.shafts import euler_load, fixing_factors
-from ..errors import InputError
+from ..errors import InputError, MechatronError
 from .optimal_problem import Requirement, Vector
 from .optimal_shovel import CYLINDERS, ShovelProblem
 from .optimal_solve import DesignOfExperiments, Solution, solve
@@ -181,14 +181,20 @@ class MassProblem(ShovelProblem):
 # ------------------------------------------------------------------------------------------------ the search
 def _refine(problem: MassProblem, x: Vector, rows: dict[str, int], options: dict[str, Any]
             ) -> tuple[Solution, float] | None:
-    """ipopt from x with the rows fixed: (solution, M) if it succeeds and meets every requirement (CasADi
-    expressions), else None."""
+    """ipopt from x with the rows fixed: (solution, M) if it succeeds and its design meets every requirement by the
+    CasADi expressions and by the Pinocchio model (which must be able to rebuild it), else None."""
     start, problem.start, problem.rows = problem.start, np.asarray(x, dtype=float), dict(rows)
     try:
         solution = solve(problem, **options)
         if not solution.success:
             return None
         mass, requirements = problem.judge(problem.values(solution.x))
+        if not all(r.met() for r in requirements):
+            return None
+        try:
+            _, requirements = problem.judge(problem.evaluate(solution.x))
+        except MechatronError:  # a drawing the mechanism file cannot be rebuilt to
+            return None
         return (solution, mass) if all(r.met() for r in requirements) else None
     finally:
         problem.start, problem.rows = start, None
