@@ -93,8 +93,7 @@ class MassProblem(ShovelProblem):
         self.pressure = float(pressure)
         self.rows: dict[str, int] | None = None
         self.choice: list[dict[str, Any]] = []
-        self.title = "front shovel [Shovel]: least cylinder mass (catalog rows and pins " + ", ".join(
-            self.variables) + ")"
+        self.title = "front shovel [Shovel]: least mass of the catalog cylinders " + ", ".join(self.cylinders)
 
     # ------------------------------------------------------------------------------------------ numbers
     def _stroke(self, parts: dict[str, Any], c: str) -> tuple[float, float]:
