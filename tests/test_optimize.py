@@ -45,11 +45,12 @@ def bucket_angles(mech, c: float, L2: float, b: float = 0.2) -> tuple[float, flo
 
 
 def relative_error(J: np.ndarray, FD: np.ndarray) -> float:
-    """Largest |J − FD| relative to the largest entry of its row; a row the CasADi expressions make identically zero
-    (a quantity the design does not move, such as the force of a cylinder whose pins stay) relative to the largest
-    entry of J, as its finite differences are those of rounding noise."""
+    """Largest |J − FD| relative to the largest entry of its row; a row the CasADi expressions make zero up to
+    rounding (a quantity the design does not move, such as the force of a cylinder whose pins stay, or the tooth's
+    reach at the position built to attain it) relative to the largest entry of J, as its finite differences are those
+    of rounding noise."""
     rows = np.abs(J).max(axis=1)
-    scale = np.where(rows > 0, rows, rows.max())[:, None]
+    scale = np.where(rows > 1e-12 * rows.max(), rows, rows.max())[:, None]
     return float((np.abs(J - FD) / scale).max())
 
 
@@ -142,17 +143,61 @@ def test_shovel_with_every_cylinder_free_beats_its_doe():
     assert result.objective < result.doe_best["objective"] < result.start_objective
 
 
-def test_shovel_derivatives_equal_finite_differences_of_pinocchio():
+@pytest.mark.parametrize("steps", [
+    {"A_x": 0.1, "A_y": -0.1, "B_x": 0.05, "B_y": 0.2, "E_x": -0.05},
+    # boom and stick lengths move the joint ranges and the special positions with them [Shovel, 2.1–2.4, 3.2–3.7]
+    {"boom": -0.2, "stick": 0.2, "bucket": -0.1, "B_y": 0.1, "E_x": -0.05},
+])
+def test_shovel_derivatives_equal_finite_differences_of_pinocchio(steps):
     mech = mechatron.load("front_shovel")
     p = mech.parameter_values()
-    names = ("A_x", "A_y", "B_x", "B_y", "E_x")
-    problem = ShovelProblem(mech, {n: (p[n] - 0.3, p[n] + 0.3) for n in names}, positions=2)
-    x = problem.start + np.array([0.1, -0.1, 0.05, 0.2, -0.05])
+    problem = ShovelProblem(mech, {n: (p[n] - 0.3, p[n] + 0.3) for n in steps}, positions=2)
+    x = problem.start + np.array(list(steps.values()))
     J = problem.jacobian(x)
     h = 1e-4
     FD = np.column_stack([(problem.evaluate(x + h * e) - problem.evaluate(x - h * e)) / (2 * h)
                           for e in np.eye(len(x))])
     assert relative_error(J, FD) < 1e-6
+
+
+def test_shovel_link_lengths_rebuild_the_drawing_and_keep_the_working_range():
+    from mechatron.machines.excavator import FrontShovelDesign, range_angles
+
+    mech = mechatron.load("front_shovel")
+    p = mech.parameter_values()
+    problem = ShovelProblem(mech, {"boom": (3.8, 4.8), "stick": (2.8, 3.8)}, positions=3)
+    x = np.array([4.55, 3.05])
+    rebuilt = problem.mech.with_parameters(problem.overrides(x)).parameter_values()
+    C, F, Q, V, E, G, K, D = (np.array([rebuilt[f"{n}_x"], rebuilt[f"{n}_y"]]) for n in "CFQVEGKD")
+    # the links have the design's lengths; the stick's and the bucket's pins keep their distances on their bodies
+    # (the rebuild re-derives its points from the lengths and angles: to rounding, 1e-11 m)
+    assert np.linalg.norm(F - C) == pytest.approx(4.55, abs=1e-11)
+    assert np.linalg.norm(Q - F) == pytest.approx(3.05, abs=1e-11)
+    drawn = {n: np.array([p[f"{n}_x"], p[f"{n}_y"]]) for n in "CFQVEGKD"}
+    for a, b in ("QV", "FE", "FG", "QK", "CD"):
+        assert np.linalg.norm(locals()[b] - locals()[a]) == pytest.approx(np.linalg.norm(drawn[b] - drawn[a]),
+                                                                          abs=1e-11)
+    # the working range from the Pinocchio model at the special positions is the assignment's, exactly
+    names = {r.name: r.value for r in problem.judge(problem.evaluate(x))[1]}
+    assert names["max_digging_radius_m"] == pytest.approx(9.06, abs=1e-9)
+    assert names["max_digging_height_m"] == pytest.approx(9.53, abs=1e-9)
+    assert names["max_digging_depth_m"] == pytest.approx(3.2, abs=1e-9)
+    # links that cannot reach it: one line from the closed forms, and the NLP's domain rows |acos/asin argument| ≤ 1
+    d = FrontShovelDesign(boom=3.0, stick=2.0, bucket=2.0)
+    with pytest.raises(mechatron.InputError, match="cannot reach the required digging radius"):
+        range_angles(d, 3.0, 2.0, 2.0)
+    import casadi as ca
+
+    rows = np.array(ca.Function("domain", [problem.x], [problem.domain])(np.array([3.0, 2.0]))).ravel()
+    assert abs(rows[0]) > 1 and problem.domain.numel() == 9  # the first: cos θ2max of the digging radius
+
+
+def test_shovel_link_lengths_example_beats_the_assignment_and_its_doe():
+    result = optimize(EXAMPLES / "front_shovel_links.toml")
+    assert result.success and result.feasible and result.beats_doe
+    assert result.objective < 0.8 * result.start_objective  # the assignment's design: 418 kN
+    assert result.model_difference < 1e-7
+    check_result(result)
 
 
 def test_doe_points_fill_the_box_reproducibly():

@@ -58,7 +58,7 @@ def hand_forces(problem: MassProblem, x: np.ndarray) -> dict[str, list[float]]:
     mech = problem.with_strokes(problem.mech.with_parameters(problem.overrides(x)), x)
     out: dict[str, list[float]] = {"L1": [], "L2": []}
     q = None
-    for angles in problem.special.values():
+    for angles in problem.angles_at(x)[1].values():
         q = problem._assemble(mech, x, angles, q)
         P = dict(zip("ABCDEFQV", point_positions(mech, q, *"ABCDEFQV")))
         for name, base, eye, turning, pivot, links in (("L1", "A", "B", "B", "C", "CF FQ QV"),
@@ -77,7 +77,7 @@ def hand_strokes(problem: MassProblem, x: np.ndarray) -> dict[str, tuple[float, 
     mech = problem.with_strokes(problem.mech.with_parameters(problem.overrides(x)), x)
     ends = []
     for k in (0, 1):
-        q = problem._assemble(mech, x, tuple(r[k] for r in problem.ranges), None)
+        q = problem._assemble(mech, x, tuple(r[k] for r in problem.angles_at(x)[0]), None)
         A, B, D, E = point_positions(mech, q, *"ABDE")
         ends.append((np.linalg.norm(B - A), np.linalg.norm(E - D)))
     return {c: (abs(ends[1][i] - ends[0][i]), max(ends[1][i], ends[0][i])) for i, c in enumerate(("L1", "L2"))}

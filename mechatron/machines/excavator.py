@@ -234,35 +234,74 @@ class FrontShovel:
         return {c.name: c.length(t) for c, t in zip(self.cylinders, (theta1, theta2, theta3))}
 
 
+@dataclass(frozen=True)
+class Maths:
+    """The functions the range and position formulas use, on numbers (:data:`CHECKED`: an argument of acos or asin
+    outside [−1, 1] means the links cannot reach a required dimension, named by ``what``) or on CasADi expressions
+    (:func:`casadi_maths`)."""
+
+    acos: Callable[[Any, str], Any]
+    asin: Callable[[Any, str], Any]
+    sin: Callable[[Any], Any]
+    cos: Callable[[Any], Any]
+    sqrt: Callable[[Any], Any]
+    maximum: Callable[[Any, Any], Any]
+
+
+def _checked(f: Callable[[float], float]) -> Callable[[float, str], float]:
+    def checked(x: float, what: str) -> float:
+        if not -1 <= x <= 1:
+            raise InputError(f"front shovel: the links cannot reach the required {what}")
+        return f(x)
+
+    return checked
+
+
+CHECKED = Maths(_checked(math.acos), _checked(math.asin), math.sin, math.cos, math.sqrt, max)
+
+
+def casadi_maths(arguments: list[Any] | None = None) -> Maths:
+    """:class:`Maths` on CasADi expressions; the arguments of acos and asin are appended to ``arguments`` (for the
+    requirement |argument| ≤ 1 of an optimisation)."""
+    import casadi as ca
+
+    kept = arguments if arguments is not None else []
+
+    def keep(f: Callable[[Any], Any]) -> Callable[[Any, str], Any]:
+        def kept_f(x: Any, what: str) -> Any:
+            kept.append(x)
+            return f(x)
+
+        return kept_f
+
+    return Maths(keep(ca.acos), keep(ca.asin), ca.sin, ca.cos, ca.sqrt, ca.fmax)
+
+
+def range_angles(d: FrontShovelDesign, l1: Any, l2: Any, l3: Any, m: Maths = CHECKED) -> tuple:
+    """θ1, θ2, θ3 ranges (rad) of links l1 = |CF|, l2 = |FQ|, l3 = |QV| (m; numbers or CasADi expressions) that
+    reach the working dimensions of ``d`` [Shovel, 3.2–3.7], and the two θ3max candidates (rad): the height
+    condition [Shovel, 3.5] and the radius condition [Shovel, 3.6]."""
+    xc, yc = d.boom_foot
+    zeta = d.ground_angle_deg * DEG
+    t2_max = m.acos((l1**2 + l2**2 - (d.max_digging_radius - l3 - xc) ** 2) / (2 * l1 * l2), "digging radius")
+    t2_min = m.acos((l1**2 + l2**2 - (yc - l3 * math.sin(zeta)) ** 2
+                     - (d.min_digging_radius - l3 * math.cos(zeta) - xc) ** 2) / (2 * l1 * l2), "minimum radius")
+    l44 = m.sqrt(l1 * l1 + l2 * l2 - 2 * l1 * l2 * m.cos(t2_max))  # |CQ| with the stick out
+    t1_max = (m.asin((d.max_digging_height - l3 - yc) / l44, "digging height")
+              + m.asin(l2 * m.sin(t2_max) / l44, "digging height"))
+    t1_min = m.asin((-d.max_digging_depth - yc + l2 + l3) / l1, "digging depth")
+    candidates = (2.5 * math.pi - t1_max - t2_max, math.pi + m.asin(l1 * m.sin(t2_max) / l44, "digging radius"))
+    t3_max = m.maximum(*candidates)
+    t3_min = 2 * math.pi - t1_max - t2_max - d.dump_angle_deg * DEG
+    return (t1_min, t1_max), (t2_min, t2_max), (t3_min, t3_max), candidates
+
+
 def joint_ranges(d: FrontShovelDesign) -> tuple[tuple[float, float], tuple[float, float], tuple[float, float],
                                                    tuple[float, float]]:
     """θ1, θ2, θ3 ranges (rad) from the working dimensions [Shovel, 3.2–3.7] and the two θ3max candidates (rad):
-    the height condition [Shovel, 3.5] and the radius condition [Shovel, 3.6]."""
-    l1, l2, l3 = d.boom, d.stick, d.bucket
-    xc, yc = d.boom_foot
-    zeta = d.ground_angle_deg * DEG
-
-    def acos(x: float, what: str) -> float:
-        if not -1 <= x <= 1:
-            raise InputError(f"front shovel: the links cannot reach the required {what}")
-        return math.acos(x)
-
-    def asin(x: float, what: str) -> float:
-        if not -1 <= x <= 1:
-            raise InputError(f"front shovel: the links cannot reach the required {what}")
-        return math.asin(x)
-
-    t2_max = acos((l1**2 + l2**2 - (d.max_digging_radius - l3 - xc) ** 2) / (2 * l1 * l2), "digging radius")
-    t2_min = acos((l1**2 + l2**2 - (yc - l3 * math.sin(zeta)) ** 2
-                   - (d.min_digging_radius - l3 * math.cos(zeta) - xc) ** 2) / (2 * l1 * l2), "minimum radius")
-    l44 = triangle_side(l1, l2, t2_max)  # |CQ| with the stick out
-    t1_max = (asin((d.max_digging_height - l3 - yc) / l44, "digging height")
-              + math.asin(l2 * math.sin(t2_max) / l44))
-    t1_min = asin((-d.max_digging_depth - yc + l2 + l3) / l1, "digging depth")
-    candidates = (2.5 * math.pi - t1_max - t2_max, math.pi + math.asin(l1 * math.sin(t2_max) / l44))
-    t3_max = max(candidates)
-    t3_min = 2 * math.pi - t1_max - t2_max - d.dump_angle_deg * DEG
-    return (t1_min, t1_max), (t2_min, t2_max), (t3_min, t3_max), candidates
+    the height condition [Shovel, 3.5] and the radius condition [Shovel, 3.6] (:func:`range_angles` of the
+    design's links)."""
+    return range_angles(d, d.boom, d.stick, d.bucket)
 
 
 def synthesize(d: FrontShovelDesign | None = None) -> FrontShovel:
@@ -287,21 +326,19 @@ def synthesize(d: FrontShovelDesign | None = None) -> FrontShovel:
 
 
 # ------------------------------------------------------------------------------------------ special positions
-def special_positions(shovel: FrontShovel) -> dict[str, tuple[float, float, float]]:
-    """The report's special tooth-tip positions [Shovel, 2.1–2.4] as joint angles (θ1, θ2, θ3) in rad:
-    maximum digging radius, maximum digging height, maximum digging depth and maximum radius at ground level."""
-    d = shovel.design
-    l1, l2, l3 = d.boom, d.stick, d.bucket
+def special_angles(d: FrontShovelDesign, l1: Any, l2: Any, l3: Any, theta1: tuple[Any, Any], t2_max: Any,
+                   m: Maths = CHECKED) -> dict[str, tuple[Any, Any, Any]]:
+    """The special tooth-tip positions [Shovel, 2.1–2.4] as joint angles (θ1, θ2, θ3) (rad) of links l1, l2, l3 (m)
+    with the boom's range ``theta1`` and the stick's θ2max (numbers or CasADi expressions)."""
     xc, yc = d.boom_foot
-    t1_min, t1_max = shovel.theta1
-    t2_max = shovel.theta2[1]
-    l44 = triangle_side(l1, l2, t2_max)
-    phi26 = math.asin(l2 * math.sin(t2_max) / l44)  # ∠FCQ
+    t1_min, t1_max = theta1
+    l44 = m.sqrt(l1 * l1 + l2 * l2 - 2 * l1 * l2 * m.cos(t2_max))
+    phi26 = m.asin(l2 * m.sin(t2_max) / l44, "digging radius")  # ∠FCQ
     zeta = d.ground_angle_deg * DEG
-    psi = math.asin((yc - l3 * math.sin(zeta)) / l44)
+    psi = m.asin((yc - l3 * math.sin(zeta)) / l44, "radius at ground level")
     return {
         # C, Q, V on one horizontal line, stick cylinder fully out
-        "max_digging_radius": (phi26, t2_max, math.pi + math.asin(l1 * math.sin(t2_max) / l44)),
+        "max_digging_radius": (phi26, t2_max, math.pi + m.asin(l1 * m.sin(t2_max) / l44, "digging radius")),
         # boom and stick cylinders fully out, QV pointing up
         "max_digging_height": (t1_max, t2_max, 2.5 * math.pi - t1_max - t2_max),
         # boom cylinder fully in, FQ and QV vertical down
@@ -309,6 +346,14 @@ def special_positions(shovel: FrontShovel) -> dict[str, tuple[float, float, floa
         # teeth on the ground, stick out, QV at ζ below the horizontal
         "max_ground_radius": (phi26 - psi, t2_max, 2 * math.pi - (phi26 - psi) - t2_max - zeta),
     }
+
+
+def special_positions(shovel: FrontShovel) -> dict[str, tuple[float, float, float]]:
+    """The report's special tooth-tip positions [Shovel, 2.1–2.4] as joint angles (θ1, θ2, θ3) in rad:
+    maximum digging radius, maximum digging height, maximum digging depth and maximum radius at ground level
+    (:func:`special_angles` of the design's links)."""
+    d = shovel.design
+    return special_angles(d, d.boom, d.stick, d.bucket, shovel.theta1, shovel.theta2[1])
 
 
 # ---------------------------------------------------------------------------------------------- mechanism

@@ -1,7 +1,8 @@
 r"""A front shovel [Shovel] with the lightest catalog cylinders: pin positions and one catalog row per cylinder.
 
-The design is that of :class:`~mechatron.studies.optimal_shovel.ShovelProblem` (the cylinders' pin coordinates; the
-joint ranges fixed by the working range, each stroke spanning its joint's range) and, per chosen cylinder j, a row
+The design is that of :class:`~mechatron.studies.optimal_shovel.ShovelProblem` (the cylinders' pin coordinates and
+the link lengths; the joint ranges fixed by the working range, each stroke spanning its joint's range) and, per
+chosen cylinder j, a row
 r_j of a hydraulic-cylinder catalog. The objective is the total mass of the cylinders (kg),
 
     M = Σ_j n_j (m_r + m'_r · s_j),   s_j = |L_j(θ_max) − L_j(θ_min)|,
@@ -146,7 +147,8 @@ class MassProblem(ShovelProblem):
     # ------------------------------------------------------------------------------------------ NLP
     def nlp_terms(self, q: Any) -> tuple[Any, Any, Any]:
         """No auxiliary variable; f = scale · M; g: each cylinder's geometric rows and its row's checks (module
-        docstring), scaled to O(1) (forces in MN, F L² in MN·m²), 1e-8 inside the limits."""
+        docstring), scaled to O(1) (forces in MN, F L² in MN·m²), 1e-8 inside the limits, and with free links the
+        rows that keep the range formulas defined."""
         import casadi as ca
 
         if self.rows is None:
@@ -171,7 +173,7 @@ class MassProblem(ShovelProblem):
                 rows += [1e-6 * (keep * n * piston * p - f), 1e-6 * (keep * n * annulus * p + f),
                          1e-6 * (keep * allowed - f / n * longest**2)]
             rows.append(keep * float(row["max_stroke"]) - stroke)
-        return ca.SX(0, 1), self.scale * mass, ca.vertcat(*rows)
+        return ca.SX(0, 1), self.scale * mass, ca.vertcat(*rows, self.reach_rows())
 
     def aux_guess(self, q: Vector) -> Vector:
         return np.zeros(0)
