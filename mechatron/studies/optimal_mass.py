@@ -25,8 +25,8 @@ The choice of rows is discrete, so the problem is solved by DOE-then-refine (:fu
    per cylinder, the lightest catalog row passing every check (``size_cylinder`` ranked by mass on the forces of the
    CasADi expressions); the lightest design, or the start if it is lighter, and its rows start the search.
 2. Refine: the rows fixed, ipopt minimises M over the pins subject to every requirement, the rows' checks written as
-   smooth rows g(x) ≥ 0 of the same SX forces and lengths (kept 1e-8 inside their limits, so that the Pinocchio
-   model's forces, equal to ~1e-10, pass the drives module's checks).
+   smooth rows g(x) ≥ 0 of the same SX forces and lengths (kept 1e-6 inside their limits, so that the Pinocchio
+   model's forces, equal to ~1e-9 to 1e-7, pass the drives module's checks).
 3. Descend: per cylinder, the catalog rows lighter at the current design are tried, the next lighter first, each by
    the same NLP from the current design; a lighter total that meets every requirement (by the CasADi expressions
    and by the Pinocchio model) is accepted, and the descent repeats until no row is accepted.
@@ -58,7 +58,7 @@ from .optimal_solve import DesignOfExperiments, Solution, solve
 #: The relief pressure the drives module sizes cylinders at by default (Pa).
 DEFAULT_PRESSURE = float(inspect.signature(size_cylinder).parameters["pressure"].default)
 #: The relative margin the NLP keeps inside each catalog limit.
-BACK_OFF = 1e-8
+BACK_OFF = 1e-6
 
 
 def cylinder_mass(row: pd.Series, stroke: Any, count: int) -> Any:
@@ -147,7 +147,7 @@ class MassProblem(ShovelProblem):
     # ------------------------------------------------------------------------------------------ NLP
     def nlp_terms(self, q: Any) -> tuple[Any, Any, Any]:
         """No auxiliary variable; f = scale · M; g: each cylinder's geometric rows and its row's checks (module
-        docstring), scaled to O(1) (forces in MN, F L² in MN·m²), 1e-8 inside the limits, and with free links the
+        docstring), scaled to O(1) (forces in MN, F L² in MN·m²), 1e-6 inside the limits, and with free links the
         rows that keep the range formulas defined."""
         import casadi as ca
 
