@@ -36,6 +36,16 @@ if TYPE_CHECKING:  # pragma: no cover
 
 #: Seconds to wait for a running Dask scheduler.
 CONNECT_SECONDS = 3.0
+#: The Dask settings of the embedded LocalCluster's workers. Dask's default environment of a new worker sets
+#: ``MALLOC_TRIM_THRESHOLD_``, which turns off glibc's adaptive mmap threshold: every array above 128 KB is then
+#: mapped and unmapped anew, and a PUMA sizing took 0.41–0.60 s per design in a worker against 0.32 s in a plain
+#: process (two at once, on this project's two-core machine). The workers keep Dask's one-thread BLAS and OpenMP
+#: settings and do without the statistical profiler (a stack sample every 10 ms), which nobody reads here.
+#: Workers of a running scheduler are the user's: the same settings belong in their Dask configuration
+#: (docs/study_file.md).
+WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ": {"OMP_NUM_THREADS": 1, "MKL_NUM_THREADS": 1,
+                                                          "OPENBLAS_NUM_THREADS": 1},
+                 "distributed.worker.profile.enabled": False}
 
 
 @lru_cache(maxsize=4)
@@ -136,7 +146,10 @@ def _client(workers: int, scheduler: str | None):
                 detail = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
                 raise InputError(f"--scheduler {scheduler}: cannot reach the Dask scheduler within "
                                  f"{CONNECT_SECONDS:g} s ({detail[:120]})") from None
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+        import dask
+
+        with dask.config.set(WORKER_CONFIG):
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
         return Client(cluster)
     finally:
         quiet.setLevel(level)
@@ -205,7 +218,8 @@ def _results(client, spec: Spec, chunks: list, pending: list[int]):
 
     futures = {client.submit(evaluate, spec, chunks[k], pure=False): k for k in pending}
     for future in as_completed(futures):
-        yield futures[future], future.result()
+        rows = future.result()
+        yield futures.pop(future), rows  # released: the worker forgets the chunk's rows once they are here
 
 
 def _close(client, scheduler: str | None) -> None:
