@@ -2,7 +2,7 @@ r"""The position of a point with finite errors of the parameters and coordinates
 r' = r(l + Δl, q + Δq) [Egorov, 8.2], for Monte Carlo studies and for checking the first-order error [Egorov, 8.4].
 
 A parameter error Δl turns every constant placement M into M · Π_k exp(ξ_k Δl_k) (the twists of
-:func:`~mechatron.accuracy.sensitivity.placement_derivatives`), the factors in the order the parameters enter the
+:func:`~mechatron.model.derivatives.placement_derivatives`), the factors in the order the parameters enter the
 placement: for DH tables (Tz(d) Tx(a) Rx(α), Rz(θ)) and URDF origins (translation, then yaw, pitch, roll) that
 order makes it exact, and :func:`factor_order` finds it by comparing with the rebuilt model. Where a placement is
 not a product of one-parameter exponentials (a linkage body frame that turns toward a moved pin) the product is
@@ -40,8 +40,10 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError, UnreachableError
 from ..kinematics.loops import TOLERANCE, loop_solver
 from ..model.closures import Gear, OnCurve, Pin, Slider
+from ..model.derivatives import PlacementDerivatives, placement_derivatives
+from ..model.derivatives import placements as _placements
 from ..model.mechanism import Mechanism
-from .sensitivity import PlacementDerivatives, _placements, loop_derivatives, placement_derivatives
+from .sensitivity import loop_derivatives
 
 #: Parameters per placement up to which every factor order is tried.
 MAX_PERMUTED = 5

@@ -10,8 +10,7 @@ and per axis Δx, Δy, Δz [Egorov, 8.5]. How the derivatives are computed:
 
 - a parameter l_k moves the constant placements of the model: every joint placement M_j and frame placement M_f
   turns into M exp(ξ Δl_k) (a local twist ξ per placement and parameter). The twists depend only on how the model is
-  built from its parameters; they are found once per mechanism by rebuilding it at l_k ± h
-  (:func:`placement_derivatives`);
+  built from its parameters (:func:`~mechatron.model.derivatives.placement_derivatives`);
 - at a configuration, Pinocchio's frame kinematic regressor maps the joint-placement twists to the motion of the
   output frame (``computeFrameKinematicRegressor``), the frame's own placement twist adds R_f ξ_f, and the frame
   Jacobian gives ∂r/∂q, one column per joint coordinate (a continuous joint, whose q is (cos θ, sin θ), has one
@@ -32,61 +31,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..kinematics.loops import LoopSolver, loop_solver
-from ..model.mechanism import Mechanism, unknown_name_error
+from ..model.derivatives import PlacementDerivatives, placement_derivatives
+from ..model.mechanism import Mechanism
 
 LWA = pin.LOCAL_WORLD_ALIGNED
-
-
-@dataclass(frozen=True)
-class PlacementDerivatives:
-    """Local twists ξ with M(l + h e_k) = M(l) exp(ξ h) + O(h²) for every parameter k: ``joints`` (n_l, njoints, 6)
-    for the joint placements, ``frames`` (n_l, nframes, 6) for the frame placements ([v; ω] order)."""
-
-    names: tuple[str, ...]
-    joints: NDArray[np.float64]
-    frames: NDArray[np.float64]
-
-
-def _structure(model: pin.Model) -> tuple:
-    return (tuple(model.names), tuple(f.name for f in model.frames),
-            tuple(j.shortname() for j in model.joints), tuple(f.parentJoint for f in model.frames))
-
-
-def _placements(model: pin.Model) -> list[pin.SE3]:
-    return list(model.jointPlacements) + [f.placement for f in model.frames]
-
-
-def placement_derivatives(mech: Mechanism, names: Sequence[str] | None = None) -> PlacementDerivatives:
-    """The placement twists of ``names`` (default every parameter), by central differences of the rebuilt model's
-    placements (step 1e-6 of max(1, |l|), m or rad); kept in the mechanism's cache."""
-    names = tuple(mech.parameters) if names is None else tuple(names)
-    cache = mech.cached("accuracy.placement_derivatives", dict)
-    if names not in cache:
-        cache[names] = _placement_derivatives(mech, names)
-    return cache[names]
-
-
-def _placement_derivatives(mech: Mechanism, names: tuple[str, ...]) -> PlacementDerivatives:
-    for name in names:
-        if name not in mech.parameters:
-            raise unknown_name_error(f"parameter of {mech.name}", name, list(mech.parameters))
-    model = mech.model
-    nominal = _placements(model)
-    nj, nf = model.njoints, model.nframes
-    joints, frames = np.zeros((len(names), nj, 6)), np.zeros((len(names), nf, 6))
-    values = mech.parameter_values()
-    for k, name in enumerate(names):
-        h = 1e-6 * max(1.0, abs(values[name]))
-        twists = []
-        for sign in (1.0, -1.0):
-            other = mech.with_parameters({name: values[name] + sign * h}).model
-            if _structure(other) != _structure(model):
-                raise InputError(f"{mech.name}: changing {name} changes the model's structure; its sensitivity "
-                                 "cannot be taken")
-            twists.append(np.array([pin.log6(m.actInv(p)).vector for m, p in zip(nominal, _placements(other))]))
-        xi = (twists[0] - twists[1]) / (2 * h)
-        joints[k], frames[k] = xi[:nj], xi[nj:]
-    return PlacementDerivatives(names, joints, frames)
 
 
 def frame_parameter_twists(mech: Mechanism, derivatives: PlacementDerivatives, frame: int) -> NDArray[np.float64]:
