@@ -247,6 +247,9 @@ class OnCurve(Closure):
     df: Callable[[float], float] = field(default=lambda x: 0.0, repr=False)
     d2f: Callable[[float], float] = field(default=lambda x: 0.0, repr=False)
     label: str = "y = f(x)"
+    #: The curve as a piecewise polynomial, if it is one (a ``scipy.interpolate.PPoly``: breakpoints ``x``,
+    #: coefficients ``c`` highest power first): what a symbolic form of the closure needs.
+    spline: object | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         self.frames = (self.point,)

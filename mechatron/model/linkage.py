@@ -545,13 +545,19 @@ def _slider(spec: LinkageSpec, c: ClosureSpec, drawn: Mapping[str, Vector]) -> l
     return out
 
 
-def curve_functions(c: ClosureSpec) -> tuple[Callable[[float], float], Callable[[float], float],
-                                              Callable[[float], float]]:
-    """y(x), y′(x), y″(x) of a curve closure's table: a not-a-knot cubic spline, exact for polynomials up to
-    degree 3 (a parabola given by 4 or more points is reproduced exactly)."""
+def curve_spline(c: ClosureSpec):
+    """The curve of a curve closure's table: the not-a-knot cubic spline through it (a ``scipy.interpolate.
+    CubicSpline``, a piecewise cubic), exact for polynomials up to degree 3 (a parabola given by 4 or more points is
+    reproduced exactly)."""
     from scipy.interpolate import CubicSpline
 
-    spline = CubicSpline(np.asarray(c.x, dtype=float), np.asarray(c.y, dtype=float), bc_type="not-a-knot")
+    return CubicSpline(np.asarray(c.x, dtype=float), np.asarray(c.y, dtype=float), bc_type="not-a-knot")
+
+
+def curve_functions(c: ClosureSpec) -> tuple[Callable[[float], float], Callable[[float], float],
+                                              Callable[[float], float]]:
+    """y(x), y′(x), y″(x) of a curve closure's table (:func:`curve_spline`)."""
+    spline = curve_spline(c)
     first, second = spline.derivative(1), spline.derivative(2)
     return (lambda x: spline(x)[()], lambda x: first(x)[()], lambda x: second(x)[()])  # floats, or arrays for arrays
 
@@ -888,7 +894,8 @@ def _closures(spec: LinkageSpec, b: PlanarBuilder, frames: Mapping[tuple[str, st
         elif c.kind == "curve":
             body = c.body or spec.owners(c.point)[0]
             f, df, d2f = curve_functions(c)
-            b.on_curve(frames[(c.point, body)], f, df, d2f, label=c.label or f"the curve of {c.point}")
+            b.on_curve(frames[(c.point, body)], f, df, d2f, label=c.label or f"the curve of {c.point}",
+                       spline=curve_spline(c))
         elif c.kind == "gear":
             offset = c.offset
             if offset is None:

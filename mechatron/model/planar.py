@@ -232,10 +232,12 @@ class PlanarBuilder:
         self.closures.append(Gear(f"gear {driven}/{driver}", a=driver, b=driven, ratio=ratio, offset=offset))
 
     def on_curve(self, point: str, f: Callable[[float], float], df: Callable[[float], float],
-                 d2f: Callable[[float], float], label: str = "y = f(x)") -> None:
-        """Point ``point`` stays on the world curve y = f(x) (with derivatives df, d2f)."""
+                 d2f: Callable[[float], float], label: str = "y = f(x)", spline: object | None = None) -> None:
+        """Point ``point`` stays on the world curve y = f(x) (with derivatives df, d2f; ``spline``: the same curve as
+        a ``scipy.interpolate.PPoly``, if it is one)."""
         self._point(point)
-        self.closures.append(OnCurve(f"{point} on curve", point=point, f=f, df=df, d2f=d2f, label=label))
+        self.closures.append(OnCurve(f"{point} on curve", point=point, f=f, df=df, d2f=d2f, label=label,
+                                     spline=spline))
 
     def line(self, name: str, *points: str, kind: str = "link") -> None:
         """Draw the body ``name`` as a polyline through ``points``."""
