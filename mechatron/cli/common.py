@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 import numpy as np
 
 from ..errors import InputError
-from .values import NAME
+from .values import NAME, Number
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..model import Mechanism
@@ -92,6 +92,31 @@ def _robot_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--set", action="append", metavar="NAME=VALUE,...",
                         help="override geometric parameters (SI units: m, rad), e.g. --set a2=0.45,d4=0.43")
     parser.add_argument("--json", action="store_true", help="print machine-readable JSON")
+
+
+def _payload_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--payload MASS`` (kg) and ``--payload-at POINT`` (a frame, or a point of a closed loop)."""
+    parser.add_argument("--payload", type=Number(minimum=0.0, unit="kg"), default=0.0, metavar="MASS",
+                        help="a payload: a point mass (kg) carried at --payload-at, besides any payload of a task")
+    parser.add_argument("--payload-at", type=NAME, metavar="POINT",
+                        help="the frame or point that carries the payload: any frame of a serial arm, any point of "
+                             "a closed loop, which it joins to the body carrying it (default: the tool frame)")
+
+
+def _carrying(mech: Mechanism, args: argparse.Namespace) -> Mechanism:
+    """``mech`` carrying the payload of ``--payload MASS`` at ``--payload-at POINT`` (default its tool frame;
+    :func:`~mechatron.model.payload.with_payload`), ``mech`` itself without one."""
+    from ..model.payload import with_payload
+
+    if args.payload_at is not None and not args.payload:
+        raise InputError("--payload-at names where the payload sits: give its mass with --payload MASS")
+    if not args.payload:
+        return mech
+    try:
+        mech.frame_id(args.payload_at or mech.tool_frame)
+    except InputError as exc:
+        raise InputError(f"--payload-at: {exc.message}") from None
+    return with_payload(mech, args.payload, args.payload_at)
 
 
 def _pose_arguments(parser: argparse.ArgumentParser) -> None:

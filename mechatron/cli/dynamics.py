@@ -8,7 +8,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import InputError
-from .common import _floats, _load, _revolute_mask, _robot_arguments, add_output_options, emit
+from .common import (
+    _carrying,
+    _floats,
+    _load,
+    _payload_arguments,
+    _revolute_mask,
+    _robot_arguments,
+    add_output_options,
+    emit,
+)
 from .values import FILE, Number, Numbers
 
 #: The smallest sampling step (s), :data:`mechatron.dynamics.motion.MIN_STEP` (not imported: --help stays light).
@@ -59,13 +68,8 @@ def _move_names(mech: Mechanism) -> list[str]:
 
 def cmd_dynamics(args: argparse.Namespace) -> int:
     from ..drives.loads import trajectory_loads
-    from ..model.payload import with_payload
 
-    mech = _load(args)
-    if args.payload:  # > 0
-        if mech.closures:
-            raise InputError("--payload is for serial arms (it is carried at the tool)")
-        mech = with_payload(mech, args.payload)
+    mech = _carrying(_load(args), args)
     emit(trajectory_loads(mech, _trajectory(mech, args)), args)
     return 0
 
@@ -91,7 +95,6 @@ def register(sub) -> None:
                    help="rest at every point after the first (s)")
     p.add_argument("--dt", type=Number(minimum=_MIN_STEP, unit="s"), default=0.005,
                    help=f"sampling step (s, >= {_MIN_STEP:g})")
-    p.add_argument("--payload", type=Number(minimum=0.0, unit="kg"), default=0.0,
-                   help="payload mass at the tool (kg)")
+    _payload_arguments(p)
     add_output_options(p)
     p.set_defaults(func=cmd_dynamics)

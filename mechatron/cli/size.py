@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import _load, _robot_arguments, add_output_options, emit, output_option
+from .common import _carrying, _load, _payload_arguments, _robot_arguments, add_output_options, emit, output_option
 from .values import FILE, Number
 
 
@@ -17,7 +17,7 @@ def cmd_size(args: argparse.Namespace) -> int:
 
     limits = DriveLimits(args.stop_torque, args.stop_current,
                          SCREW_LIFE if args.screw_life_h is None else args.screw_life_h * 3600.0, args.voltage)
-    mech = _load(args)
+    mech = _carrying(_load(args), args)
     result = size(mech, args.task, motors=args.motors, gearboxes=args.gearboxes, linear=args.linear,
                   cylinders=args.cylinders, objective=args.objective, inertia_ratio_max=args.inertia_ratio,
                   direct=not args.no_direct, pressure=args.pressure_mpa * 1e6,
@@ -35,6 +35,7 @@ def register(sub) -> None:
     p.add_argument("--task", metavar="FILE", type=FILE,
                    help="task TOML (waypoints, payload, loads) or trajectory CSV (default: the robot's own task, "
                         "else a generic out-and-back)")
+    _payload_arguments(p)
     p.add_argument("--motors", metavar="CSV", type=FILE,
                    help="servo motor catalog (default: catalogs/servo_motors.csv)")
     p.add_argument("--gearboxes", metavar="CSV", type=FILE, help="gearbox catalog (default: catalogs/gearboxes.csv)")

@@ -4,9 +4,10 @@ external loads — read from a TOML file, or a default one for every robot.
 A task file (TOML; every field optional except the motion)::
 
     name = "pick and place"
-    payload = 2.5                     # kg, carried at the tool frame
-    payload_com = [0.0, 0.0, 0.05]    # m in the tool frame (or payload_com_mm)
-    payload_inertia = [2e-3, 3e-3, 3e-3]   # kg·m² about the payload's centre, tool axes: Ixx, Iyy, Izz
+    payload = 2.5                     # kg, carried at the frame payload_at
+    payload_at = "tool"               # the frame or point that carries it (default the mechanism's tool frame)
+    payload_com = [0.0, 0.0, 0.05]    # m in that frame (or payload_com_mm)
+    payload_inertia = [2e-3, 3e-3, 3e-3]   # kg·m² about the payload's centre, that frame's axes: Ixx, Iyy, Izz
                                       # (or six: Ixx, Iyy, Izz, Ixy, Ixz, Iyz); default a point mass
     profile = "trapezoidal"           # triangular, trapezoidal, scurve, quintic
     dwell = 0.25                      # s of rest at every waypoint after the first
@@ -23,7 +24,8 @@ A task file (TOML; every field optional except the motion)::
     moment = [0.0, 0.0, 0.0]          # N·m
 
 With ``_deg`` the values of revolute joints are in degrees and those of prismatic joints in metres. For a
-closed-loop mechanism the waypoints and limits are its actuated coordinates (cylinder lengths in m).
+closed-loop mechanism the waypoints and limits are its actuated coordinates (cylinder lengths in m), and the payload
+joins the body that carries the point ``payload_at`` (:func:`~mechatron.model.payload.with_payload`).
 The default task of a robot is ``robots/tasks/<name>.toml`` if there is one, else :func:`generic_task`.
 
 A task's trajectory knows its moves and its dwells (:func:`moving_intervals`): the ``time`` objective of the drive
@@ -157,15 +159,27 @@ def _waypoints(reader: FieldReader, angular: np.ndarray) -> list[np.ndarray] | N
     return None
 
 
+def _frame(reader: FieldReader, key: str, mech: Mechanism, default: str | None = None) -> str:
+    """The frame (a linkage's point) of ``mech`` that the field ``key`` names (``default`` when left out); an
+    unknown one is an error naming the field and listing the frames."""
+    name = reader.string(key) if default is None else reader.string(key, default)
+    try:
+        mech.frame_id(name)
+    except InputError as exc:
+        raise reader.error(key, exc.message) from None
+    return name
+
+
 def _payload_inertia(reader: FieldReader) -> np.ndarray | None:
     """``payload_inertia``: 3 numbers (I_xx, I_yy, I_zz) or 6 (and I_xy, I_xz, I_yz), kg·m² about the payload's
-    centre, tool axes, as a symmetric 3×3 tensor; each moment ≥ 0 (the rest is checked with the mass)."""
+    centre, axes of the frame ``payload_at``, as a symmetric 3×3 tensor; each moment ≥ 0 (the rest is checked with
+    the mass)."""
     if not reader.has("payload_inertia"):
         return None
     raw = reader.raw("payload_inertia")
     if not isinstance(raw, list) or len(raw) not in (3, 6):
         raise reader.error("payload_inertia", "give 3 numbers [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] "
-                                              "(kg·m² about the payload's centre, tool axes)")
+                                              "(kg·m² about the payload's centre, axes of payload_at)")
     values = [reader.to_float("payload_inertia", v) for v in raw]
     for name, value in zip(("Ixx", "Iyy", "Izz"), values):
         if value < 0:
@@ -187,25 +201,20 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     reader.string("description", "")
     names, angular = _coordinates(mech)
     payload = reader.number("payload", 0.0, minimum=0.0)
+    at = _frame(reader, "payload_at", mech, mech.tool_frame)
     com = reader.lengths("payload_com", 3, np.zeros(3))
     inertia = _payload_inertia(reader)
-    if payload and mech.closures:
-        raise reader.error("payload", "a payload is carried at the tool of a serial arm; give loads instead")
     loaded = mech
     if payload or inertia is not None:
         from ..model.payload import with_payload
 
         try:
-            loaded = with_payload(mech, payload, com=com, inertia=inertia)
+            loaded = with_payload(mech, payload, at, com=com, inertia=inertia)
         except InputError as exc:
             raise reader.error("payload_inertia" if exc.field == "inertia" else "payload", exc.message) from None
     loads = []
     for load in reader.tables("loads") if reader.has("loads") else []:
-        frame = load.string("frame")
-        try:
-            mech.frame_id(frame)
-        except InputError as exc:
-            raise load.error("frame", exc.message) from None
+        frame = _frame(load, "frame", mech)
         loads.append(Load(frame, load.vector("force", 3, np.zeros(3)), load.vector("moment", 3, np.zeros(3))))
         load.finish()
     if reader.has("trajectory"):

@@ -88,13 +88,14 @@ def _offset(offset: ArrayLike | None) -> NDArray[np.float64] | None:
 
 
 # ------------------------------------------------------------------------------------------------- positions
-def frame_placement(mech: Mechanism, q: ArrayLike, frame: str = "tool") -> pin.SE3:
-    """Placement (SE3; translation in m) of ``frame`` in the world at one configuration q (nq,): B_{0,i} of
+def frame_placement(mech: Mechanism, q: ArrayLike, frame: str | None = None) -> pin.SE3:
+    """Placement (SE3; translation in m) of ``frame`` (default the mechanism's tool frame, ``mech.tool_frame``: a
+    robot file's ``tool``, a mechanism file's ``tool`` point) in the world at one configuration q (nq,): B_{0,i} of
     [Egorov, 4.45] for a DH arm."""
     q = mech.check_configuration(q)
     if q.ndim != 1:
         raise InputError("frame_placement takes one configuration; use frame_position/frame_rotation for a batch")
-    fid = mech.frame_id(frame)
+    fid = mech.frame_id(frame or mech.tool_frame)
     pin.forwardKinematics(mech.model, mech.data, q)
     return pin.updateFramePlacement(mech.model, mech.data, fid).copy()
 
@@ -152,12 +153,13 @@ def fk_and_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", referenc
     return homogeneous[:, :3, 3].copy(), homogeneous[:, :3, :3].copy(), jacobians
 
 
-def frame_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", reference: Reference = "world_aligned"
-                   ) -> NDArray[np.float64]:
-    """6×nv Jacobian of ``frame`` at q (nq,) or (N, nq): linear rows (m/s per unit joint rate) first, then angular
-    rows (rad/s per unit joint rate) ([Egorov, 4.47]): (6, nv) or (N, 6, nv). See :func:`fk_and_jacobian`."""
+def frame_jacobian(mech: Mechanism, q: ArrayLike, frame: str | None = None,
+                   reference: Reference = "world_aligned") -> NDArray[np.float64]:
+    """6×nv Jacobian of ``frame`` (default the mechanism's tool frame, ``mech.tool_frame``) at q (nq,) or (N, nq):
+    linear rows (m/s per unit joint rate) first, then angular rows (rad/s per unit joint rate) ([Egorov, 4.47]):
+    (6, nv) or (N, 6, nv). See :func:`fk_and_jacobian`."""
     single = np.ndim(q) == 1
-    jacobians = fk_and_jacobian(mech, q, frame, reference)[2]
+    jacobians = fk_and_jacobian(mech, q, frame or mech.tool_frame, reference)[2]
     return jacobians[0] if single else jacobians
 
 

@@ -16,10 +16,15 @@ from .mechanism import Mechanism
 
 def with_payload(mech: Mechanism, mass: float, frame: str | None = None, com: ArrayLike = (0.0, 0.0, 0.0),
                  inertia: ArrayLike | None = None) -> Mechanism:
-    """A copy of ``mech`` carrying a payload of ``mass`` (kg) rigidly at ``frame`` (a frame name, default the tool),
-    its centre ``com`` (m) in that frame and its ``inertia`` (3×3, kg·m², about the centre, frame axes; default a
-    point mass). The payload becomes part of the body of the frame's joint (Pinocchio's ``appendBodyToJoint``), so
-    every dynamics call carries its weight and inertia.
+    """A copy of ``mech`` carrying a payload of ``mass`` (kg) rigidly at ``frame`` (a frame name, default the
+    mechanism's tool frame ``mech.tool_frame``), its centre ``com`` (m) in that frame and its ``inertia`` (3×3,
+    kg·m², about the centre, the frame's axes; default a point mass). The payload becomes part of the body of the
+    frame's joint (Pinocchio's ``appendBodyToJoint``), so every dynamics call carries its weight and inertia.
+
+    On a serial arm ``frame`` is any frame (``tool``, ``link3``). On a closed loop every named point is a frame of
+    the body that carries it (a pin shared by two bodies is ``P`` on its first body and ``P@body`` on the others),
+    and the payload joins that body: ``with_payload(mech, 500, "P")`` is the same mechanism as one whose file gives
+    that body the combined mass, centre and inertia.
 
     The inertia must be a rigid body's: symmetric, zero or positive definite, its principal moments obeying
     I1 + I2 ≥ I3 (:func:`~mechatron.model.dh.inertial_problem`), and not without mass."""
