@@ -27,7 +27,9 @@ from .linkage import (
     MeasureSpec,
     PointSpec,
     check,
+    joint_coordinate,
 )
+from .spatial import check_spatial, coordinate_names
 
 JOINT_TYPES = ("revolute", "prismatic", "cylinder", "universal", "translation")
 CLOSURE_TYPES = ("pin", "slider", "curve", "gear")
@@ -79,8 +81,34 @@ def linkage_spec(data: Mapping[str, Any], *, file: str | Path | None = None, def
                        drives=drives)
     if tool is not None and tool not in {p.name for p in points}:
         raise InputError(f"unknown point {tool!r}", file=file, field="tool")
-    check(spec)
+    _check_inputs(spec)
+    (check if planar else check_spatial)(spec)
     return spec
+
+
+def coordinates(spec: LinkageSpec) -> list[str]:
+    """The names of the coordinates of a spec's joints, in file order: a planar joint's (a cylinder's is its name,
+    :func:`~mechatron.model.linkage.joint_coordinate`), a spatial joint's one to three
+    (:func:`~mechatron.model.spatial.coordinate_names`)."""
+    if spec.planar:
+        return [joint_coordinate(j) for j in spec.joints]
+    return [name for j in spec.joints for name in coordinate_names(j.kind, j.body, j.coordinate)]
+
+
+def _check_inputs(spec: LinkageSpec) -> None:
+    """Every ``actuated`` name is a coordinate of the joints (or a cylinder), once; every key of ``input_rates`` is
+    an actuated coordinate (when some are listed: with none, building names ``actuated`` for the mobility)."""
+    known = coordinates(spec)
+    for name in spec.actuated:
+        if name not in known:
+            raise spec.error(f"{name!r} is not a joint coordinate or a cylinder (the coordinates: {', '.join(known)})",
+                             "actuated")
+        if spec.actuated.count(name) > 1:
+            raise spec.error(f"{name!r} is listed twice", "actuated")
+    for name in spec.input_rates:
+        if spec.actuated and name not in spec.actuated:
+            raise spec.error(f"{name!r} is not an actuated coordinate (those are: {', '.join(spec.actuated)})",
+                             f"input_rates.{name}")
 
 
 def _strings(reader: FieldReader, key: str, required: bool = True) -> list[str]:
@@ -117,10 +145,8 @@ def _points(top: FieldReader, dim: int) -> tuple[PointSpec, ...]:
                 raise item.error("between", "expected two point names")
             if (at is None) == (between is None):
                 raise item.error("at", "give the point's position (at) or two points it lies between, one of them")
-            direction = item.vector("direction", 2, None)
             point = PointSpec(name, at, tuple(between) if between else None, item.number("fraction", 0.5),
-                              tuple(float(v) for v in direction) if direction is not None else None,
-                              item.boolean("report", True))
+                              _direction(item), item.boolean("report", True))
             item.finish()
             out.append(point)
         table.finish()
@@ -169,10 +195,13 @@ def _joint(reader: FieldReader, planar: bool = True) -> JointSpec:
     if not planar and kind in ("prismatic", "cylinder"):
         raise reader.error("type", f"a spatial mechanism takes revolute, universal and translation joints, not {kind}")
     if not planar:
+        revolute = kind == "revolute"  # universal and translation joints name their coordinates, without limits
         joint = JointSpec(kind, body=reader.string("body"), at=reader.string("at"),
-                          parent=reader.string("parent", None), coordinate=reader.string("coordinate", None),
-                          limits=(float(reader.angle("lower", -math.inf)), float(reader.angle("upper", math.inf))),
-                          axis=tuple(float(v) for v in reader.vector("axis", 3)) if kind == "revolute" else None,
+                          parent=reader.string("parent", None),
+                          coordinate=reader.string("coordinate", None) if revolute else None,
+                          limits=(float(reader.angle("lower", -math.inf)), float(reader.angle("upper", math.inf)))
+                          if revolute else (-math.inf, math.inf),
+                          axis=tuple(float(v) for v in reader.vector("axis", 3)) if revolute else None,
                           axes=_axes(reader) if kind == "universal" else None)
         reader.finish()
         return joint
@@ -191,21 +220,29 @@ def _joint(reader: FieldReader, planar: bool = True) -> JointSpec:
     body = reader.string("body")
     limit = reader.angle if kind == "revolute" else reader.length
     limits = (limit("lower", -math.inf), limit("upper", math.inf))
-    direction = reader.vector("direction", 2, None) if kind == "prismatic" else None
-    if kind == "prismatic" and direction is None:
-        raise reader.error("direction", "missing required field (the guide's direction [dx, dy] in the drawing)")
-    if direction is not None and not math.hypot(*direction) > 0:
-        raise reader.error("direction", "a direction must not be zero")
+    direction = _direction(reader, "the guide's direction [dx, dy] in the drawing") if kind == "prismatic" else None
     joint = JointSpec(kind, body=body, at=reader.string("at"), parent=reader.string("parent", None),
                       coordinate=reader.string("coordinate", None),
                       toward=reader.string("toward", None) if kind == "revolute" else None,
                       angle=reader.angle("angle", None) if kind == "revolute" else None,
-                      direction=tuple(float(v) for v in direction) if direction is not None else None,
-                      limits=(float(limits[0]), float(limits[1])))
+                      direction=direction, limits=(float(limits[0]), float(limits[1])))
     if joint.toward is not None and joint.angle is not None:
         raise reader.error("angle", "give toward or angle, not both")
     reader.finish()
     return joint
+
+
+def _direction(reader: FieldReader, required: str | None = None) -> tuple[float, float] | None:
+    """The field ``direction``: 2 numbers, not both zero (no unit); ``None`` when left out, unless ``required``
+    (what the direction is) makes it a required field."""
+    value = reader.vector("direction", 2, None)
+    if value is None:
+        if required:
+            raise reader.error("direction", f"missing required field ({required})")
+        return None
+    if not math.hypot(*value) > 0:
+        raise reader.error("direction", f"a direction must not be zero, got [{value[0]:g}, {value[1]:g}]")
+    return (float(value[0]), float(value[1]))
 
 
 def _axes(reader: FieldReader) -> tuple[tuple[float, float, float], tuple[float, float, float]]:

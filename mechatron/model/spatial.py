@@ -16,6 +16,7 @@ refuses, naming the closure. Gravity acts along −z.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
@@ -23,10 +24,53 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from .closures import Pin
+from .dh import inertial_problem
 from .mechanism import Measure, Mechanism, Parameter, SketchLine
 
 GROUND = "ground"
 Vector = NDArray[np.float64]
+
+
+#: The smallest sine of the angle between a universal joint's two axes: below it they are parallel.
+PARALLEL_SINE = 1e-6
+
+
+def coordinate_names(kind: str, body: str, coordinate: str | None = None) -> tuple[str, ...]:
+    """The coordinates a spatial joint of ``body`` adds: a revolute joint's ``coordinate`` (default
+    ``{body}_angle``), a universal joint's ``{body}_angle1`` and ``{body}_angle2``, a translation's ``{body}_x``,
+    ``{body}_y``, ``{body}_z``."""
+    if kind == "universal":
+        return (f"{body}_angle1", f"{body}_angle2")
+    if kind == "translation":
+        return (f"{body}_x", f"{body}_y", f"{body}_z")
+    return (coordinate or f"{body}_angle",)
+
+
+def axis_problem(axis: Sequence[float]) -> str | None:
+    """Why ``axis`` is not a joint axis (3 numbers, not all zero), or ``None``."""
+    a = np.asarray(axis, dtype=float)
+    if a.shape != (3,) or not float(np.linalg.norm(a)) > 0:
+        return f"a joint axis must be 3 numbers, not all zero, got {_numbers(np.ravel(a))}"
+    return None
+
+
+def axes_problem(axes: Sequence[Sequence[float]]) -> str | None:
+    """Why ``axes`` are not a universal joint's (two axes, neither zero, not parallel: the sine of their angle at
+    least :data:`PARALLEL_SINE`), or ``None``."""
+    if len(axes) != 2:
+        return "a universal joint needs two axes"
+    for axis in axes:
+        problem = axis_problem(axis)
+        if problem:
+            return problem
+    u, w = (np.asarray(a, dtype=float) / np.linalg.norm(a) for a in axes)
+    if np.linalg.norm(np.cross(u, w)) < PARALLEL_SINE:
+        return f"a universal joint's two axes must not be parallel, got {_numbers(axes[0])} and {_numbers(axes[1])}"
+    return None
+
+
+def _numbers(values: Sequence[float]) -> str:
+    return "[" + ", ".join(f"{float(v):g}" for v in values) + "]"
 
 
 def bar_inertia(mass: float, start: Vector, end: Vector) -> Vector:
@@ -95,7 +139,7 @@ class SpatialBuilder:
         """``body`` turning about the world ``axis`` through the point ``at`` of its parent (coordinate 0 as drawn)."""
         parent, position, _ = self.points[at] if at in self.points else self._unknown(at)
         self._joint(body, parent, pin.JointModelRevoluteUnaligned(_unit(axis)), position,
-                    coordinate or f"{body}_angle", limits, mass, com, inertia)
+                    coordinate_names("revolute", body, coordinate)[0], limits, mass, com, inertia)
         return body
 
     def universal(self, body: str, at: str, axes: Sequence[Sequence[float]], *,
@@ -103,7 +147,7 @@ class SpatialBuilder:
                   inertia: Vector | None = None) -> str:
         """``body`` on a universal joint at ``at``: the first axis on the parent, the second on a massless cross."""
         parent, position, _ = self.points[at] if at in self.points else self._unknown(at)
-        names = list(coordinates or (f"{body}_angle1", f"{body}_angle2"))
+        names = list(coordinates or coordinate_names("universal", body))
         cross = f"{body}_cross"
         limits = (-np.inf, np.inf)
         self._joint(cross, parent, pin.JointModelRevoluteUnaligned(_unit(axes[0])), position, names[0], limits)
@@ -116,7 +160,7 @@ class SpatialBuilder:
         """``body`` moving along x, y and z (no rotation) from the point ``at`` of its parent (a Delta's
         platform)."""
         parent, position, _ = self.points[at] if at in self.points else self._unknown(at)
-        names = list(coordinates or (f"{body}_x", f"{body}_y", f"{body}_z"))
+        names = list(coordinates or coordinate_names("translation", body))
         limits = (-np.inf, np.inf)
         self._joint(f"{body}_tx", parent, pin.JointModelPX(), position, names[0], limits)
         self._joint(f"{body}_ty", f"{body}_tx", pin.JointModelPY(), position, names[1], limits)
@@ -147,11 +191,11 @@ class SpatialBuilder:
 
 
 def _unit(axis: Sequence[float]) -> Vector:
+    problem = axis_problem(axis)
+    if problem:
+        raise InputError(problem)
     a = np.asarray(axis, dtype=float)
-    norm = float(np.linalg.norm(a))
-    if a.shape != (3,) or not norm > 0:
-        raise InputError(f"a joint axis must be 3 numbers, not all zero, got {axis!r}")
-    return a / norm
+    return a / np.linalg.norm(a)
 
 
 def close_in_joint_space(mech: Mechanism, tolerance: float, max_iterations: int = 50
@@ -189,6 +233,51 @@ def close_in_joint_space(mech: Mechanism, tolerance: float, max_iterations: int 
 
 
 # ------------------------------------------------------------------------------------------------ from a file
+def inertia_matrix(values) -> Vector:
+    """The 3×3 tensor (kg·m²) of a spatial body's ``inertia``: (Ixx, Iyy, Izz) or (Ixx, Iyy, Izz, Ixy, Ixz, Iyz)."""
+    values = np.atleast_1d(np.asarray(values, dtype=float))
+    if values.shape == (3,):
+        return np.diag(values)
+    if values.shape != (6,):
+        raise InputError("a spatial inertia is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg·m²)")
+    xx, yy, zz, xy, xz, yz = values
+    return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+
+def check_spatial(spec) -> None:
+    """The checks of a spatial spec (``planar = false``), each an :class:`InputError` naming the file and the field:
+    every revolute joint's ``axis`` not zero (``joints[i].axis``), every universal joint's two ``axes`` neither zero
+    nor parallel (``joints[i].axes``), every body's given ``inertia`` a rigid body's (``bodies[i].inertia``:
+    symmetric, positive definite, its principal moments obeying I1 + I2 ≥ I3,
+    :func:`~mechatron.model.dh.inertial_problem`; products of inertia may be negative), then the structural checks
+    of :func:`~mechatron.model.linkage.check` — which test each inertia number ≥ 0 as for a planar I_zz, and so
+    are handed the checked tensors' moments (their diagonal) instead of the products."""
+    from .linkage import check
+
+    for i, j in enumerate(spec.joints, start=1):
+        problem = axes_problem(j.axes) if j.kind == "universal" and j.axes is not None else \
+            axis_problem(j.axis) if j.kind == "revolute" and j.axis is not None else None
+        if problem:
+            key = "axes" if j.kind == "universal" else "axis"
+            raise spec.error(f"joint of {j.body}: {problem}", f"joints[{i}].{key}")
+    bodies = tuple(b if b.inertia is None else replace(b, inertia=_checked_moments(spec, b, f"bodies[{i}].inertia"))
+                   for i, b in enumerate(spec.bodies, start=1))
+    check(replace(spec, bodies=bodies))
+
+
+def _checked_moments(spec, body, field: str) -> tuple[float, float, float]:
+    """The moments (I_xx, I_yy, I_zz; kg·m²) of a body's given inertia, once its tensor is found a rigid body's
+    (with its mass, when that is not negative: a negative mass is the structural check's to name)."""
+    try:
+        tensor = inertia_matrix(body.inertia)
+    except InputError as exc:
+        raise spec.error(f"body {body.name}: {exc.message}", field) from None
+    problem = inertial_problem(body.mass, tensor) if body.mass >= 0 else None
+    if problem:
+        raise spec.error(f"body {body.name}: {problem}", field)
+    return tuple(float(x) for x in np.diag(tensor))
+
+
 def _inertia_tensor(body, positions: Mapping[str, Vector]) -> tuple[Vector | None, Vector]:
     """(centre, 3×3 inertia about it) of a spatial body: a bar between its first two points, or the given centre
     and inertia ((Ixx, Iyy, Izz) or (Ixx, Iyy, Izz, Ixy, Ixz, Iyz), world axes, kg·m²)."""
@@ -204,15 +293,7 @@ def _inertia_tensor(body, positions: Mapping[str, Vector]) -> tuple[Vector | Non
         tensor = bar_inertia(body.mass, positions[body.points[0]], positions[body.points[1]]) \
             if body.shape == "bar" else np.zeros((3, 3))
     else:
-        values = np.atleast_1d(np.asarray(body.inertia, dtype=float))
-        if values.shape == (3,):
-            tensor = np.diag(values)
-        elif values.shape == (6,):
-            xx, yy, zz, xy, xz, yz = values
-            tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-        else:
-            raise InputError(f"body {body.name}: a spatial inertia is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, "
-                             "Iyz] (kg·m²)")
+        tensor = inertia_matrix(body.inertia)
     return centre, tensor
 
 
@@ -226,9 +307,9 @@ def build_spatial(spec, *, check_tolerance: bool = True) -> Mechanism:
             does not close within the tolerance (default 2 % of the drawing's size), or inputs that do not match
             the mobility.
     """
-    from .linkage import _positions, check, drawing_size, drive_placements, frame_names, joint_coordinate, joint_parent
+    from .linkage import _positions, drawing_size, drive_placements, frame_names, joint_coordinate, joint_parent
 
-    check(spec)
+    check_spatial(spec)
     positions = _positions(spec)
     frames = frame_names(spec)
     b = SpatialBuilder(spec.name, gravity=spec.gravity)
