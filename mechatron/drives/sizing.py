@@ -1074,13 +1074,15 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     ``mechatron.size(puma, "pick.toml", motors="motors.csv", objective="cost")`` for a task file and a catalog.
 
     Args:
-        mech: The mechanism.
+        mech: The mechanism (carrying a payload: :func:`~mechatron.model.payload.with_payload`, which
+            ``mechatron size --payload MASS --payload-at POINT`` applies; a task file's payload comes on top).
         task: What the mechanism must do:
 
             - ``None``: its default task (``robots/tasks/<name>.toml`` if there is one, else a generic
               out-and-back move of every coordinate, :func:`~mechatron.dynamics.task.default_task`);
-            - the path of a task file (TOML: waypoints, profile, payload in kg with its centre and inertia, loads;
-              or a trajectory CSV), read for ``mech`` (:func:`~mechatron.dynamics.task.read_task`);
+            - the path of a task file (TOML: waypoints, profile, payload in kg at a frame or point with its centre
+              and inertia, loads; or a trajectory CSV), read for ``mech``
+              (:func:`~mechatron.dynamics.task.read_task`);
             - a :class:`~mechatron.dynamics.task.Task` (its mechanism, payload included, is the one sized);
             - a :class:`~mechatron.dynamics.motion.Trajectory` of ``mech``'s joints (rad, m; s), or of its actuated
               coordinates if it has closed loops.
