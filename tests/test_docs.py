@@ -147,6 +147,8 @@ READERS: dict[str, Callable[[Path], object]] = {
     "examples/data/front_shovel_design.toml": _design,
     "examples/data/four_bar.toml": _mechanism,
     "examples/data/tolerances_four_bar.csv": _tolerances(str(DATA / "four_bar.toml")),
+    "examples/data/scissor_lift.toml": _mechanism,
+    "examples/data/tolerances_scissor_lift.csv": _tolerances(str(DATA / "scissor_lift.toml")),
 }
 SCRIPTS = {"make_samples.py"}
 

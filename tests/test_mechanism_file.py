@@ -220,7 +220,7 @@ def test_every_command_of_the_page_runs(command, tmp_path, monkeypatch, capsys):
         assert (tmp_path / written).stat().st_size > 0
 
 
-@pytest.mark.parametrize("block", re.findall(r"```python\n(.*?)```", PAGE, re.S), ids=["design study", "python"])
+@pytest.mark.parametrize("block", re.findall(r"```python\n(.*?)```", PAGE, re.S))
 def test_the_python_of_the_page_runs(block, monkeypatch, capsys):
     monkeypatch.chdir(ROOT)
     exec(compile(block, "mechanism_file.md", "exec"), {})
@@ -381,6 +381,7 @@ def test_point_tables_take_their_units(tmp_path):
     """In [points_mm] a point's ``at`` is in mm, ``at_cm`` in cm; in [points] ``at`` is in m."""
     text = BASES["four_bar"].replace("C = [262, 249]", "C = { at_cm = [26.2, 24.9] }")
     path = tmp_path / "units.toml"
+    text = text.replace('points = ["A", "D"]\n', 'points = ["A", "D", "E"]\n', 1)  # E: a point of the frame, in m
     path.write_text(text.replace("[points_mm]", "[points]\nE = { at = [0.1, 0.2] }\n\n[points_mm]"))
     drawing = read_linkage_file(path).drawing()
     assert drawing["C"] == pytest.approx([0.262, 0.249]) and drawing["E"] == pytest.approx([0.1, 0.2])

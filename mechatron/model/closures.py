@@ -396,6 +396,32 @@ class ClosureSystem:
             return self._empty
         return self.stack(self.states)
 
+    def close(self, q: np.ndarray, free: list[int], tolerance: float, max_iterations: int = 50
+              ) -> tuple[np.ndarray, float]:
+        """The configuration nearest ``q`` that closes the loops, moving only the coordinates ``free``: minimum-norm
+        Gauss–Newton steps q_f ← q_f − t J_f⁺ Φ(q) (t = 1, halved while the step does not lower |Φ|), until
+        max |Φ| < ``tolerance``. Returns (q, max |Φ|) — the caller decides whether what is left is closed."""
+        q = np.array(q, dtype=float)
+        phi, J = self.evaluate(q)
+        norm = float(np.linalg.norm(phi))
+        for _ in range(max_iterations):
+            if np.abs(phi).max(initial=0.0) < tolerance or not free:
+                break
+            step = np.linalg.lstsq(J[:, free], phi, rcond=None)[0]
+            for _ in range(30):
+                trial = q.copy()
+                trial[free] -= step
+                trial_phi, trial_J = self.evaluate(trial)
+                trial_norm = float(np.linalg.norm(trial_phi))
+                if trial_norm < norm or not np.isfinite(norm):
+                    break
+                step = step / 2
+            else:
+                break
+            q, phi, J, norm = trial, trial_phi, trial_J, trial_norm
+        self.evaluate(q)
+        return q, float(np.abs(phi).max(initial=0.0))
+
     def stack(self, s: FrameStates) -> tuple[np.ndarray, np.ndarray]:
         """(Φ, J) from frame states ``s``: one configuration (:class:`FrameStates`) or N at once
         (:class:`~mechatron.model.batched.BatchedStates`, then Φ is (N, nrows) and J (N, nrows, nv))."""

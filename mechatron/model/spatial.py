@@ -307,10 +307,11 @@ def build_spatial(spec, *, check_tolerance: bool = True) -> Mechanism:
             does not close within the tolerance (default 2 % of the drawing's size), or inputs that do not match
             the mobility.
     """
-    from .linkage import _positions, drawing_size, drive_placements, frame_names, joint_coordinate, joint_parent
+    from .linkage import drawing_size, drive_placements, frame_names, joint_coordinate, joint_parent
+    from .shapes import with_derived
 
     check_spatial(spec)
-    positions = _positions(spec)
+    positions = {name: np.asarray(xyz, dtype=float) for name, xyz in with_derived(spec, spec.drawing()).items()}
     frames = frame_names(spec)
     b = SpatialBuilder(spec.name, gravity=spec.gravity)
     bodies = {x.name: x for x in spec.bodies}
