@@ -1,8 +1,9 @@
 """Dynamics: the tree's inverse and forward dynamics (RNEA, ABA, CRBA), energies and joint wrenches; closed loops
 through their Lagrange multipliers; motions and trajectories; the one-mass (reduced) model; kinetostatics; tasks;
-one integrator on the configuration manifold. Every analysis returns a result of the result protocol
+one integrator on the configuration manifold; exact sensitivities of positions, velocities and actuator forces to the
+geometric parameters. Every analysis returns a result of the result protocol
 (:class:`~mechatron.report.result.Result`): :class:`Trajectory`, :class:`Simulation`, :class:`Kinetostatics`,
-:class:`ReducedModel`, :class:`ReducedMotion`, :class:`MotionRegimes`."""
+:class:`ReducedModel`, :class:`ReducedMotion`, :class:`MotionRegimes`, :class:`ParameterSensitivities`."""
 
 from .._exports import lazy_exports
 
@@ -21,6 +22,7 @@ _EXPORTS = {
     **dict.fromkeys(["kinetostatics", "Kinetostatics", "InertiaLoad", "inertia_loads", "zhukovsky"],
                     ".kinetostatics"),
     **dict.fromkeys(["Task", "read_task", "default_task", "generic_task"], ".task"),
+    **dict.fromkeys(["parameter_sensitivities", "ParameterSensitivities"], ".sensitivity"),
     "rk4_step": ".integrate",
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)
