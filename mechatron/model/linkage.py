@@ -83,7 +83,7 @@ def _tree(spec: LinkageSpec) -> Assembly:
     drawing = {p.name: (float(p.at[0]), float(p.at[1])) for p in spec.points if p.at is not None}
     declared = {length.name: length.value for length in spec.lengths if length.value is not None}
     shape = shapes(spec, drawing, declared)
-    lay = layout(spec, shape)
+    lay = layout(spec, shape, drawing)
     b = PlanarBuilder(spec.name, gravity=spec.gravity)
     frames_of: dict[str, list] = {GROUND: [], **{j.body: [] for j in lay.joints}}
     for f in lay.frames:

@@ -23,7 +23,7 @@ import pinocchio as pin
 from ..errors import InputError
 from .closures import Closure, Gear, OnCurve, Pin, Slider
 from .mechanism import Cylinder, Measure, Mechanism, Parameter, SketchLine
-from .shapes import BodyFrame, FrameLayout, JointLayout
+from .shapes import BodyFrame, FrameLayout, JointLayout, in_joint_frame
 
 GROUND = "ground"
 Point2 = Sequence[float]
@@ -33,16 +33,6 @@ def rz(angle: float) -> np.ndarray:
     """The rotation by ``angle`` (rad) about z, 3 × 3."""
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def _prismatic_model(axis: Sequence[float]) -> pin.JointModel:
-    """PX or PY along a coordinate axis, else a prismatic joint along the unit ``axis`` (x, y)."""
-    ux, uy = float(axis[0]), float(axis[1])
-    if ux > 1 - 1e-15:
-        return pin.JointModelPX()
-    if uy > 1 - 1e-15:
-        return pin.JointModelPY()
-    return pin.JointModelPrismaticUnaligned(np.array([ux, uy, 0.0]))
 
 
 class PlanarBuilder:
@@ -55,6 +45,7 @@ class PlanarBuilder:
         self.model.gravity = pin.Motion(np.array([0.0, -gravity, 0.0]), np.zeros(3))
         ground = self.model.addFrame(pin.Frame(GROUND, 0, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
         self.bodies: dict[str, tuple[int, int]] = {GROUND: (0, ground)}  # joint, body frame
+        self.offsets: dict[str, float] = {GROUND: 0.0}  # angle of a body's frame in its joint's frame
         self.points: dict[str, bool] = {}  # frame name: reported
         self.drawn: dict[str, BodyFrame] = {GROUND: BodyFrame((0.0, 0.0), 0.0)}  # body frames in a world drawing
         self.world: dict[str, tuple[str, np.ndarray]] = {}  # point: (body, world position in the drawing)
@@ -75,23 +66,26 @@ class PlanarBuilder:
             raise InputError(f"{self.name}: unknown point {name!r}")
 
     def joint(self, j: JointLayout) -> None:
-        """The joint of body ``j.body`` on its parent: placement ``j.xy`` (m) in the parent's frame, revolute about z
-        or prismatic along ``j.axis``; the body's mass at ``j.com`` with I_zz ``j.inertia`` (a planar body: I_xx =
-        I_yy = I_zz/2, a thin plate's, so that the tensor is physical)."""
+        """The joint of body ``j.body`` on its parent: placement ``j.xy`` (m), turned by ``j.angle`` (rad), in the
+        parent's frame, revolute about z or prismatic along x; the body's mass at ``j.com`` with I_zz ``j.inertia``
+        (a planar body: I_xx = I_yy = I_zz/2, a thin plate's, so that the tensor is physical)."""
         if j.body in self.bodies:
             raise InputError(f"{self.name}: body {j.body!r} defined twice")
         parent_joint, _ = self._body(j.parent)
-        model = pin.JointModelRZ() if j.kind == "revolute" else _prismatic_model(j.axis)
-        placement = pin.SE3(np.eye(3), np.array([float(j.xy[0]), float(j.xy[1]), 0.0]))
+        model = pin.JointModelRZ() if j.kind == "revolute" else pin.JointModelPX()
+        placement = self._placement(j.parent, j.xy, j.angle)
         lower, upper = j.limits
         joint_id = self.model.addJoint(parent_joint, model, placement, j.coordinate, np.array([np.inf]),
                                        np.array([np.inf]), np.array([float(lower)]), np.array([float(upper)]))
-        frame = self.model.addFrame(pin.Frame(j.body, joint_id, self.model.nframes - 1, pin.SE3.Identity(),
+        offset = -float(j.angle)
+        frame = self.model.addFrame(pin.Frame(j.body, joint_id, self.model.nframes - 1, pin.SE3(rz(offset),
+                                                                                               np.zeros(3)),
                                               pin.FrameType.BODY))
         self.bodies[j.body] = (joint_id, frame)
+        self.offsets[j.body] = offset
         mass, inertia = float(j.mass), float(j.inertia)
         if mass > 0 or inertia > 0:
-            centre = np.array([float(j.com[0]), float(j.com[1]), 0.0])
+            centre = self._placement(j.body, j.com, 0.0).translation
             self.model.appendBodyToJoint(joint_id, pin.Inertia(mass, centre, np.diag([inertia / 2, inertia / 2,
                                                                                       inertia])), pin.SE3.Identity())
         self.reference.append(float(j.reference))
@@ -101,9 +95,14 @@ class PlanarBuilder:
         if f.name in self.points or self.model.existFrame(f.name):
             raise InputError(f"{self.name}: point {f.name!r} defined twice")
         joint_id, body_frame = self._body(f.body)
-        placement = pin.SE3(rz(float(f.angle)), np.array([float(f.xy[0]), float(f.xy[1]), 0.0]))
+        placement = self._placement(f.body, f.xy, f.angle)
         self.model.addFrame(pin.Frame(f.name, joint_id, body_frame, placement, pin.FrameType.OP_FRAME))
         self.points[f.name] = f.report
+
+    def _placement(self, body: str, xy, angle) -> pin.SE3:
+        """The placement in ``body``'s joint frame of (x, y, angle) given in its body frame."""
+        x, y, turn = in_joint_frame((float(xy[0]), float(xy[1])), float(angle), self.offsets[body])
+        return pin.SE3(rz(turn), np.array([x, y, 0.0]))
 
     # ---------------------------------------------------------------------------------- drawing in world axes
     def point(self, name: str, body: str, at: Point2, direction: Point2 | None = None, *, report: bool = True) -> str:
@@ -148,30 +147,31 @@ class PlanarBuilder:
             angle = self.drawn[parent].angle if target is None else math.atan2(target[1] - pivot[1],
                                                                                target[0] - pivot[0])
         return self._drawn_joint(body, parent, "revolute", coordinate or f"{body}_angle", pivot,
-                                 BodyFrame(tuple(pivot), angle), angle - self.drawn[parent].angle, limits, None,
+                                 BodyFrame(tuple(pivot), angle), angle - self.drawn[parent].angle, limits, 0.0,
                                  mass, com, inertia)
 
     def prismatic(self, body: str, at: str, direction: Point2, *, reference: float = 0.0,
                   coordinate: str | None = None, limits: tuple[float, float] = (-np.inf, np.inf),
                   mass: float = 0.0, com: Point2 | None = None, inertia: float = 0.0) -> str:
         """``body`` sliding on the parent of point ``at`` along the world ``direction`` of the drawing; its
-        coordinate is the travel of the body frame from ``at`` (m), ``reference`` in the drawing; it keeps the
-        parent's axes."""
+        coordinate is the travel of the body frame from ``at`` (m), ``reference`` in the drawing; its x axis is along
+        the guide."""
         parent, pivot = self._drawn_point(at)
         unit = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
         frame = self.drawn[parent]
-        axis = frame.direction((float(unit[0]), float(unit[1])))
+        local = frame.direction((float(unit[0]), float(unit[1])))
+        guide = math.atan2(local[1], local[0])
         return self._drawn_joint(body, parent, "prismatic", coordinate or f"{body}_position", pivot,
-                                 BodyFrame(tuple(pivot + reference * unit), frame.angle), reference, limits, axis,
-                                 mass, com, inertia)
+                                 BodyFrame(tuple(pivot + reference * unit), frame.angle + guide, tuple(unit)),
+                                 reference, limits, guide, mass, com, inertia)
 
-    def _drawn_joint(self, body, parent, kind, coordinate, pivot, frame, reference, limits, axis, mass, com, inertia
+    def _drawn_joint(self, body, parent, kind, coordinate, pivot, frame, reference, limits, angle, mass, com, inertia
                      ) -> str:
         if mass < 0 or inertia < 0:
             raise InputError(f"{self.name}: body {body}: mass and inertia must be >= 0")
         centre = frame.local(pivot if com is None else com)
         self.joint(JointLayout(body, parent, kind, coordinate, self.drawn[parent].local(pivot), reference, limits,
-                               axis, mass, centre, inertia))
+                               angle, mass, centre, inertia))
         self.drawn[body] = frame
         return body
 

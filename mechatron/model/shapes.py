@@ -27,8 +27,9 @@ sit at two places in their shapes; the tree's joints and the closures bring them
 toward the joint's ``toward`` point (or at the joint's ``angle``); a prismatic body keeps its parent's axes, its
 origin on the guide where its first point projects. A point's frame on body b is at R(−θ_b)(s_{p,b} − o_b) in the body
 frame (o_b, θ_b the frame's origin and angle in the drawing), turned to the point's ``direction`` if it has one; a
-joint's placement in its parent is the parent's shape of the pin, R(−θ_λ)(s_{pin,λ} − o_λ), with no rotation (the
-joint coordinate is the angle from the parent's axis, or the travel along the guide).
+joint's placement in its parent is the parent's shape of the pin, R(−θ_λ)(s_{pin,λ} − o_λ), with no rotation for a
+revolute joint (its coordinate is the angle from the parent's x axis) and turned to the guide for a prismatic one
+(its coordinate is the travel along the guide).
 
 Everything here is written on scalars with the functions of a namespace ``m`` (``math`` for numbers, ``casadi`` for
 expressions: both have sqrt, atan2, cos, sin, fabs), so that the same code gives the model's numbers and, through
@@ -188,10 +189,11 @@ def shapes(spec: LinkageSpec, drawing: Mapping[str, Vec], lengths: Mapping[str, 
 # ------------------------------------------------------------------------------------------------ layout
 @dataclass
 class JointLayout:
-    """One joint of the tree: ``kind`` "revolute" or "prismatic", its ``coordinate``, its placement in the parent's
-    frame (``xy``, m; no rotation), the prismatic ``axis`` (unit, parent frame), the coordinate's value in the drawing
-    (``reference``, rad or m), its limits, and the body's mass (kg), centre (``com``, m, body frame) and I_zz about
-    it (kg·m²)."""
+    """One joint of the tree: ``kind`` "revolute" (about z) or "prismatic" (along its x axis), its ``coordinate``,
+    its placement in the parent's body frame (``xy``, m, turned by ``angle``, rad: a prismatic joint's guide
+    direction; 0 for a revolute joint), the coordinate's value in the drawing (``reference``, rad or m), its limits,
+    and the body's mass (kg), centre (``com``, m, body frame) and I_zz about it (kg·m²). The body's frame is its
+    joint's frame turned back by ``angle``: a prismatic body keeps its parent's axes."""
 
     body: str
     parent: str
@@ -200,7 +202,7 @@ class JointLayout:
     xy: Vec
     reference: Any
     limits: tuple[float, float] = (-math.inf, math.inf)
-    axis: Vec | None = None
+    angle: Any = 0.0
     mass: float = 0.0
     com: Vec = (0.0, 0.0)
     inertia: Any = 0.0
@@ -250,22 +252,32 @@ class Layout:
     bodies: dict[str, BodyFrame]
 
 
+def in_joint_frame(xy: Vec, angle: Any, offset: Any, m=math) -> tuple[Any, Any, Any]:
+    """A placement (x, y, angle) given in a body's frame, in its joint's frame: turned by ``offset`` (rad), the
+    angle of the body frame in the joint frame (minus a prismatic joint's guide angle; 0 for a revolute joint)."""
+    x, y = turned(xy, offset, m)
+    return x, y, angle + offset
+
+
 def _angle(v: Vec, m) -> Any:
     return m.atan2(v[1], v[0])
 
 
-def layout(spec: LinkageSpec, shape: Mapping[tuple[str, str], Vec], m=math) -> Layout:
+def layout(spec: LinkageSpec, shape: Mapping[tuple[str, str], Vec], drawing: Mapping[str, Vec], m=math) -> Layout:
     """The joints, frames and body frames of the tree of ``spec`` built on the body shapes ``shape``
-    (:func:`shapes`). Structural problems raise :class:`InputError` naming the field."""
+    (:func:`shapes`) of the drawing ``drawing`` (the drawn points' positions). A body's frame is set by its own
+    points, where it carries them, and by the drawing for the others (a ``toward`` point of another body, a
+    cylinder's ends): so a body's frame, like its shape, does not depend on the other bodies. Structural problems
+    raise :class:`InputError` naming the field."""
+    drawn = with_derived(spec, drawing)
     frames = frame_names(spec)
     bodies: dict[str, BodyFrame] = {GROUND: BodyFrame((0.0, 0.0), 0.0)}
     joints: list[JointLayout] = []
     out_frames: list[FrameLayout] = []
 
-    def position(point: str, body: str | None = None) -> Vec:
-        """The point's position in the shape of ``body`` if it carries it, else in its first owner's."""
-        owner = body if body is not None and (point, body) in shape else spec.owners(point)[0]
-        return shape[(point, owner)]
+    def position(point: str, body: str) -> Vec:
+        """The point's position in the shape of ``body`` if it carries it, else as drawn."""
+        return shape[(point, body)] if (point, body) in shape else drawn[point]
 
     def add_frames(body: str) -> None:
         frame = bodies[body]
@@ -313,9 +325,9 @@ def layout(spec: LinkageSpec, shape: Mapping[tuple[str, str], Vec], m=math) -> L
             d = j.direction
             unit = scaled(d, 1 / m.sqrt(dot(d, d)))
             travel = dot(unit, sub(shape[(body.points[0], j.body)], pin))
+            guide = _angle(bodies[parent].direction(unit, m), m)
             bodies[j.body] = BodyFrame(add(pin, scaled(unit, travel)), bodies[parent].angle, bodies[parent].axis)
-            joint = JointLayout(j.body, parent, "prismatic", joint_coordinate(j), xy, travel, j.limits,
-                                axis=bodies[parent].direction(unit, m))
+            joint = JointLayout(j.body, parent, "prismatic", joint_coordinate(j), xy, travel, j.limits, guide)
         else:
             raise spec.error(f"unknown joint type {j.kind!r}; expected revolute, prismatic or cylinder", "joints")
         joint.mass, joint.com, joint.inertia = _mass_properties(spec, body, shape, bodies[j.body], m)
@@ -337,8 +349,8 @@ def _cylinder(spec, j, position, bodies, joints, out_frames, m) -> None:
     """A cylinder's barrel (turning about ``base``, x axis toward ``eye``) and rod (sliding along the barrel's x
     axis, coordinate = the pin-to-pin length), with the frames ``{name}_base`` and ``{name}_eye``; the barrel's and
     the rod's masses at their middles as slender rods (barrel L_min long, rod L_max − L_min)."""
-    base_body, eye_body = spec.owners(j.base)[0], spec.owners(j.eye)[0]
-    start, end = position(j.base, base_body), position(j.eye, eye_body)
+    base_body = spec.owners(j.base)[0]
+    start, end = position(j.base, j.name), position(j.eye, j.name)
     r = sub(end, start)
     length = m.sqrt(dot(r, r))
     angle = _angle(r, m)
@@ -346,12 +358,12 @@ def _cylinder(spec, j, position, bodies, joints, out_frames, m) -> None:
     bodies[barrel] = BodyFrame(start, angle, r)
     barrel_length, rod_length = j.stroke[0], j.stroke[1] - j.stroke[0]
     joints.append(JointLayout(barrel, base_body, "revolute", f"{j.name}_angle",
-                              bodies[base_body].local(start, m), angle - bodies[base_body].angle,
+                              bodies[base_body].local(position(j.base, base_body), m), angle - bodies[base_body].angle,
                               mass=j.barrel_mass, com=(0.5 * barrel_length, 0.0),
                               inertia=j.barrel_mass * barrel_length**2 / 12))
     out_frames.append(FrameLayout(f"{j.name}_base", barrel, (0.0, 0.0), 0.0, False))
     bodies[rod] = BodyFrame(end, angle, r)
-    joints.append(JointLayout(rod, barrel, "prismatic", j.name, (0.0, 0.0), length, j.stroke, axis=(1.0, 0.0),
+    joints.append(JointLayout(rod, barrel, "prismatic", j.name, (0.0, 0.0), length, j.stroke,
                               mass=j.rod_mass, com=(-0.5 * rod_length, 0.0), inertia=j.rod_mass * rod_length**2 / 12))
     out_frames.append(FrameLayout(f"{j.name}_eye", rod, (0.0, 0.0), 0.0, False))
 

@@ -28,10 +28,22 @@ def unit_of(column: str) -> str:
     return UNITS.get(column.rsplit("_", 1)[-1], "-")
 
 
+#: Outputs that agree to this fraction of their largest magnitude are equal on a Pareto front: the rounding of the
+#: analyses that compute them (a sweep's Newton solutions, sums over samples) must not decide a design's place.
+PARETO_RESOLUTION = 1e-10
+
+
+def _resolved(v: np.ndarray) -> np.ndarray:
+    """``v`` rounded to :data:`PARETO_RESOLUTION` of its largest magnitude."""
+    scale = float(np.abs(v).max(initial=0.0)) * PARETO_RESOLUTION
+    return np.round(v / scale) * scale if scale > 0 else v
+
+
 def pareto_mask(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Which points (x, y) are not dominated when both are minimised: no other point is at most as large in both
-    and smaller in one. Sorted by x (then y), a point is on the front when its y is below every y before it (or
-    it repeats the last point of the front)."""
+    and smaller in one (values equal to :data:`PARETO_RESOLUTION` of their scale are equal). Sorted by x (then y), a
+    point is on the front when its y is below every y before it (or it repeats the last point of the front)."""
+    x, y = _resolved(np.asarray(x, dtype=float)), _resolved(np.asarray(y, dtype=float))
     order = np.lexsort((y, x))
     keep = np.zeros(len(x), dtype=bool)
     best, last = np.inf, None
