@@ -28,6 +28,7 @@ Three evaluators of the same model, each with ``positions(q, dl, dq) -> (N, 3)``
 
 from __future__ import annotations
 
+import copy
 import itertools
 import math
 from collections.abc import Callable, Sequence
@@ -648,6 +649,28 @@ class _PlanarLoops:
         return np.stack([p.real, p.imag, np.full(len(q), self.z)], axis=1)
 
 
+@dataclass
+class Perturbed:
+    """What the parameter errors of N samples change: the constant placements (by the evaluator's own key) and the
+    closures' offsets, {closure name: (N,)} (a locked slider's angle offset, a gear's offset)."""
+
+    placements: dict | list
+    offsets: dict[str, Floats]
+
+
+def closure_offsets(closures: Sequence, derivatives: PlacementDerivatives, dl: Floats) -> dict[str, Floats]:
+    """The offsets of the closures the parameters move, for the errors ``dl`` (N, n_l): c + Σ_k ∂c/∂l_k Δl_k (N,),
+    exact to first order (:attr:`~mechatron.model.derivatives.PlacementDerivatives.constants`)."""
+    out = {}
+    for c in closures:
+        moved = derivatives.constants.get(c.name, {})
+        if isinstance(c, Slider) and c.lock_angle and "angle_offset" in moved:
+            out[c.name] = c.angle_offset + dl @ moved["angle_offset"]
+        elif isinstance(c, Gear) and "offset" in moved:
+            out[c.name] = c.offset + dl @ moved["offset"]
+    return out
+
+
 def _take(a, rows: NDArray[np.intp], n: int, select: Callable | None = None):
     """The samples ``rows`` of ``a`` (samples last, or by ``select(a, rows)``), ``a`` itself when the rows are all n."""
     if len(rows) == n:
@@ -711,8 +734,12 @@ class PerturbedLoops(_Factors):
                 p = p + dl[:, k, None] * _turn(R, twists[k][:3])
         return R, p
 
-    def _constants(self, dl: Floats) -> dict | list:
-        """The perturbed constant placements of the joints and frames used, one per sample (or one for all)."""
+    def _constants(self, dl: Floats) -> Perturbed:
+        """The perturbed constant placements of the joints and frames used and the closures' offsets, one per sample
+        (or one for all)."""
+        return Perturbed(self._placement_constants(dl), closure_offsets(self.closures, self.derivatives, dl))
+
+    def _placement_constants(self, dl: Floats) -> dict | list:
         if self.planar:
             return self.planar.constants(dl)
         model = self.mech.model
@@ -721,11 +748,12 @@ class PerturbedLoops(_Factors):
                     for f in self.frames})
         return out
 
-    def _select(self, constants: dict | list, rows: NDArray[np.intp]) -> dict | list:
+    def _select(self, constants: Perturbed, rows: NDArray[np.intp]) -> Perturbed:
+        offsets = {name: value[rows] for name, value in constants.offsets.items()}
         if self.planar:
-            return self.planar.select(constants, rows)
-        return {key: (R[rows] if R.ndim == 3 else R, p[rows] if p.ndim == 2 else p)
-                for key, (R, p) in constants.items()}
+            return Perturbed(self.planar.select(constants.placements, rows), offsets)
+        return Perturbed({key: (R[rows] if R.ndim == 3 else R, p[rows] if p.ndim == 2 else p)
+                          for key, (R, p) in constants.placements.items()}, offsets)
 
     def _placements(self, q: Floats, constants: dict, point_only: bool = False
                     ) -> tuple[dict[int, tuple[Floats, Floats]], dict[int, tuple[Floats, Floats]]]:
@@ -773,10 +801,11 @@ class PerturbedLoops(_Factors):
                 angle[name] = np.arctan2(R[:, 1, 0], R[:, 0, 0])
         return position, angle, linear, turn
 
-    def _evaluate(self, q: Floats, constants: dict | list) -> tuple[Floats, Floats]:
+    def _evaluate(self, q: Floats, constants: Perturbed) -> tuple[Floats, Floats]:
         """(Φ (rows, N), ∂Φ/∂q_d (rows, n_dep, N)) of every closure at the configurations q (N, nq), samples last."""
         path = self.planar.quantities if self.planar else self._quantities
-        position, angle, linear, turn = path(q, constants)
+        position, angle, linear, turn = path(q, constants.placements)
+        offsets = constants.offsets
         n, n_dep = len(q), len(self.dep)
         phi, J = np.empty((self.solver.system.nrows, n)), np.empty((self.solver.system.nrows, n_dep, n))
         r = 0
@@ -792,7 +821,7 @@ class PerturbedLoops(_Factors):
                 phi[r] = cos * ry - sin * rx
                 J[r] = cos * dry - sin * drx - (cos * rx + sin * ry) * turn[c.line]
                 if c.lock_angle:
-                    phi[r + 1] = _wrap(angle[c.point] - angle[c.line] - c.angle_offset)
+                    phi[r + 1] = _wrap(angle[c.point] - angle[c.line] - offsets.get(c.name, c.angle_offset))
                     J[r + 1] = turn[c.point] - turn[c.line]
             elif isinstance(c, OnCurve):
                 x, y = position[c.point][0], position[c.point][1]
@@ -800,7 +829,7 @@ class PerturbedLoops(_Factors):
                 J[r] = linear[c.point][1] - _curve(c.df, x) * linear[c.point][0]
             else:  # Gear
                 a, b = c.columns
-                phi[r] = q[:, b] - c.ratio * q[:, a] - c.offset
+                phi[r] = q[:, b] - c.ratio * q[:, a] - offsets.get(c.name, c.offset)
                 J[r] = 0.0
                 for column, value in ((a, -c.ratio), (b, 1.0)):
                     if column in self.dep:
@@ -809,7 +838,7 @@ class PerturbedLoops(_Factors):
         return phi, J
 
     # --------------------------------------------------------------------------------------- Newton
-    def _close(self, q: Floats, constants: dict | list) -> tuple[Floats, NDArray[np.bool_]]:
+    def _close(self, q: Floats, constants: Perturbed) -> tuple[Floats, NDArray[np.bool_]]:
         """The configurations (N, nq) with the closures solved for the dependent coordinates, and which closed."""
         phi, J = self._evaluate(q, constants)
         error = np.abs(phi).max(axis=0, initial=0.0)
@@ -860,9 +889,9 @@ class PerturbedLoops(_Factors):
         constants = self._constants(dl)
         closed_q, closed = self._close(start, constants)
         if self.planar:
-            out = self.planar.point(closed_q, constants)
+            out = self.planar.point(closed_q, constants.placements)
         else:
-            out = self._placements(closed_q, constants, point_only=True)[0][self.fid][1].copy()
+            out = self._placements(closed_q, constants.placements, point_only=True)[0][self.fid][1].copy()
         out[~closed] = np.nan
         return out
 
@@ -881,7 +910,7 @@ class PerturbedLoop(_Factors):
 
     def __init__(self, mech: Mechanism, frame: str, parameters: Sequence[str]) -> None:
         super().__init__(mech, parameters)
-        self.copy = replace(mech, model=pin.Model(mech.model))
+        self.copy = replace(mech, model=pin.Model(mech.model), closures=[copy.copy(c) for c in mech.closures])
         self.fid = mech.frame_id(frame)
         self.nominal = _placements(mech.model)
         self.solver = loop_solver(self.copy) if mech.closures else None
@@ -892,6 +921,11 @@ class PerturbedLoop(_Factors):
         nj = model.njoints
         if self.order is None:
             return
+        offsets = closure_offsets(self.mech.closures, self.derivatives, dl[None, :])
+        for closure in self.copy.closures:
+            if closure.name in offsets:
+                setattr(closure, "angle_offset" if isinstance(closure, Slider) else "offset",
+                        float(offsets[closure.name][0]))
         for j in range(1, nj):
             model.jointPlacements[j] = self.nominal[j] * _frame_factors(*self.twists(j), dl)
         for f in range(model.nframes):

@@ -127,6 +127,7 @@ def loop_derivatives(mech: Mechanism, solver: LoopSolver, derivatives: Placement
     phi, Jc = solver.system.evaluate(q)
     n_l = len(derivatives.names)
     dphi_dl = solver.system.jacobian_for(twists) if n_l else np.zeros((len(phi), 0))
+    dphi_dl = dphi_dl + solver.system.constants_jacobian(derivatives.constants, n_l)
     dq_dl = np.zeros((mech.nv, n_l))
     dq_dl[solver.dep] = -solver.dependent_inverse(q, Jc) @ dphi_dl
     return dq_dl, solver.velocity_matrix(q, Jc)

@@ -176,7 +176,7 @@ def mount_drives(mech: Mechanism, mounts: list[DriveMount]) -> Mechanism:
     for m in mounts:
         if m.parent > 0 and m.mass > 0:
             model.appendBodyToJoint(m.parent, pin.Inertia(float(m.mass), np.zeros(3), np.zeros((3, 3))), m.placement)
-    return replace(mech, model=model, rebuild=None)
+    return replace(mech, model=model, rebuild=None, derivatives=None)
 
 
 def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> list[JointDuty]:

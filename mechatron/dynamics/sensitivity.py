@@ -57,9 +57,9 @@ derivative the exact CasADi Jacobian ∂/∂q, ∂/∂q̇, ∂/∂q̈, ∂/∂δ
     \frac{dτ_a}{dδ} = S^T\Big(\frac{dτ}{dδ} − \frac{∂(Φ_q^T λ)}{∂q}\frac{dq}{dδ} − \frac{∂(Φ_q^T λ)}{∂δ}\Big)
 
 (the last from differentiating B τ_a + Φ_qᵀ λ = τ and multiplying by Sᵀ, which removes dλ). No finite difference of
-the analysis is taken here: the placement twists ξ and the inertia derivatives come from
-:func:`~mechatron.model.derivatives.placement_derivatives`, and the few closure constants a parameter may move (a
-locked slider's angle offset, a gear's ratio and offset) from :func:`closure_constant_derivatives`.
+the analysis is taken here: the placement twists ξ, the inertia derivatives and the few closure constants a parameter
+may move (a locked slider's angle offset, a gear's offset) come from
+:func:`~mechatron.model.derivatives.placement_derivatives`.
 
 The CasADi functions are built once per mechanism, parameter list, frame list and load frames (kept in the
 mechanism's cache) and mapped over the N configurations (``Function.map``); the linear solves run in NumPy.
@@ -70,7 +70,6 @@ what is unsupported.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -80,7 +79,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, SingularityError
 from ..kinematics.loops import SINGULAR_RATIO, loop_solver
-from ..model.closures import Gear, OnCurve, Slider
 from ..model.derivatives import placement_derivatives
 from ..model.loads import Loads, as_loads
 from ..model.mechanism import Mechanism, unknown_name_error
@@ -100,67 +98,6 @@ ASSEMBLED = 1e-8
 
 
 # ------------------------------------------------------------------------------------------------ the kernel
-#: The closures' constants a parameter may move: a locked slider's angle offset θ₀, a gear's ratio u and offset.
-CONSTANTS = {Slider: ("angle_offset",), Gear: ("ratio", "offset")}
-
-
-def closure_constant_derivatives(mech: Mechanism, parameters: tuple[str, ...]) -> dict[str, dict[str, Array]]:
-    """{closure name: {constant: ∂constant/∂l (n_l,)}} for the constants of :data:`CONSTANTS` that the parameters
-    move (a locked slider's θ₀ is the two frames' angle difference in the drawing, so it moves with the points).
-
-    These are numbers the model is built with, like its placements, but :func:`placement_derivatives` does not carry
-    them: they are taken here from the rebuilt mechanism's closures, by Richardson's extrapolation of central
-    differences with steps h and h/2, h = 1e-3 max(1, |l|) (error O(h⁴); the constants are smooth functions of the
-    drawing), and only for mechanisms with such closures. A parameter that changes a curve's polynomial, or a
-    closure's structure, is refused.
-
-    Raises:
-        InputError: naming the parameter and the closure it changes in a way the sensitivities do not carry.
-    """
-    kinds = tuple(CONSTANTS)
-    constant = any(isinstance(c, Gear) or (isinstance(c, Slider) and c.lock_angle) for c in mech.closures)
-    if not constant and not any(isinstance(c, OnCurve) for c in mech.closures):
-        return {}
-    names = [c.name for c in mech.closures]
-    if len(set(names)) != len(names):
-        raise InputError(f"{mech.name}: closures with the same name; their constants cannot be told apart")
-    values = mech.parameter_values()
-    out: dict[str, dict[str, Array]] = {}
-    for k, parameter in enumerate(parameters):
-        h = 1e-3 * max(1.0, abs(values[parameter]))
-        steps = (h, -h, h / 2, -h / 2) if constant else (h,)
-        rebuilt = [mech.with_parameters({parameter: values[parameter] + step}).closures for step in steps]
-        for i, closure in enumerate(mech.closures):
-            others = [closures[i] if i < len(closures) else None for closures in rebuilt]
-            if any(type(other) is not type(closure) or other.name != closure.name for other in others) \
-                    or any(len(closures) != len(mech.closures) for closures in rebuilt):
-                raise InputError(f"{mech.name}: changing {parameter} changes the closures; its sensitivity cannot be "
-                                 "taken")
-            if isinstance(closure, OnCurve):
-                if not all(_same_curve(closure, other) for other in others):
-                    raise InputError(f"{mech.name}: {parameter} moves the curve of {closure.describe()}; exact "
-                                     "sensitivities to it are not available")
-                continue
-            if not isinstance(closure, kinds) or not constant:
-                continue
-            for name in CONSTANTS[type(closure)]:
-                changes = [getattr(others[j], name) - getattr(others[j + 1], name) for j in (0, 2)]
-                if name == "angle_offset":
-                    changes = [math.remainder(x, 2 * math.pi) for x in changes]
-                derivative = (4 * changes[1] / h - changes[0] / (2 * h)) / 3  # (4 D(h/2) − D(h)) / 3
-                if derivative != 0.0:
-                    row = out.setdefault(closure.name, {}).setdefault(name, np.zeros(len(parameters)))
-                    row[k] = derivative
-    return out
-
-
-def _same_curve(a: OnCurve, b: OnCurve) -> bool:
-    if a.spline is None or b.spline is None:
-        return a.spline is b.spline
-    return all(np.shape(getattr(a.spline, x)) == np.shape(getattr(b.spline, x))
-               and np.array_equal(getattr(a.spline, x), getattr(b.spline, x)) for x in ("x", "c"))
-
-
 class _Kernel:
     """The CasADi functions of one mechanism, parameter list, frame list and list of load frames:
 
@@ -254,7 +191,7 @@ class _Kernel:
         # closures and their time derivatives
         if solver is not None:
             constants = {name: {constant: linear(rows[:, None]) for constant, rows in changes.items()}
-                         for name, changes in closure_constant_derivatives(mech, parameters).items()}
+                         for name, changes in derivatives.constants.items()}
             phi = closure_residual(solver.system, {n: placements[n] for n in closing}, q, curves=True,
                                    constants=constants)
         else:

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -447,6 +447,21 @@ class ClosureSystem:
         finally:
             s.jacobian = saved
         return np.vstack(rows) if rows else np.zeros((0, width))
+
+    def constants_jacobian(self, constants: Mapping[str, Mapping[str, np.ndarray]], width: int) -> np.ndarray:
+        """∂Φ/∂x (nrows, width) through the closures' constants that other variables x move: ``constants`` is
+        {closure name: {"angle_offset" or "offset": ∂c/∂x (width,)}}; a locked slider's angle row and a gear's row
+        are Φ = … − c, so they take −∂c/∂x."""
+        out = np.zeros((self.nrows, width))
+        row = 0
+        for closure in self.closures:
+            moved = constants.get(closure.name, {})
+            if isinstance(closure, Slider) and closure.lock_angle and "angle_offset" in moved:
+                out[row + 1] = -np.asarray(moved["angle_offset"])
+            elif isinstance(closure, Gear) and "offset" in moved:
+                out[row] = -np.asarray(moved["offset"])
+            row += closure.nrows
+        return out
 
     def drift(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """J̇(q, q̇) q̇, after :meth:`evaluate` at the same q; also fills the frame velocities and accelerations at

@@ -40,6 +40,7 @@ if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
 from ..errors import InputError
+from .derivatives import PlacementDerivatives, empty, inertia_variation
 from .mechanism import Mechanism, Parameter
 
 JointKind = Literal["revolute", "prismatic"]
@@ -349,6 +350,23 @@ class DHTable:
         before = self.base if i == 1 else np.eye(4)
         return before @ rot_x(link.alpha) @ trans(x=link.a) @ rot_z(theta0) @ trans(z=s0), np.eye(4)
 
+    def constant_factors(self, i: int) -> list[tuple[str | None, np.ndarray, np.ndarray]]:
+        """The constant part of row i (:meth:`_constant_parts`: the link frame i of the standard convention, the
+        joint placement of the modified one) as a product of factors, each (parameter name or None, 4×4 matrix,
+        the factor's twist per unit of its parameter, [v; ω]): Rz(θ) is exp([0; e_z] θ), Tz(d) exp([e_z; 0] d),
+        Tx(a) exp([e_x; 0] a), Rx(α) exp([0; e_x] α)."""
+        link = self.links[i - 1]
+        theta0, s0 = link.theta_s(0.0)
+        names = self.parameter_names(i)
+        z, x = np.array([0, 0, 1.0]), np.array([1.0, 0, 0])
+        rz = (names["theta"], rot_z(theta0), np.r_[0, 0, 0, z])
+        tz = (names["d"], trans(z=s0), np.r_[z, 0, 0, 0])
+        tx = (names["a"], trans(x=link.a), np.r_[x, 0, 0, 0])
+        rx = (names["alpha"], rot_x(link.alpha), np.r_[0, 0, 0, x])
+        if self.convention == "standard":
+            return [rz, tz, tx, rx]
+        return ([(None, self.base, np.zeros(6))] if i == 1 else []) + [rx, tx, rz, tz]
+
     def build_model(self) -> pin.Model:
         """The Pinocchio model of the arm (joints, inertias, limits, armature, frames ``base``, ``link{i}``,
         ``tool``)."""
@@ -380,6 +398,46 @@ class DHTable:
         return model
 
 
+def factor_twists(factors: Sequence[tuple[str | None, np.ndarray, np.ndarray]]) -> dict[str, np.ndarray]:
+    """The local twist of each named factor of a product M = F_1 F_2 … F_n, where F_k = F_k⁰ exp(e_k δ_k):
+    M(δ_k) = M exp(Ad(S_k⁻¹) e_k δ_k) with S_k = F_{k+1} … F_n, so ξ_k = Ad(S_k⁻¹) e_k."""
+    out: dict[str, np.ndarray] = {}
+    suffix = np.eye(4)
+    for name, matrix, generator in reversed(factors):
+        if name is not None:
+            out[name] = se3(suffix).inverse().act(pin.Motion(generator)).vector
+        suffix = matrix @ suffix
+    return out
+
+
+def dh_derivatives(table: DHTable, model: pin.Model, names: Sequence[str]) -> PlacementDerivatives:
+    """The exact derivatives of the placements and inertias of a DH arm's model (:meth:`DHTable.build_model`) with
+    respect to its parameters ``names``, from the factors of every row (:meth:`DHTable.constant_factors`,
+    :func:`factor_twists`). Standard convention: the link frame L_i moves the frame ``link{i}``, the placement of
+    joint i + 1, the frame ``tool`` (L_n T: its twist is Ad(T⁻¹) ξ) and the link's inertia, L_i·I_i, whose
+    derivative along ξ is the variation of L_i·I_i along Ad(L_i) ξ. Modified convention: the row moves the placement
+    of joint i only."""
+    out = empty(model, names)
+    column = {name: k for k, name in enumerate(names)}
+    tool = model.getFrameId("tool", pin.FrameType.OP_FRAME)
+    for i in range(1, table.n + 1):
+        twists = {n: xi for n, xi in factor_twists(table.constant_factors(i)).items() if n in column}
+        if table.convention != "standard":
+            for n, xi in twists.items():
+                out.joints[column[n], i] = xi
+            continue
+        link = se3(table._constant_parts(i)[1])
+        for n, xi in twists.items():
+            k = column[n]
+            out.frames[k, model.getFrameId(f"link{i}", pin.FrameType.BODY)] = xi
+            if i < table.n:
+                out.joints[k, i + 1] = xi
+            else:
+                out.frames[k, tool] = se3(table.tool).inverse().act(pin.Motion(xi)).vector
+            out.inertias[k, i] = inertia_variation(model.inertias[i], link.act(pin.Motion(xi)).vector)
+    return out
+
+
 def dh_mechanism(table: DHTable, name: str = "dh_arm", *, description: str = "", source: str | None = None
                  ) -> Mechanism:
     """A :class:`Mechanism` for the arm described by ``table``; its parameters are the table's a, α, d, θ."""
@@ -398,4 +456,5 @@ def dh_mechanism(table: DHTable, name: str = "dh_arm", *, description: str = "",
         dh=table,
         drives={link.name: link.drive for link in table.links if link.drive is not None},
         rebuild=rebuild,
+        derivatives=lambda names: dh_derivatives(table, model, names),
     )

@@ -32,6 +32,8 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
+from .closures import Gear, Slider
+from .derivatives import PlacementDerivatives, empty, frame_id, planar_dynamic_parameters, planar_twists
 from .dh import Drive
 from .linkage_spec import (  # noqa: F401  (the spec's names are this module's too)
     GROUND,
@@ -54,7 +56,7 @@ from .linkage_spec import (  # noqa: F401  (the spec's names are this module's t
 )
 from .mechanism import Measure, Mechanism, Parameter
 from .planar import PlanarBuilder
-from .shapes import Layout, layout, plate_properties, shapes  # noqa: F401
+from .shapes import Layout, circle_sides, in_joint_frame, layout, plate_properties, shapes, turned  # noqa: F401
 
 Vector = NDArray[np.float64]
 
@@ -305,6 +307,7 @@ def build_linkage(spec: LinkageSpec, *, check_tolerance: bool = True) -> Mechani
     mech.parameters = parameters(spec, assembly.shape)
     held = replace(spec, held_inputs={name: float(q[k]) for name, k in zip(spec.actuated, assembly.inputs)})
     mech.rebuild = lambda values: rebuild(held, values)
+    mech.derivatives = lambda names: linkage_derivatives(held, mech, names)
     notes = list(spec.notes)
     shifted = {n: d for n, d in moves.items() if d > 1e-9}
     if shifted:
@@ -385,3 +388,65 @@ def rebuild(spec: LinkageSpec, values: Mapping[str, float]) -> Mechanism:
     """The linkage with other values of its parameters (:func:`parameter_spec`), its loops closed again with the
     inputs held where ``spec`` holds them (without the tolerance: the change is asked for)."""
     return build_linkage(parameter_spec(spec, values), check_tolerance=False)
+
+
+# ------------------------------------------------------------------------------------------------ derivatives
+def linkage_derivatives(spec: LinkageSpec, mech: Mechanism, names: tuple[str, ...]) -> PlacementDerivatives:
+    """The exact derivatives of the placements, inertias and closure constants of the linkage ``mech`` (built from
+    ``spec``) with respect to the parameters ``names``: the shapes and layout of :mod:`mechatron.model.shapes`
+    written on CasADi symbols for the parameters (every named length declared, as in a rebuild), differentiated by
+    CasADi and evaluated at the parameters' values; then each planar placement's (x, y, θ) derivative turned into a
+    local twist (:func:`~mechatron.model.derivatives.planar_twists`)."""
+    import casadi as ca
+
+    values = mech.parameter_values()
+    lengths = {length.name for length in spec.lengths}
+    symbols = ca.SX.sym("l", len(names))
+    variable = {name: symbols[k] for k, name in enumerate(names)}
+
+    def value(name: str, drawn: float):
+        return variable.get(name, values.get(name, drawn)) if name not in lengths else drawn
+
+    drawing = {p.name: (value(f"{p.name}_x", p.at[0]), value(f"{p.name}_y", p.at[1]))
+               for p in spec.points if p.between is None}
+    declared = {length.name: variable.get(length.name, values[length.name]) for length in spec.lengths}
+    numbers = {p.name: (float(p.at[0]), float(p.at[1])) for p in spec.points if p.between is None}
+    sides = circle_sides(spec, numbers, {length.name: values[length.name] for length in spec.lengths})
+    lay = layout(spec, shapes(spec, drawing, declared, ca, sides), drawing, ca)
+    offsets = {GROUND: 0.0, **{j.body: -j.angle for j in lay.joints}}
+    model = mech.model
+    rows: list = []  # (kind, index, expressions)
+    for k, j in enumerate(lay.joints, start=1):
+        rows.append(("joint", k, in_joint_frame(j.xy, j.angle, offsets[j.parent], ca)))
+        rows.append(("frame", frame_id(model, j.body, pin.FrameType.BODY), (0.0, 0.0, offsets[j.body])))
+        centre = turned(j.com, offsets[j.body], ca)
+        rows.append(("inertia", k, planar_dynamic_parameters(j.mass, centre[0], centre[1], j.inertia)))
+    for f in lay.frames:
+        rows.append(("frame", frame_id(model, f.name, pin.FrameType.OP_FRAME),
+                     in_joint_frame(f.xy, f.angle, offsets[f.body], ca)))
+    angles = {f.name: lay.bodies[f.body].angle + f.angle for f in lay.frames}
+    reference = {j.body: j.reference for j in lay.joints}
+    given = {(c.driver, c.driven): c.offset for c in spec.closures if c.kind == "gear"}
+    for closure in mech.closures:
+        if isinstance(closure, Slider) and closure.lock_angle:
+            rows.append(("angle_offset", closure.name, (angles[closure.point] - angles[closure.line],)))
+        elif isinstance(closure, Gear) and given.get((closure.a, closure.b)) is None:
+            rows.append(("offset", closure.name, (reference[closure.b] - closure.ratio * reference[closure.a],)))
+    flat = ca.vertcat(*[ca.SX(e) for _, _, expressions in rows for e in expressions])
+    evaluate = ca.Function("derivatives", [symbols], [flat, ca.jacobian(flat, symbols)])
+    nominal, jacobian = (np.asarray(x, dtype=float) for x in evaluate([values[n] for n in names]))
+    nominal = nominal.ravel()
+    out = empty(model, names)
+    constants: dict[str, dict[str, np.ndarray]] = {}
+    at = 0
+    for kind, index, expressions in rows:
+        d = jacobian[at:at + len(expressions)]
+        if kind in ("joint", "frame"):
+            target = out.joints if kind == "joint" else out.frames
+            target[:, index] = planar_twists(nominal[at + 2], d[0], d[1], d[2])
+        elif kind == "inertia":
+            out.inertias[:, index] = d.T
+        else:
+            constants.setdefault(index, {})[kind] = d[0].copy()
+        at += len(expressions)
+    return replace(out, constants=constants)

@@ -241,7 +241,7 @@ def check(spec: LinkageSpec) -> None:
             raise spec.error(f"body {b.name} lists a point twice", f"{where}.points")
         if b.mass < 0:
             raise spec.error(f"body {b.name}: mass must be >= 0 kg, got {b.mass:g}", f"{where}.mass")
-        if b.inertia is not None and np.any(np.asarray(b.inertia, dtype=float) < 0):
+        if spec.planar and b.inertia is not None and np.any(np.asarray(b.inertia, dtype=float) < 0):
             raise spec.error(f"body {b.name}: inertia must be >= 0 kg·m², got {b.inertia}", f"{where}.inertia")
         if b.inertia is not None and np.any(np.asarray(b.inertia, dtype=float) != 0) and b.mass == 0:
             raise spec.error(f"body {b.name}: an inertia of {b.inertia} kg·m² without mass is not a body's",

@@ -131,6 +131,9 @@ class Mechanism:
         actuated: Names of the actuated (input) coordinates; all joints for a serial arm.
         tool_frame: Name of the default output frame.
         rebuild: Function that builds the same mechanism with other parameter values.
+        derivatives: Function giving the exact derivatives of the model's placements, inertias and closure
+            constants with respect to named parameters (a
+            :class:`~mechatron.model.derivatives.PlacementDerivatives`), if the builder knows them.
         reference_q: An assembled configuration (it names the default assembly branch).
         points: Named points (frames) of a linkage, in drawing order.
         sketch: Polylines through points that draw the mechanism.
@@ -152,6 +155,7 @@ class Mechanism:
     actuated: list[str] = field(default_factory=list)
     tool_frame: str = "tool"
     rebuild: Callable[[dict[str, float]], Mechanism] | None = field(default=None, repr=False)
+    derivatives: Callable[[tuple[str, ...]], Any] | None = field(default=None, repr=False)
     reference_q: np.ndarray | None = None
     points: list[str] = field(default_factory=list)
     sketch: list[SketchLine] = field(default_factory=list)

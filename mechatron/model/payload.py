@@ -46,4 +46,4 @@ def with_payload(mech: Mechanism, mass: float, frame: str | None = None, com: Ar
         raise InputError(f"payload: {problem}", field="inertia")
     body = pin.Inertia(float(mass), centre, tensor)
     model.appendBodyToJoint(model.frames[fid].parentJoint, body, placement)
-    return replace(mech, model=model, rebuild=None)
+    return replace(mech, model=model, rebuild=None, derivatives=None)

@@ -54,24 +54,24 @@ from .linkage_spec import (
     joint_parent,
 )
 
-Vec = tuple[Any, Any]
+Vec = tuple[Any, ...]  # (x, y) in a planar mechanism; sub, add, scaled and dot take (x, y, z) too
 
 
 # ------------------------------------------------------------------------------------------------ vectors
 def sub(a: Vec, b: Vec) -> Vec:
-    return (a[0] - b[0], a[1] - b[1])
+    return tuple(x - y for x, y in zip(a, b))
 
 
 def add(a: Vec, b: Vec) -> Vec:
-    return (a[0] + b[0], a[1] + b[1])
+    return tuple(x + y for x, y in zip(a, b))
 
 
 def scaled(a: Vec, s: Any) -> Vec:
-    return (a[0] * s, a[1] * s)
+    return tuple(x * s for x in a)
 
 
 def dot(a: Vec, b: Vec) -> Any:
-    return a[0] * b[0] + a[1] * b[1]
+    return sum((x * y for x, y in zip(a, b)), 0.0)
 
 
 def cross(a: Vec, b: Vec) -> Any:

@@ -16,7 +16,6 @@ refuses, naming the closure. Gravity acts along −z.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
@@ -24,6 +23,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from .closures import Pin
+from .derivatives import PlacementDerivatives, empty
 from .dh import inertial_problem
 from .mechanism import Measure, Mechanism, Parameter, SketchLine
 
@@ -198,28 +198,27 @@ def _unit(axis: Sequence[float]) -> Vector:
     return a / np.linalg.norm(a)
 
 
-def close_in_joint_space(mech: Mechanism, tolerance: float, max_iterations: int = 50
+def close_in_joint_space(mech: Mechanism, tolerance: float, max_iterations: int = 50, spec=None
                          ) -> tuple[Vector, dict[str, float]]:
     """The assembled configuration nearest to the drawing (q = 0): minimum-norm Newton steps on the non-actuated
-    coordinates; returns q and how far every point moved (m).
+    coordinates (:meth:`~mechatron.model.closures.ClosureSystem.close`); returns q and how far every point moved (m).
 
     Raises:
-        InputError: if the loops do not close, or close only by moving a point farther than ``tolerance`` (m).
+        InputError: if the loops do not close, or close only by moving a point farther than ``tolerance`` (m);
+            naming the file of ``spec`` and its field ``points`` if given.
     """
+    def error(message: str) -> InputError:
+        return spec.error(message, "points") if spec is not None else InputError(f"{mech.name}: {message}")
+
     system = mech.closure_system()
     index = {n: mech.model.joints[mech.joint_id(n)].idx_q for n in mech.joint_names}
     free = [k for k in range(mech.nq) if k not in {index[a] for a in mech.actuated}]
-    q = np.zeros(mech.nq)
-    phi, J = system.evaluate(q)
+    phi, _ = system.evaluate(np.zeros(mech.nq))
     worst = system.row_labels()[int(np.argmax(np.abs(phi)))] if phi.size else ""
     first = float(np.abs(phi).max(initial=0.0))
-    for _ in range(max_iterations):
-        if np.abs(phi).max(initial=0.0) < 1e-13:
-            break
-        q[free] -= np.linalg.lstsq(J[:, free], phi, rcond=None)[0]
-        phi, J = system.evaluate(q)
-    if np.abs(phi).max(initial=0.0) > 1e-9:
-        raise InputError(f"{mech.name}: the loops do not close near the drawing ({worst} is off by {first:.3g} m)")
+    q, residual = system.close(np.zeros(mech.nq), free, 1e-13, max_iterations)
+    if residual > 1e-9:
+        raise error(f"the loops do not close near the drawing ({worst} is off by {first:.3g} m)")
     model, data = mech.model, mech.model.createData()
     pin.framesForwardKinematics(model, data, np.zeros(mech.nq))
     drawn = {n: data.oMf[model.getFrameId(n)].translation.copy() for n in mech.points}
@@ -227,8 +226,8 @@ def close_in_joint_space(mech: Mechanism, tolerance: float, max_iterations: int 
     moves = {n: float(np.linalg.norm(data.oMf[model.getFrameId(n)].translation - drawn[n])) for n in drawn}
     far = max(moves.items(), key=lambda item: item[1], default=("", 0.0))
     if far[1] > tolerance:
-        raise InputError(f"{mech.name}: the loops do not close within {tolerance * 1e3:.4g} mm: closing {worst} (off "
-                         f"by {first * 1e3:.4g} mm in the drawing) moves {far[0]} by {far[1] * 1e3:.4g} mm")
+        raise error(f"the loops do not close within {tolerance * 1e3:.4g} mm: closing {worst} (off by "
+                    f"{first * 1e3:.4g} mm in the drawing) moves {far[0]} by {far[1] * 1e3:.4g} mm")
     return q, moves
 
 
@@ -250,8 +249,7 @@ def check_spatial(spec) -> None:
     nor parallel (``joints[i].axes``), every body's given ``inertia`` a rigid body's (``bodies[i].inertia``:
     symmetric, positive definite, its principal moments obeying I1 + I2 ≥ I3,
     :func:`~mechatron.model.dh.inertial_problem`; products of inertia may be negative), then the structural checks
-    of :func:`~mechatron.model.linkage.check` — which test each inertia number ≥ 0 as for a planar I_zz, and so
-    are handed the checked tensors' moments (their diagonal) instead of the products."""
+    of :func:`~mechatron.model.linkage.check`."""
     from .linkage import check
 
     for i, j in enumerate(spec.joints, start=1):
@@ -260,14 +258,15 @@ def check_spatial(spec) -> None:
         if problem:
             key = "axes" if j.kind == "universal" else "axis"
             raise spec.error(f"joint of {j.body}: {problem}", f"joints[{i}].{key}")
-    bodies = tuple(b if b.inertia is None else replace(b, inertia=_checked_moments(spec, b, f"bodies[{i}].inertia"))
-                   for i, b in enumerate(spec.bodies, start=1))
-    check(replace(spec, bodies=bodies))
+    for i, b in enumerate(spec.bodies, start=1):
+        if b.inertia is not None:
+            _check_inertia(spec, b, f"bodies[{i}].inertia")
+    check(spec)
 
 
-def _checked_moments(spec, body, field: str) -> tuple[float, float, float]:
-    """The moments (I_xx, I_yy, I_zz; kg·m²) of a body's given inertia, once its tensor is found a rigid body's
-    (with its mass, when that is not negative: a negative mass is the structural check's to name)."""
+def _check_inertia(spec, body, field: str) -> None:
+    """A body's given inertia is a rigid body's (with its mass, when that is not negative: a negative mass is the
+    structural check's to name)."""
     try:
         tensor = inertia_matrix(body.inertia)
     except InputError as exc:
@@ -275,7 +274,6 @@ def _checked_moments(spec, body, field: str) -> tuple[float, float, float]:
     problem = inertial_problem(body.mass, tensor) if body.mass >= 0 else None
     if problem:
         raise spec.error(f"body {body.name}: {problem}", field)
-    return tuple(float(x) for x in np.diag(tensor))
 
 
 def _inertia_tensor(body, positions: Mapping[str, Vector]) -> tuple[Vector | None, Vector]:
@@ -381,7 +379,7 @@ def build_spatial(spec, *, check_tolerance: bool = True) -> Mechanism:
     if unknown:
         raise spec.error(f"actuated coordinate {unknown[0]!r} is not a joint coordinate", "actuated")
     tolerance = spec.tolerance if spec.tolerance is not None else 0.02 * drawing_size(spec)
-    q, moves = close_in_joint_space(mech, tolerance if check_tolerance else np.inf)
+    q, moves = close_in_joint_space(mech, tolerance if check_tolerance else np.inf, spec=spec)
     mech.reference_q = q
     mech.branches["reference"] = q
     shifted = {n: d for n, d in moves.items() if d > 1e-9}
@@ -400,8 +398,98 @@ def build_spatial(spec, *, check_tolerance: bool = True) -> Mechanism:
         return build_spatial(spec.with_positions(moved), check_tolerance=False)
 
     mech.rebuild = rebuild
+    mech.derivatives = lambda names: spatial_derivatives(spec, mech, names)
     mech.drives.update(drive_placements(spec))
     return mech
+
+
+def _model_joints(spec, j) -> list[str]:
+    """The coordinates of the Pinocchio joints a spatial tree joint becomes, parent to child."""
+    from .linkage import joint_coordinate
+
+    if j.kind == "universal":
+        return [f"{j.body}_angle1", f"{j.body}_angle2"]
+    if j.kind == "translation":
+        return [f"{j.body}_x", f"{j.body}_y", f"{j.body}_z"]
+    return [joint_coordinate(j)]
+
+
+def spatial_derivatives(spec, mech: Mechanism, names: tuple[str, ...]) -> PlacementDerivatives:
+    """The exact derivatives of a spatial mechanism's placements and inertias with respect to its point coordinates
+    ``names``: every frame sits at P − O_b (its point P less its body's origin O_b, the point of the body's joint),
+    every joint at O_b − O_parent (the first Pinocchio joint of a universal or translation joint; the others at its
+    origin), every body's centre at C − O_b with its tensor (a bar's m/12 (|d|² 1 − d dᵀ), d its first two points'
+    difference), the frames' axes the world's: CasADi differentiates these on symbols for the coordinates, and a
+    translation's derivative is the twist [dt; 0]."""
+    import casadi as ca
+
+    from .linkage import frame_names, joint_parent
+    from .shapes import sub, with_derived
+
+    values = mech.parameter_values()
+    symbols = ca.SX.sym("l", len(names))
+    variable = {name: symbols[k] for k, name in enumerate(names)}
+    drawing = {p.name: tuple(variable.get(f"{p.name}_{a}", values.get(f"{p.name}_{a}", float(v)))
+                             for a, v in zip("xyz", p.at)) for p in spec.points if p.between is None}
+    positions = with_derived(spec, drawing)
+    frames = frame_names(spec)
+    model = mech.model
+    origin = {GROUND: (0.0, 0.0, 0.0)}
+    rows: list = []  # ("joint" or "frame", index, 3 expressions) or ("inertia", index, 10 expressions)
+    for point in spec.body(GROUND).points:
+        rows.append(("frame", model.getFrameId(frames[(point, GROUND)], pin.FrameType.OP_FRAME), positions[point]))
+    for j in spec.joints:
+        coordinates = _model_joints(spec, j)
+        origin[j.body] = positions[j.at]
+        rows.append(("joint", model.getJointId(coordinates[0]), sub(positions[j.at], origin[joint_parent(spec, j)])))
+        body = spec.body(j.body)
+        for point in body.points:
+            rows.append(("frame", model.getFrameId(frames[(point, j.body)], pin.FrameType.OP_FRAME),
+                         sub(positions[point], origin[j.body])))
+        if body.mass > 0:
+            rows.append(("inertia", model.getJointId(coordinates[-1]), _dynamic_parameters(body, positions,
+                                                                                          origin[j.body])))
+    flat = ca.vertcat(*[ca.SX(e) for _, _, expressions in rows for e in expressions])
+    evaluate = ca.Function("derivatives", [symbols], [ca.jacobian(flat, symbols)])
+    jacobian = np.asarray(evaluate([values[n] for n in names]), dtype=float)
+    out = empty(model, names)
+    at = 0
+    for kind, index, expressions in rows:
+        d = jacobian[at:at + len(expressions)]
+        if kind == "inertia":
+            out.inertias[:, index] = d.T
+        else:
+            (out.joints if kind == "joint" else out.frames)[:, index, :3] = d.T
+        at += len(expressions)
+    return out
+
+
+def _dynamic_parameters(body, positions, origin) -> list:
+    """Pinocchio's dynamic parameters [m, m c, I_O] (about the joint origin O) of a spatial body: its centre C (a
+    point, given coordinates, a bar's middle, else O) and tensor I_C (given, or a bar's), I_O = I_C + m (|c|² 1 −
+    c cᵀ) with c = C − O. Works on numbers and CasADi expressions."""
+    from .shapes import add, dot, scaled, sub
+
+    m = body.mass
+    if isinstance(body.com, str):
+        centre = positions[body.com]
+    elif body.com is not None:
+        centre = tuple(float(v) for v in body.com)
+    elif body.shape == "bar":
+        centre = scaled(add(positions[body.points[0]], positions[body.points[1]]), 0.5)
+    else:
+        centre = origin
+    c = sub(centre, origin)
+    if body.inertia is not None:
+        tensor = inertia_matrix(body.inertia).tolist()
+    elif body.shape == "bar":
+        d = sub(positions[body.points[1]], positions[body.points[0]])
+        tensor = [[m / 12 * ((dot(d, d) if i == k else 0.0) - d[i] * d[k]) for k in range(3)] for i in range(3)]
+    else:
+        tensor = [[0.0] * 3 for _ in range(3)]
+    about = [[tensor[i][k] + m * ((dot(c, c) if i == k else 0.0) - c[i] * c[k]) for k in range(3)] for i in range(3)]
+    return [m, m * c[0], m * c[1], m * c[2], about[0][0], about[0][1], about[1][1], about[0][2], about[1][2],
+            about[2][2]]
 
 
 def build_mechanism(spec, *, check_tolerance: bool = True) -> Mechanism:

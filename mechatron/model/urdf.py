@@ -25,6 +25,7 @@ import pinocchio as pin
 
 from ..errors import InputError
 from ..io.values import LARGEST
+from .derivatives import PlacementDerivatives, empty
 from .dh import Drive
 from .mechanism import Mechanism, Parameter, find_frame
 
@@ -264,7 +265,20 @@ def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = N
                          values=new_values, physical=physical)
 
     return Mechanism(name=name, model=model, parameters=parameters, description=description or f"URDF {path.name}",
-                     source=str(path), drives=drives, rebuild=rebuild)
+                     source=str(path), drives=drives, rebuild=rebuild,
+                     derivatives=lambda names: origin_derivatives(model, names))
+
+
+def origin_derivatives(model: pin.Model, names: Sequence[str]) -> PlacementDerivatives:
+    """The exact derivatives of the model's placements with respect to joint-origin parameters ``{joint}_{x|y|z}``:
+    moving the origin of joint j along axis k of its parent frame is M_j exp(ξ h) with ξ = [R_jᵀ e_k; 0] (nothing
+    else moves: the links' inertias and frames are in their joints' frames)."""
+    out = empty(model, names)
+    for n, name in enumerate(names):
+        joint, _, axis = name.rpartition("_")
+        j = model.getJointId(joint)
+        out.joints[n, j, :3] = model.jointPlacements[j].rotation.T[:, _AXIS_NAMES.index(axis)]
+    return out
 
 
 # ------------------------------------------------------------------------------------------------------ export
