@@ -42,8 +42,11 @@ def frame_parameter_twists(mech: Mechanism, derivatives: PlacementDerivatives, f
     rad/rad) at the configuration last given to ``mech.data`` (forward kinematics and frame placements up to
     date)."""
     model, data = mech.model, mech.data
+    n_l = len(derivatives.names)
+    if not n_l:
+        return np.zeros((6, 0))
     regressor = pin.computeFrameKinematicRegressor(model, data, frame, LWA)  # (6, 6 (njoints − 1))
-    joint_twists = derivatives.joints[:, 1:, :].reshape(len(derivatives.names), -1).T  # (6 (nj − 1), n_l)
+    joint_twists = derivatives.joints[:, 1:, :].reshape(n_l, -1).T  # (6 (nj − 1), n_l)
     out = regressor @ joint_twists
     rotation = data.oMf[frame].rotation
     own = derivatives.frames[:, frame, :]  # (n_l, 6)

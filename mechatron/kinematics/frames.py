@@ -2,7 +2,9 @@ r"""Kinematics of a :class:`~mechatron.model.Mechanism`, all from Pinocchio.
 
 Every function takes one configuration ``q`` of shape (nq,) or a batch of shape (N, nq) (with velocities ``v`` and
 accelerations ``a`` of shape (nv,) or (N, nv)) and returns one result or an array of N results. Positions are in
-metres, angles in radians, everything is expressed in the world (base) frame unless said otherwise.
+metres, angles in radians, everything is expressed in the world (base) frame unless said otherwise. A ``frame``
+left out is the mechanism's tool frame (``mech.tool_frame``: a robot file's ``tool``, a mechanism file's ``tool``
+point).
 
 The equations of [Egorov, 4.44–4.57]: the position of a point M is r = B_{0,i} r_i ([Egorov, 4.44–4.45]); its
 velocity v = Σ_k ∂r/∂q_k q̇_k = J q̇ ([Egorov, 4.46–4.48]); its acceleration a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s
@@ -100,9 +102,10 @@ def frame_placement(mech: Mechanism, q: ArrayLike, frame: str | None = None) -> 
     return pin.updateFramePlacement(mech.model, mech.data, fid).copy()
 
 
-def _placements(mech: Mechanism, q: ArrayLike, frame: str) -> tuple[bool, NDArray[np.float64], NDArray[np.float64]]:
+def _placements(mech: Mechanism, q: ArrayLike, frame: str | None
+                ) -> tuple[bool, NDArray[np.float64], NDArray[np.float64]]:
     single, Q, _ = samples(mech, q)
-    fid = mech.frame_id(frame)
+    fid = mech.frame_id(frame or mech.tool_frame)
     model, data = mech.model, mech.data
     homogeneous = np.empty((len(Q), 4, 4))
     for i, qi in enumerate(Q):
@@ -111,14 +114,14 @@ def _placements(mech: Mechanism, q: ArrayLike, frame: str) -> tuple[bool, NDArra
     return single, homogeneous[:, :3, 3].copy(), homogeneous[:, :3, :3].copy()
 
 
-def frame_position(mech: Mechanism, q: ArrayLike, frame: str = "tool") -> NDArray[np.float64]:
+def frame_position(mech: Mechanism, q: ArrayLike, frame: str | None = None) -> NDArray[np.float64]:
     """Position (m) of the origin of ``frame`` in the world ([Egorov, 4.44]) at q (nq,) or (N, nq): (3,) or
     (N, 3)."""
     single, positions, _ = _placements(mech, q, frame)
     return positions[0] if single else positions
 
 
-def frame_rotation(mech: Mechanism, q: ArrayLike, frame: str = "tool") -> NDArray[np.float64]:
+def frame_rotation(mech: Mechanism, q: ArrayLike, frame: str | None = None) -> NDArray[np.float64]:
     """Rotation matrix of ``frame`` in the world (the 3×3 block of B_{0,i}, [Egorov, 4.45]) at q (nq,) or (N, nq):
     (3, 3) or (N, 3, 3)."""
     single, _, rotations = _placements(mech, q, frame)
@@ -126,7 +129,7 @@ def frame_rotation(mech: Mechanism, q: ArrayLike, frame: str = "tool") -> NDArra
 
 
 # ------------------------------------------------------------------------------------------------- Jacobians
-def fk_and_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", reference: Reference = "world_aligned"
+def fk_and_jacobian(mech: Mechanism, q: ArrayLike, frame: str | None = None, reference: Reference = "world_aligned"
                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Positions (m; N, 3), rotations (N, 3, 3) and 6×nv Jacobians (N, 6, nv) of ``frame`` over a batch ``q``
     (N, nq).
@@ -136,7 +139,7 @@ def fk_and_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", referenc
     linear rows in ``"world_aligned"`` are ∂r/∂q of [Egorov, 4.47].
     """
     _, Q, _ = lean_samples(mech, q)
-    fid = mech.frame_id(frame)
+    fid = mech.frame_id(frame or mech.tool_frame)
     rf = reference_frame(reference)
     model, data = mech.model, mech.data
     n = len(Q)
@@ -163,7 +166,7 @@ def frame_jacobian(mech: Mechanism, q: ArrayLike, frame: str | None = None,
     return jacobians[0] if single else jacobians
 
 
-def point_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", offset: ArrayLike | None = None
+def point_jacobian(mech: Mechanism, q: ArrayLike, frame: str | None = None, offset: ArrayLike | None = None
                    ) -> NDArray[np.float64]:
     """∂r/∂q (3×nv, world axes; m/rad or m/m) of a point fixed to the body of ``frame`` ([Egorov, 4.47]) at q
     (nq,) or (N, nq): (3, nv) or (N, 3, nv).
@@ -182,13 +185,13 @@ def point_jacobian(mech: Mechanism, q: ArrayLike, frame: str = "tool", offset: A
 
 
 # ----------------------------------------------------------------------------------- velocities, accelerations
-def _frame_motion(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike | None, frame: str,
+def _frame_motion(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike | None, frame: str | None,
                   offset: ArrayLike | None = None):
     """World linear velocity of the point, angular velocity, and (if ``a`` is given) the point's classical linear
     acceleration and the angular acceleration of the body of ``frame``; each (N, 3)."""
     p = _offset(offset)
     single, Q, rates = samples(mech, q, v) if a is None else samples(mech, q, v, a)
-    fid = mech.frame_id(frame)
+    fid = mech.frame_id(frame or mech.tool_frame)
     model, data = mech.model, mech.data
     n = len(Q)
     lin_v, ang_v = np.empty((n, 3)), np.empty((n, 3))
@@ -213,7 +216,7 @@ def _frame_motion(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike | No
     return single, lin_v, ang_v, lin_a, ang_a
 
 
-def point_velocity(mech: Mechanism, q: ArrayLike, v: ArrayLike, frame: str = "tool",
+def point_velocity(mech: Mechanism, q: ArrayLike, v: ArrayLike, frame: str | None = None,
                    offset: ArrayLike | None = None) -> NDArray[np.float64]:
     """Velocity (m/s, world) of a point of the body of ``frame`` at q (nq,) moving with joint velocity v (nv,;
     rad/s, m/s): v = J q̇ ([Egorov, 4.47–4.48]). (3,), or (N, 3) for batches (N, nq), (N, nv).
@@ -225,7 +228,7 @@ def point_velocity(mech: Mechanism, q: ArrayLike, v: ArrayLike, frame: str = "to
     return lin_v[0] if single else lin_v
 
 
-def point_acceleration(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str = "tool",
+def point_acceleration(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | None = None,
                        offset: ArrayLike | None = None) -> NDArray[np.float64]:
     """Acceleration (m/s², world) of a point of the body of ``frame`` at q (nq,) with joint velocity v and
     acceleration a (nv,; rad/s, m/s; rad/s², m/s²): a = J q̈ + Σ_k Σ_s ∂²r/∂q_k∂q_s q̇_k q̇_s ([Egorov, 4.49–4.50]),
