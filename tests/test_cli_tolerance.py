@@ -110,3 +110,29 @@ def test_unreachable_pose_is_a_clear_error(capsys, tmp_path):
     code, _, err = run(capsys, "tolerance", "six_bar_bucket", "--tolerances", str(tolerances), "--poses",
                        str(poses))
     assert code == 2 and "pose 2" in err and np.isfinite(1.0)
+
+
+@pytest.mark.parametrize("method", ["worst", "rss", "mc", "all"])
+def test_a_closed_loop_with_only_an_input_row(capsys, tmp_path, method):
+    """A tolerances file with only the input's row (no parameter) on a closed loop: the crank-slider's slider
+    C at x_C = l1 cos φ + √(l2² − l1² sin² φ) moves by ∂x_C/∂φ t with ∂x_C/∂φ = −l1 sin φ − l1² sin φ cos φ /
+    √(l2² − l1² sin² φ) (l1 = 0.1, l2 = 0.4 m): its worst case for ±t, and for one normal error (the default, σ = t/3)
+    the RSS k σ |∂x_C/∂φ| with k = 3, the same number, which the Monte Carlo's k·σ of the sampled Δx estimates."""
+    tolerances = tmp_path / "tolerances.csv"
+    tolerances.write_text("parameter,tolerance_arcmin\nq1,5\n")
+    poses = tmp_path / "poses.csv"
+    poses.write_text("q1\n0.3\n1.0\n2.5\n")
+    code, out, err = run(capsys, "tolerance", "crank_slider", "--tolerances", str(tolerances), "--poses", str(poses),
+                         "--method", method, "--json")
+    assert code == 0, err
+    t, l1, l2 = math.radians(5 / 60), 0.1, 0.4
+    for pose, phi in zip(json.loads(out)["poses"], (0.3, 1.0, 2.5)):
+        root = math.sqrt(l2**2 - (l1 * math.sin(phi)) ** 2)
+        worst = abs(-l1 * math.sin(phi) - l1**2 * math.sin(phi) * math.cos(phi) / root) * t
+        if method in ("worst", "all"):
+            assert pose["methods"]["worst"]["dx"] == pytest.approx(worst, rel=1e-9)
+            assert pose["methods"]["worst"]["dy"] == pytest.approx(0.0, abs=1e-15)
+        if method in ("rss", "all"):
+            assert pose["methods"]["rss"]["dx"] == pytest.approx(worst, rel=1e-9)
+        if method in ("mc", "all"):
+            assert pose["methods"]["mc"]["dx"] == pytest.approx(worst, rel=0.05)

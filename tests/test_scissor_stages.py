@@ -67,3 +67,20 @@ def test_a_drawing_of_a_thousand_points_loads_and_is_right(tmp_path):
     for k in range(2 * lift.edge_points):
         p = mechatron.frame_placement(mech, q, f"a0_edge{k}").translation[:2]
         assert abs(unit[0] * (p - a)[1] - unit[1] * (p - a)[0]) == pytest.approx(lift.edge / 2, abs=1e-12)
+
+
+def test_a_thousand_points_read_off_paper_close():
+    """The same drawing with every point up to 1 mm off and the arms' lengths declared: the loader closes the loops
+    (the arms keep their declared 1.2 m, the crossing pins their places on the arms), notes the moves, and the lift
+    differs from the exact one only by what the drawn-off pins change (within 1 cm at the deck)."""
+    lift = ScissorLift(stages=5, edge_points=49)
+    spec = scissor_lift_spec(lift)
+    rng = np.random.default_rng(1)
+    off = spec.with_positions({name: xy + rng.uniform(-1e-3, 1e-3, 2) for name, xy in spec.drawing().items()})
+    mech = build_linkage(off)
+    assert mech.notes[-1].startswith("the drawing was closed by moving")
+    q = mechatron.assemble(mech, {"cyl": 0.7}, guess=mech.reference_q)
+    for i in range(lift.stages):
+        ends = [mechatron.frame_placement(mech, q, n).translation[:2] for n in (f"L{i}", f"R{i + 1}")]
+        assert math.dist(*ends) == pytest.approx(lift.arm, abs=1e-12)
+    assert mechatron.frame_placement(mech, q).translation[1] == pytest.approx(closed_form(lift, 0.7)[0], abs=1e-2)
