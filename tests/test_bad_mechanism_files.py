@@ -42,7 +42,36 @@ base = "B0"
 eye = "E"
 stroke = [0.4, 0.7]
 """  # a boom lifted by a cylinder 0.5 m long in the drawing
-BASES = {"four_bar": (ROOT / "examples" / "data" / "four_bar.toml").read_text(encoding="utf-8"), "boom": BOOM,
+ARM = """name = "arm"
+actuated = ["lift"]
+[points]
+O = [0.0, 0.0]
+B0 = [0.2, -0.3]
+E = [0.5, 0.1]
+S = [0.7, 0.2]
+T = [1.0, 0.3]
+[[bodies]]
+name = "ground"
+points = ["O", "B0"]
+[[bodies]]
+name = "arm"
+points = ["O", "E", "S", "T"]
+mass = 20.0
+[[joints]]
+type = "revolute"
+body = "arm"
+at = "O"
+[[joints]]
+type = "cylinder"
+name = "lift"
+base = "B0"
+eye = "E"
+stroke = [0.4, 0.7]
+[lengths]
+a = { points = ["O", "T"], value = 1.044 }
+b = { points = ["E", "T"], value = 0.5385 }
+"""  # the boom with a fourth point, T placed by two declared lengths (drawn 0.03 mm off: |OT| 1.04403, |ET| 0.53852)
+BASES = {"arm": ARM, "four_bar": (ROOT / "examples" / "data" / "four_bar.toml").read_text(encoding="utf-8"), "boom": BOOM,
          "delta": (ROOT / "robots" / "delta.toml").read_text(encoding="utf-8")}
 DELTA_RATES = "input_rates = { theta1 = 1.0, theta2 = 1.0, theta3 = 1.0 }"
 ROD1_AXES = "axes = [[-0.0, 1.0, 0.0], [-0.7659860924831149, -0.0, 0.642857142857143]]"
@@ -92,6 +121,19 @@ BAD_FILES = {
                                                    "bodies[8].inertia", "violate the triangle inequality"),
     "a negative moment": ("delta", PLATFORM_INERTIA, "inertia = [-0.001, 0.002, 0.002]", "bodies[8].inertia",
                           "positive definite"),
+    # a drawing that leaves a point undetermined, or derived points and declared lengths that do not fit (item 2)
+    "a point no body carries": ("four_bar", "C = [262, 249]", "C = [262, 249]\nE = [100, 100]", "points_mm.E",
+                                "point E is carried by no body, so nothing fixes it"),
+    "a derived point between points of other bodies": ("four_bar", 'between = ["B", "C"]', 'between = ["A", "C"]',
+                                                       "points_mm.M", "none of the bodies carrying it (coupler) "
+                                                                      "carries both"),
+    "a named length to a derived point": ("four_bar", "d = { points", 'x = ["B", "M"]\nd = { points', "lengths.x",
+                                          "M is a derived point"),
+    "three declared lengths to one point": ("arm", "[lengths]", '[lengths]\nc = { points = ["S", "T"], value = 0.32 }',
+                                            "lengths.c", "point T of body arm has 3 declared lengths to points before "
+                                                         "it (a, b, c): two fix it"),
+    "declared lengths that cannot meet": ("arm", ("value = 1.044 ", "value = 0.5385 "), ("value = 0.1 ", "value = 0.1 "),
+                                          "lengths.b", "point T: the declared lengths a and b cannot meet"),
 }
 
 

@@ -130,7 +130,7 @@ def _points(top: FieldReader, dim: int) -> tuple[PointSpec, ...]:
             value = table.raw(name)
             where = table.field(name)
             if isinstance(value, list):
-                out.append(PointSpec(name, _pair(table, name, value, scale, dim)))
+                out.append(PointSpec(name, _pair(table, name, value, scale, dim), table=key))
                 continue
             if not isinstance(value, Mapping):
                 raise InputError(f"expected [{', '.join('xyz'[:dim])}] or a table {{at = [...], …}}", file=top.file,
@@ -146,7 +146,7 @@ def _points(top: FieldReader, dim: int) -> tuple[PointSpec, ...]:
             if (at is None) == (between is None):
                 raise item.error("at", "give the point's position (at) or two points it lies between, one of them")
             point = PointSpec(name, at, tuple(between) if between else None, item.number("fraction", 0.5),
-                              _direction(item), item.boolean("report", True))
+                              _direction(item), item.boolean("report", True), table=key)
             item.finish()
             out.append(point)
         table.finish()

@@ -24,7 +24,8 @@ Vector = NDArray[np.float64]
 class PointSpec:
     """A named point. ``at``: its world position (m) in the drawing; or ``between`` two points at ``fraction`` of
     the way (a derived point, e.g. the middle of a rod, that follows them when the drawing is corrected).
-    ``direction``: the x axis of the point's frame in the drawing (a slider's line); ``report``: listed in sweeps."""
+    ``direction``: the x axis of the point's frame in the drawing (a slider's line); ``report``: listed in sweeps;
+    ``table``: the file's table it is given in (``points`` or ``points_mm``), for messages."""
 
     name: str
     at: tuple[float, ...] | None = None  # (x, y), or (x, y, z) in a spatial mechanism
@@ -32,6 +33,12 @@ class PointSpec:
     fraction: float = 0.5
     direction: tuple[float, float] | None = None
     report: bool = True
+    table: str = field(default="points", compare=False)
+
+    @property
+    def field(self) -> str:
+        """The point's field in the file: ``points.P`` or ``points_mm.P``."""
+        return f"{self.table}.{self.name}"
 
 
 @dataclass(frozen=True)
@@ -219,14 +226,14 @@ def check(spec: LinkageSpec) -> None:
     for p in spec.points:
         if p.at is not None and len(p.at) != size:
             raise spec.error(f"point {p.name}: give {size} coordinates in a {'planar' if spec.planar else 'spatial'} "
-                             f"mechanism, got {len(p.at)}", f"points.{p.name}")
+                             f"mechanism, got {len(p.at)}", p.field)
         if p.between is not None:
             for other in p.between:
                 if other not in known or other == p.name:
-                    raise spec.error(f"point {p.name} lies between unknown point {other!r}", f"points.{p.name}")
+                    raise spec.error(f"point {p.name} lies between unknown point {other!r}", p.field)
                 if spec.point(other).between is not None:
                     raise spec.error(f"point {p.name}: a derived point lies between drawn points, not {other}",
-                                     f"points.{p.name}")
+                                     p.field)
     bodies = {b.name for b in spec.bodies}
     if GROUND not in bodies:
         raise spec.error("give the frame's points as a body named ground", "bodies")
@@ -337,11 +344,11 @@ def _check_points_are_fixed(spec: LinkageSpec) -> None:
         owners = spec.owners(p.name)
         if not owners:
             raise spec.error(f"point {p.name} is carried by no body, so nothing fixes it: list it in the points of "
-                             "the body it belongs to", f"points.{p.name}")
+                             "the body it belongs to", p.field)
         if p.between is not None and not any(all(end in spec.body(b).points for end in p.between) for b in owners):
             raise spec.error(f"point {p.name} lies between {p.between[0]} and {p.between[1]}, but none of the bodies "
                              f"carrying it ({', '.join(owners)}) carries both: a derived point follows two points of "
-                             "its body", f"points.{p.name}")
+                             "its body", p.field)
 
 
 def declared_partners(spec: LinkageSpec, body: BodySpec, lengths: Mapping[str, object]) -> dict[str, list]:
