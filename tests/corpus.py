@@ -74,3 +74,12 @@ def assert_clean_error(argv: Sequence[str], capfd, folder: Path, names: str | It
 
 #: The numeric edge values every numeric field is tried with.
 EDGE_NUMBERS = ("nan", "inf", "-inf", "1e308", "-1e308", "1e-308", "-1", "abc", "")
+
+
+def cli_error(capsys, *argv: str) -> tuple[int, str]:
+    """(exit status, the one line on stderr) of the command line run in-process on ``argv`` (captured by pytest's
+    ``capsys``), asserting that nothing went to stdout and stderr is one line without a traceback."""
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    return code, err.strip()

@@ -12,66 +12,18 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron.cli import main
 from mechatron.errors import InputError
+from tests.boom import boom
+from tests.corpus import cli_error
 
 ROOT = Path(__file__).resolve().parent.parent
-BOOM = """name = "boom"
-actuated = ["lift"]
-input_rates = { lift = 0.05 }
-[points]
-O = [0.0, 0.0]
-B0 = [0.2, -0.3]
-E = [0.5, 0.1]
-T = { at = [1.0, 0.2], direction = [1, 0] }
-[[bodies]]
-name = "ground"
-points = ["O", "B0"]
-[[bodies]]
-name = "boom"
-points = ["O", "E", "T"]
-mass = 20.0
-[[joints]]
-type = "revolute"
-body = "boom"
-at = "O"
-[[joints]]
-type = "cylinder"
-name = "lift"
-base = "B0"
-eye = "E"
-stroke = [0.4, 0.7]
-"""  # a boom lifted by a cylinder 0.5 m long in the drawing
-ARM = """name = "arm"
-actuated = ["lift"]
-[points]
-O = [0.0, 0.0]
-B0 = [0.2, -0.3]
-E = [0.5, 0.1]
-S = [0.7, 0.2]
-T = [1.0, 0.3]
-[[bodies]]
-name = "ground"
-points = ["O", "B0"]
-[[bodies]]
-name = "arm"
-points = ["O", "E", "S", "T"]
-mass = 20.0
-[[joints]]
-type = "revolute"
-body = "arm"
-at = "O"
-[[joints]]
-type = "cylinder"
-name = "lift"
-base = "B0"
-eye = "E"
-stroke = [0.4, 0.7]
-[lengths]
-a = { points = ["O", "T"], value = 1.044 }
-b = { points = ["E", "T"], value = 0.5385 }
-"""  # the boom with a fourth point, T placed by two declared lengths (drawn 0.03 mm off: |OT| 1.04403, |ET| 0.53852)
-BASES = {"arm": ARM, "four_bar": (ROOT / "examples" / "data" / "four_bar.toml").read_text(encoding="utf-8"), "boom": BOOM,
+BOOM = boom(top="input_rates = { lift = 0.05 }\n", points="T = { at = [1.0, 0.2], direction = [1, 0] }")
+# a boom lifted by a cylinder 0.5 m long in the drawing
+ARM = boom(points="S = [0.7, 0.2]\nT = [1.0, 0.3]", carried='"O", "E", "S", "T"',
+           tail='[lengths]\na = { points = ["O", "T"], value = 1.044 }\nb = { points = ["E", "T"], value = 0.5385 }\n')
+# the boom with a fourth point, T placed by two declared lengths (drawn 0.03 mm off: |OT| 1.04403, |ET| 0.53852)
+BASES = {"arm": ARM, "boom": BOOM,
+         "four_bar": (ROOT / "examples" / "data" / "four_bar.toml").read_text(encoding="utf-8"),
          "delta": (ROOT / "robots" / "delta.toml").read_text(encoding="utf-8")}
 DELTA_RATES = "input_rates = { theta1 = 1.0, theta2 = 1.0, theta3 = 1.0 }"
 ROD1_AXES = "axes = [[-0.0, 1.0, 0.0], [-0.7659860924831149, -0.0, 0.642857142857143]]"
@@ -130,10 +82,11 @@ BAD_FILES = {
     "a named length to a derived point": ("four_bar", "d = { points", 'x = ["B", "M"]\nd = { points', "lengths.x",
                                           "M is a derived point"),
     "three declared lengths to one point": ("arm", "[lengths]", '[lengths]\nc = { points = ["S", "T"], value = 0.32 }',
-                                            "lengths.c", "point T of body arm has 3 declared lengths to points before "
+                                            "lengths.c", "point T of body boom has 3 declared lengths to points before "
                                                          "it (a, b, c): two fix it"),
-    "declared lengths that cannot meet": ("arm", ("value = 1.044 ", "value = 0.5385 "), ("value = 0.1 ", "value = 0.1 "),
-                                          "lengths.b", "point T: the declared lengths a and b cannot meet"),
+    "declared lengths that cannot meet": ("arm", ("value = 1.044 ", "value = 0.5385 "),
+                                          ("value = 0.1 ", "value = 0.1 "), "lengths.b",
+                                          "point T: the declared lengths a and b cannot meet"),
 }
 
 
@@ -143,13 +96,6 @@ def edited(base: str, old, new) -> str:
         assert text.count(before) == 1, f"the base file {base} changed: {before!r}"
         text = text.replace(before, after)
     return text
-
-
-def cli_error(capsys, *argv: str) -> tuple[int, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    assert out == "" and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
-    return code, err.strip()
 
 
 @pytest.mark.parametrize("base", sorted(BASES))

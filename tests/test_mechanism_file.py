@@ -46,6 +46,8 @@ from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble
 from mechatron.model.linkage import build_linkage
 from mechatron.model.linkage_file import read_linkage_file
+from tests.boom import boom
+from tests.corpus import cli_error
 
 ROOT = Path(__file__).resolve().parent.parent
 FOUR_BAR = ROOT / "examples" / "data" / "four_bar.toml"
@@ -228,31 +230,7 @@ def test_the_python_of_the_page_runs(block, monkeypatch, capsys):
 
 
 # ------------------------------------------------------------------------------------------------- bad files
-BOOM = """name = "boom"
-actuated = ["lift"]
-[points]
-O = [0.0, 0.0]
-B0 = [0.2, -0.3]
-E = [0.5, 0.1]
-T = [1.0, 0.2]
-[[bodies]]
-name = "ground"
-points = ["O", "B0"]
-[[bodies]]
-name = "boom"
-points = ["O", "E", "T"]
-mass = 20.0
-[[joints]]
-type = "revolute"
-body = "boom"
-at = "O"
-[[joints]]
-type = "cylinder"
-name = "lift"
-base = "B0"
-eye = "E"
-stroke = [0.4, 0.7]
-"""  # a boom lifted by a cylinder 0.5 m long in the drawing
+BOOM = boom()  # a boom lifted by a cylinder 0.5 m long in the drawing
 
 ON_CURVE = """name = "on_curve"
 actuated = ["q1"]
@@ -335,13 +313,6 @@ BAD_FILES = {  # name: (base file, text(s) replaced, replacement(s), field, word
                             "x must increase (x[3] = 0.4 after 0.8)"),
 }
 BASES = {"four_bar": FOUR_BAR.read_text(encoding="utf-8"), "boom": BOOM, "on_curve": ON_CURVE}
-
-
-def cli_error(capsys, *argv: str) -> tuple[int, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    assert out == "" and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
-    return code, err.strip()
 
 
 @pytest.mark.parametrize("base", sorted(BASES))

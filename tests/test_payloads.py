@@ -21,38 +21,11 @@ from mechatron.dynamics.task import read_task
 from mechatron.dynamics.trajectory import actuator_forces
 from mechatron.errors import InputError
 from mechatron.model.payload import with_payload
+from tests.boom import boom
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# A boom turning about O, lifted by a cylinder from B0 to E; T is a point of the boom whose frame's x axis is the
-# direction (3, 4)/5 in the drawing. {mass}, {com}, {inertia} are the boom's own, or the boom with the payload.
-BOOM = """name = "boom"
-actuated = ["lift"]
-[points]
-O = [0.0, 0.0]
-B0 = [0.2, -0.3]
-E = [0.5, 0.1]
-T = {{ at = [1.0, 0.2], direction = [3, 4] }}
-[[bodies]]
-name = "ground"
-points = ["O", "B0"]
-[[bodies]]
-name = "boom"
-points = ["O", "E", "T"]
-mass = {mass!r}
-com = [{com[0]!r}, {com[1]!r}]
-inertia = {inertia!r}
-[[joints]]
-type = "revolute"
-body = "boom"
-at = "O"
-[[joints]]
-type = "cylinder"
-name = "lift"
-base = "B0"
-eye = "E"
-stroke = [0.4, 0.7]
-"""
+# The boom of tests/boom.py; T, a point of the boom, has a frame whose x axis is the direction (3, 4)/5 in the drawing.
 BOOM_MASS, BOOM_COM, BOOM_INERTIA = 20.0, (0.45, 0.05), 1.7   # kg, m (drawing), kg·m² about the centre
 T, T_AXIS = np.array([1.0, 0.2]), np.array([0.6, 0.8])        # the point T and its frame's x axis in the drawing
 PAYLOAD = 500.0                                               # kg
@@ -82,7 +55,8 @@ def combined(mass: float, com_in_t: np.ndarray, izz: float) -> tuple[float, np.n
 
 def boom_file(folder: Path, name: str, mass: float = BOOM_MASS, com=BOOM_COM, inertia: float = BOOM_INERTIA) -> Path:
     path = folder / f"{name}.toml"
-    path.write_text(BOOM.format(mass=float(mass), com=[float(c) for c in com], inertia=float(inertia)),
+    fields = f"mass = {float(mass)!r}\ncom = [{float(com[0])!r}, {float(com[1])!r}]\ninertia = {float(inertia)!r}"
+    path.write_text(boom(points="T = { at = [1.0, 0.2], direction = [3, 4] }", body=fields),
                     encoding="utf-8")
     return path
 
