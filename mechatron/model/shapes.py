@@ -132,8 +132,7 @@ def body_shape(spec: LinkageSpec, body: BodySpec, drawing: Mapping[str, Vec], le
             placed[point] = add(placed[q], scaled(r, lengths[name] / d))
         else:
             (p1, n1), (p2, n2) = partners[:2]
-            side = sides[point] if sides is not None else math.copysign(1.0, cross(sub(placed[p2], placed[p1]),
-                                                                                   sub(drawn, placed[p1])))
+            side = sides[point] if sides is not None else _side(placed[p1], placed[p2], drawn)
             placed[point] = _circles_meet(spec, placed[p1], placed[p2], lengths[n1], lengths[n2], side, m,
                                           (point, n1, n2))
     for point in body.points:
@@ -142,6 +141,11 @@ def body_shape(spec: LinkageSpec, body: BodySpec, drawing: Mapping[str, Vec], le
             carried = all(end in placed for end in p.between)
             placed[point] = derived_position(spec, point, placed) if carried else drawing[point]
     return {point: placed[point] for point in body.points}
+
+
+def _side(a: Vec, b: Vec, p: Vec) -> float:
+    """+1 if ``p`` lies left of the line a → b, else −1 (numbers)."""
+    return math.copysign(1.0, cross(sub(b, a), sub(p, a)))
 
 
 def _circles_meet(spec: LinkageSpec, a: Vec, b: Vec, r1: Any, r2: Any, side: float, m, names: tuple[str, str, str]
@@ -170,7 +174,7 @@ def circle_sides(spec: LinkageSpec, drawing: Mapping[str, Vec], lengths: Mapping
         for point, partners in declared_partners(spec, body, lengths).items():
             if len(partners) >= 2:
                 (p1, _), (p2, _) = partners[:2]
-                out[point] = math.copysign(1.0, cross(sub(shape[p2], shape[p1]), sub(drawing[point], shape[p1])))
+                out[point] = _side(shape[p1], shape[p2], drawing[point])
     return out
 
 
@@ -341,16 +345,17 @@ def layout(spec: LinkageSpec, shape: Mapping[tuple[str, str], Vec], drawing: Map
                          "or prismatic joint)", f"bodies[{missing[0][0]}]")
     for j in spec.joints:
         if j.kind == "cylinder":
-            _cylinder(spec, j, position, bodies, joints, out_frames, m)
+            _cylinder(spec, j, drawn, shape, bodies, joints, out_frames, m)
     return Layout(joints, out_frames, bodies)
 
 
-def _cylinder(spec, j, position, bodies, joints, out_frames, m) -> None:
-    """A cylinder's barrel (turning about ``base``, x axis toward ``eye``) and rod (sliding along the barrel's x
-    axis, coordinate = the pin-to-pin length), with the frames ``{name}_base`` and ``{name}_eye``; the barrel's and
-    the rod's masses at their middles as slender rods (barrel L_min long, rod L_max − L_min)."""
+def _cylinder(spec, j, drawn, shape, bodies, joints, out_frames, m) -> None:
+    """A cylinder's barrel (turning about ``base``, x axis toward ``eye``, both as drawn) and rod (sliding along the
+    barrel's x axis, coordinate = the pin-to-pin length), with the frames ``{name}_base`` and ``{name}_eye``; the
+    barrel's and the rod's masses at their middles as slender rods (barrel L_min long, rod L_max − L_min). The barrel
+    joint sits at the base pin of the body carrying it (its first owner)."""
     base_body = spec.owners(j.base)[0]
-    start, end = position(j.base, j.name), position(j.eye, j.name)
+    start, end = drawn[j.base], drawn[j.eye]
     r = sub(end, start)
     length = m.sqrt(dot(r, r))
     angle = _angle(r, m)
@@ -358,7 +363,7 @@ def _cylinder(spec, j, position, bodies, joints, out_frames, m) -> None:
     bodies[barrel] = BodyFrame(start, angle, r)
     barrel_length, rod_length = j.stroke[0], j.stroke[1] - j.stroke[0]
     joints.append(JointLayout(barrel, base_body, "revolute", f"{j.name}_angle",
-                              bodies[base_body].local(position(j.base, base_body), m), angle - bodies[base_body].angle,
+                              bodies[base_body].local(shape[(j.base, base_body)], m), angle - bodies[base_body].angle,
                               mass=j.barrel_mass, com=(0.5 * barrel_length, 0.0),
                               inertia=j.barrel_mass * barrel_length**2 / 12))
     out_frames.append(FrameLayout(f"{j.name}_base", barrel, (0.0, 0.0), 0.0, False))
