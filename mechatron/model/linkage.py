@@ -82,7 +82,7 @@ class Assembly:
 
 def _tree(spec: LinkageSpec) -> Assembly:
     """The Pinocchio tree, closures, sketch and measures of ``spec`` on its body shapes, not yet closed."""
-    drawing = {p.name: (float(p.at[0]), float(p.at[1])) for p in spec.points if p.at is not None}
+    drawing = _drawing(spec)
     declared = {length.name: length.value for length in spec.lengths if length.value is not None}
     shape = shapes(spec, drawing, declared)
     lay = layout(spec, shape, drawing)
@@ -107,18 +107,7 @@ def _tree(spec: LinkageSpec) -> Assembly:
             b.cylinder_closure(j.name, names[(j.base, spec.owners(j.base)[0])], names[(j.eye, spec.owners(j.eye)[0])],
                                j.stroke, j.count)
     _closures(spec, b, names, lay)
-    for body in spec.bodies:
-        draw = body.draw if body.draw is not None else body.points
-        if len(draw) >= 2 or body.draw_kind == "slider":
-            b.line(body.name, *(names.get((p, body.name), p) for p in draw),
-                   kind="ground" if body.name == GROUND else body.draw_kind)
-    for m in spec.measures:
-        if m.kind not in MEASURE_POINTS:
-            raise spec.error(f"unknown measure type {m.kind!r}; expected one of: {', '.join(MEASURE_POINTS)}",
-                             "measures")
-        if len(m.points) != MEASURE_POINTS[m.kind]:
-            raise spec.error(f"measure {m.name}: a {m.kind} takes {MEASURE_POINTS[m.kind]} points", "measures")
-        b.measures.append(Measure(m.name, m.kind, tuple(m.points), m.minimum))
+    _sketch_and_measures(spec, b, names)
     mech = b.build(actuated=list(spec.actuated), description=spec.description, tool=spec.tool or spec.points[-1].name,
                    input_rates=dict(spec.input_rates), check=False)
     inputs = {}
@@ -131,6 +120,26 @@ def _tree(spec: LinkageSpec) -> Assembly:
         inputs[k] = float(spec.held_inputs.get(name, mech.reference_q[k]))
     return Assembly(mech, lay, inputs, shape)
 
+
+def _drawing(spec: LinkageSpec) -> dict[str, tuple[float, float]]:
+    """The drawn points' positions (m) as number pairs."""
+    return {name: (float(x), float(y)) for name, (x, y) in spec.drawing().items()}
+
+
+def _sketch_and_measures(spec: LinkageSpec, b: PlanarBuilder, frames: Mapping[tuple[str, str], str]) -> None:
+    """The polyline of every body (``draw``, else its points) and the measures to watch."""
+    for body in spec.bodies:
+        draw = body.draw if body.draw is not None else body.points
+        if len(draw) >= 2 or body.draw_kind == "slider":
+            b.line(body.name, *(frames.get((p, body.name), p) for p in draw),
+                   kind="ground" if body.name == GROUND else body.draw_kind)
+    for m in spec.measures:
+        if m.kind not in MEASURE_POINTS:
+            raise spec.error(f"unknown measure type {m.kind!r}; expected one of: {', '.join(MEASURE_POINTS)}",
+                             "measures")
+        if len(m.points) != MEASURE_POINTS[m.kind]:
+            raise spec.error(f"measure {m.name}: a {m.kind} takes {MEASURE_POINTS[m.kind]} points", "measures")
+        b.measures.append(Measure(m.name, m.kind, tuple(m.points), m.minimum))
 
 
 def _closures(spec: LinkageSpec, b: PlanarBuilder, frames: Mapping[tuple[str, str], str], lay: Layout) -> None:
@@ -269,10 +278,9 @@ def _moves(spec: LinkageSpec, assembly: Assembly, q: Vector) -> dict[str, float]
     names = frame_names(spec)
     drawing = spec.drawing()
     moves = {}
-    for p in spec.points:
-        if p.at is not None:
-            frames = [data.oMf[mech.frame_id(names[(p.name, body)])].translation[:2] for body in spec.owners(p.name)]
-            moves[p.name] = max(float(np.linalg.norm(f - drawing[p.name])) for f in frames)
+    for point, drawn in drawing.items():
+        frames = [data.oMf[mech.frame_id(names[(point, body)])].translation[:2] for body in spec.owners(point)]
+        moves[point] = max(float(np.linalg.norm(f - drawn)) for f in frames)
     return moves
 
 
@@ -357,12 +365,11 @@ def parameters(spec: LinkageSpec, shape: Mapping[tuple[str, str], tuple[float, f
             body = next(name for name in spec.owners(a) if (b, name) in shape)
             value = math.dist(shape[(a, body)], shape[(b, body)])
         out[length.name] = Parameter(length.name, float(value), "length", f"length |{a}{b}|")
-    for p in spec.points:
-        if p.at is not None:
-            for axis, value in zip("xy", p.at):
-                name = f"{p.name}_{axis}"
-                if name not in out:
-                    out[name] = Parameter(name, float(value), "length", f"{axis} of point {p.name} in the drawing")
+    for point, drawn in spec.drawing().items():
+        for axis, value in zip("xy", drawn):
+            name = f"{point}_{axis}"
+            if name not in out:
+                out[name] = Parameter(name, float(value), "length", f"{axis} of point {point} in the drawing")
     return out
 
 
@@ -370,8 +377,8 @@ def parameter_spec(spec: LinkageSpec, values: Mapping[str, float]) -> LinkageSpe
     """``spec`` with other values of its parameters: every named length declared at its value (``values``, else as
     before), the point coordinates moving the drawn points."""
     lengths = {length.name for length in spec.lengths}
-    drawing = {p.name: (float(p.at[0]), float(p.at[1])) for p in spec.points if p.at is not None}
-    current = parameters(spec, shapes(spec, drawing, {x.name: x.value for x in spec.lengths if x.value is not None}))
+    declared = {length.name: length.value for length in spec.lengths if length.value is not None}
+    current = parameters(spec, shapes(spec, _drawing(spec), declared))
     moved = spec.drawing()
     for name, value in values.items():
         if name in lengths or name not in current:
@@ -379,9 +386,9 @@ def parameter_spec(spec: LinkageSpec, values: Mapping[str, float]) -> LinkageSpe
         point, _, axis = name.rpartition("_")
         moved[point] = moved[point].copy()
         moved[point]["xy".index(axis)] = float(value)
-    declared = tuple(replace(length, value=float(values.get(length.name, current[length.name].value)))
-                     for length in spec.lengths)
-    return replace(spec.with_positions(moved), lengths=declared)
+    every = tuple(replace(length, value=float(values.get(length.name, current[length.name].value)))
+                  for length in spec.lengths)
+    return replace(spec.with_positions(moved), lengths=every)
 
 
 def rebuild(spec: LinkageSpec, values: Mapping[str, float]) -> Mechanism:
@@ -410,8 +417,7 @@ def linkage_derivatives(spec: LinkageSpec, mech: Mechanism, names: tuple[str, ..
     drawing = {p.name: (value(f"{p.name}_x", p.at[0]), value(f"{p.name}_y", p.at[1]))
                for p in spec.points if p.between is None}
     declared = {length.name: variable.get(length.name, values[length.name]) for length in spec.lengths}
-    numbers = {p.name: (float(p.at[0]), float(p.at[1])) for p in spec.points if p.between is None}
-    sides = circle_sides(spec, numbers, {length.name: values[length.name] for length in spec.lengths})
+    sides = circle_sides(spec, _drawing(spec), {length.name: values[length.name] for length in spec.lengths})
     lay = layout(spec, shapes(spec, drawing, declared, ca, sides), drawing, ca)
     offsets = {GROUND: 0.0, **{j.body: -j.angle for j in lay.joints}}
     model = mech.model
