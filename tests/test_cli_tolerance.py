@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -136,3 +137,16 @@ def test_a_closed_loop_with_only_an_input_row(capsys, tmp_path, method):
             assert pose["methods"]["rss"]["dx"] == pytest.approx(worst, rel=1e-9)
         if method in ("mc", "all"):
             assert pose["methods"]["mc"]["dx"] == pytest.approx(worst, rel=0.05)
+
+
+def test_a_cylinder_row_alone(capsys, tmp_path):
+    """Only the cylinder's row: the scissor lift's deck moves by ∂h/∂c t with ∂h/∂c = 1.839298 at the drawing (the
+    closed form of tests/test_scissor_lift.py), and not sideways (∂x/∂c = 0)."""
+    tolerances = tmp_path / "tolerances.csv"
+    tolerances.write_text("parameter,tolerance_mm\ncyl,0.5\n")
+    lift = Path(__file__).resolve().parent.parent / "examples" / "data" / "scissor_lift.toml"
+    code, out, err = run(capsys, "tolerance", str(lift), "--tolerances", str(tolerances),
+                         "--method", "worst", "--json")
+    assert code == 0, err
+    worst = json.loads(out)["poses"][0]["methods"]["worst"]
+    assert worst["dy"] == pytest.approx(1.839298 * 0.5e-3, rel=1e-6) and worst["dx"] < 1e-15
