@@ -18,7 +18,7 @@ two-core machine (0.28 s per sizing); ``--designs 2000`` takes a fifth of that a
 1.75x, tables identical, LocalCluster start-up 1.4 s, overhead 2.3 ms per task; a one-process run of all 10,000
 designs took 46.6 min while other work shared the machine (the projection from 2,000 says 46.7 min), and a
 two-worker run of all 10,000 designs 23.3 min on the idle machine (projected: 23.4 min). Before the
-workers were spawned without Dask's ``MALLOC_TRIM_THRESHOLD_`` (see ``mechatron.studies.runner.WORKER_CONFIG``),
+workers were spawned without Dask's ``MALLOC_TRIM_THRESHOLD_`` (see ``mechatron.studies.cluster.WORKER_CONFIG``),
 a worker sized at 0.41-0.60 s per design against 0.32 s in a plain process, and the ratio was 1.0-1.5x.
 """
 

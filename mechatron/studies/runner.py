@@ -17,7 +17,6 @@ from __future__ import annotations
 import contextvars
 import hashlib
 import json
-import logging
 import math
 import warnings
 from collections.abc import Callable
@@ -27,26 +26,13 @@ from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, MechatronWarning
 from ..io.values import number
+from .cluster import connect, disconnect
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
     from .result import StudyResult
     from .spec import Spec
-
-#: Seconds to wait for a running Dask scheduler.
-CONNECT_SECONDS = 3.0
-#: The Dask settings of the embedded LocalCluster's workers. Dask's default environment of a new worker sets
-#: ``MALLOC_TRIM_THRESHOLD_``, which turns off glibc's adaptive mmap threshold: every array above 128 KB is then
-#: mapped and unmapped anew, and a PUMA sizing took 0.41–0.60 s per design in a worker against 0.32 s in a plain
-#: process (two at once, on this project's two-core machine). The workers keep Dask's one-thread BLAS and OpenMP
-#: settings and do without the statistical profiler (a stack sample every 10 ms), which nobody reads here.
-#: Workers of a running scheduler are the user's: the same settings belong in their Dask configuration
-#: (docs/study_file.md).
-WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ": {"OMP_NUM_THREADS": 1, "MKL_NUM_THREADS": 1,
-                                                          "OPENBLAS_NUM_THREADS": 1},
-                 "distributed.worker.profile.enabled": False}
-
 
 @lru_cache(maxsize=4)
 def base_mechanism(mechanism: str):
@@ -128,33 +114,6 @@ def _prepare(out_dir: Path, spec: Spec, designs: pd.DataFrame, chunk_size: int |
     return chunk_size
 
 
-def _client(workers: int, scheduler: str | None):
-    """A Dask client of a running scheduler (refused in a few seconds when it cannot be reached) or of a new
-    LocalCluster of ``workers`` processes with one thread each; None for a serial run."""
-    if scheduler is None and workers == 1:
-        return None
-    from distributed import Client, LocalCluster
-
-    quiet = logging.getLogger("distributed")
-    level = quiet.level
-    quiet.setLevel(logging.CRITICAL)
-    try:
-        if scheduler is not None:
-            try:
-                return Client(scheduler, timeout=f"{CONNECT_SECONDS}s")
-            except (OSError, TimeoutError, ValueError) as exc:
-                detail = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-                raise InputError(f"--scheduler {scheduler}: cannot reach the Dask scheduler within "
-                                 f"{CONNECT_SECONDS:g} s ({detail[:120]})") from None
-        import dask
-
-        with dask.config.set(WORKER_CONFIG):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
-        return Client(cluster)
-    finally:
-        quiet.setLevel(level)
-
-
 def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, scheduler: str | None = None,
               chunk_size: int | None = None, progress: Callable[[int, int], None] | None = None,
               max_chunks: int | None = None) -> StudyResult | None:
@@ -180,7 +139,7 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
     chunk_size = number("chunk", chunk_size, integer=True, minimum=1, allow_none=True)
     designs = make_designs(spec)
     out_dir = Path(out_dir)
-    client = _client(workers, scheduler)
+    client = connect(workers, scheduler)
     try:
         chunk_size = _prepare(out_dir, spec, designs, chunk_size)
         chunks = [designs.iloc[k:k + chunk_size] for k in range(0, len(designs), chunk_size)]
@@ -196,7 +155,7 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
                 progress(done, len(designs))
     finally:
         if client is not None:
-            _close(client, scheduler)
+            disconnect(client, scheduler)
     if not all(p.is_file() for p in part):
         return None
     table = pd.concat([pd.read_parquet(p) for p in part], ignore_index=True)
@@ -220,10 +179,3 @@ def _results(client, spec: Spec, chunks: list, pending: list[int]):
     for future in as_completed(futures):
         rows = future.result()
         yield futures.pop(future), rows  # released: the worker forgets the chunk's rows once they are here
-
-
-def _close(client, scheduler: str | None) -> None:
-    cluster = client.cluster if scheduler is None else None
-    client.close()
-    if cluster is not None:
-        cluster.close()
