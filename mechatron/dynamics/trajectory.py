@@ -55,5 +55,28 @@ def holding_forces(mech: Mechanism, Q: ArrayLike, loads: Loads = None) -> Array:
 
 
 def _forces(mech: Mechanism, Q: Array, V: Array, A: Array, loads: Loads) -> Array:
-    return np.array([[f[n] for n in mech.actuated] for f in
-                     (inverse(mech, q, v, a, loads)[0] for q, v, a in zip(Q, V, A))])
+    """The actuator forces (N, n_actuated) of the constrained inverse dynamics at every state, all at once where the
+    closures are not redundant: with need = M q̈ + h − Q (batched RNEA) and the closure Jacobian J split into its
+    actuated and dependent columns, [B Jᵀ][τ_a; λ] = need reads J_dᵀ λ = need_d and τ_a = need_a − J_aᵀ λ (the
+    sweep that gave the states has refused the singular ones, where J_d is not invertible). Redundant closures, or
+    joints the batched kinematics does not know: :func:`~mechatron.dynamics.constrained.inverse` state by state."""
+    from ..kinematics import batch
+    from ..kinematics.loops import loop_solver
+    from .tree import inverse_dynamics
+
+    solver = loop_solver(mech)
+    system = solver.system
+    try:
+        frames = system.batched() if system.nrows == len(solver.dep) else None
+    except NotImplementedError:
+        frames = None
+    if frames is None or not len(Q):
+        return np.array([[f[n] for n in mech.actuated] for f in
+                         (inverse(mech, q, v, a, loads)[0] for q, v, a in zip(Q, V, A))]).reshape(len(Q), -1)
+    need = np.atleast_2d(inverse_dynamics(mech, Q, V, A, loads))
+    out = np.empty((len(Q), len(solver.act)))
+    for part in batch.chunks(len(Q)):
+        _, J = system.stack(frames.placements(Q[part]))
+        lam = batch.solve(np.swapaxes(J[:, :, solver.dep], 1, 2), need[part][:, solver.dep, None])[..., 0]
+        out[part] = need[part][:, solver.act] - batch.apply(np.swapaxes(J[:, :, solver.act], 1, 2), lam)
+    return out
