@@ -19,7 +19,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     where = "on " + args.scheduler if args.scheduler else f"on {args.workers} workers" if args.workers > 1 else ""
     bar = None if args.json else progress_bar(f"{Path(args.spec).name} {where}".strip())
     result = run_study(spec, out, workers=args.workers, scheduler=args.scheduler, chunk_size=args.chunk,
-                       progress=bar)
+                       progress=bar, restart=args.restart)
     emit(result, args)
     return 0
 
@@ -36,5 +36,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler, e.g. tcp://HOST:8786")
     p.add_argument("--chunk", type=COUNT, metavar="N", help="designs per task and per part file (default: n/32, "
                                                            "1 to 64)")
+    p.add_argument("--restart", action="store_true",
+                   help="discard the study in --out (its rows, parts and tables) and start again, e.g. after a file "
+                        "it reads has changed")
     add_output_options(p)
     p.set_defaults(func=cmd_study)

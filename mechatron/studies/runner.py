@@ -6,9 +6,13 @@ built or analysed is a row with ``status = "failed"`` and its ``reason``, never 
 
 :func:`run_study` sends the chunks that have no part file yet to one process (``workers = 1``), to an embedded
 ``dask.distributed.LocalCluster`` of ``workers`` processes, or to a running scheduler (``scheduler``); the client
-writes each chunk's rows to ``OUT/parts/part-NNNNN.parquet`` (whole or not at all) as it arrives. ``OUT/study.json``
-holds the digests of the spec and the designs and the chunk size: run again, the study skips the chunks done and
-ends with the same table; a different spec in the same folder is refused. The table of all designs, sorted, is
+writes each chunk's rows to ``OUT/parts/part-NNNNN.parquet`` (whole or not at all) as it arrives, with the
+designs it holds in the file's metadata: the study's identity, their numbers and the digest of their values.
+``OUT/study.json`` holds the study's identity — the digests of the spec's row-deciding fields and of the designs,
+and the SHA-256 of every file the study reads (``Spec.files``) — and the chunk size: run again, the study checks
+every part against its chunk (a part that does not read or holds other designs is computed again, with one note)
+and skips the chunks done, ending with the same table; a folder of another spec, or one whose files changed since
+it started, is refused naming what differs (``restart`` discards it instead). The table of all designs, sorted, is
 ``OUT/designs.parquet`` and ``OUT/designs.csv``.
 """
 
@@ -75,6 +79,7 @@ def evaluate(spec: Spec, designs: pd.DataFrame) -> pd.DataFrame:
 
 
 def _digest(frame: pd.DataFrame) -> str:
+    """SHA-256 of a table's CSV text (its values to the last digit)."""
     return hashlib.sha256(frame.to_csv(index=False).encode()).hexdigest()
 
 
@@ -89,34 +94,202 @@ def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
     _isolated(lambda: write_atomically(path, lambda fh: frame.to_parquet(fh, index=False), binary=True))
 
 
-def _prepare(out_dir: Path, spec: Spec, designs: pd.DataFrame, chunk_size: int | None) -> int:
-    """Create ``out_dir`` (or check the study it holds: the same spec and designs); returns the chunk size."""
+# ------------------------------------------------------------------------------------ the study's identity
+def _file_hash(path: str) -> str | None:
+    """SHA-256 of a file's bytes, None if it cannot be read."""
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.file_digest(fh, "sha256").hexdigest()
+    except OSError:
+        return None
+
+
+def _stamp(spec: Spec, designs: pd.DataFrame) -> dict[str, Any]:
+    """What decides the study's rows: the spec's digest, the designs' digest and count, every file read → SHA-256."""
+    return {"spec": spec.digest(), "designs": _digest(designs), "count": len(designs),
+            "files": {path: _file_hash(path) for path in spec.files}}
+
+
+def _identity(stamp: dict[str, Any]) -> str:
+    """One digest of a :func:`_stamp`, recorded in every part file."""
+    return hashlib.sha256(json.dumps(stamp, sort_keys=True).encode()).hexdigest()
+
+
+def _shown(path: str) -> str:
+    """A path as shown in a message: relative to the working folder when inside it."""
+    try:
+        return str(Path(path).relative_to(Path.cwd()))
+    except ValueError:
+        return path
+
+
+def _changed_file(old: dict[str, Any], new: dict[str, str | None]) -> str | None:
+    """What differs between the files a study read when it started (``old``: path → SHA-256) and now, or None."""
+    for path, digest in old.items():
+        if path not in new:
+            return f"{_shown(path)} is no longer read (the mechanism or a default file is found elsewhere now)"
+        if new[path] is None:
+            return f"{_shown(path)} is missing or unreadable (the study read it when it started)"
+        if new[path] != digest:
+            return f"{_shown(path)} changed since this study started (its rows would mix two versions)"
+    extra = [path for path in new if path not in old]
+    return f"{_shown(extra[0])} is read now but was not when this study started" if extra else None
+
+
+def _part(out_dir: Path, k: int) -> Path:
+    """The part file of chunk ``k``."""
+    return out_dir / "parts" / f"part-{k:05d}.parquet"
+
+
+def _rows_done(out_dir: Path, old: dict[str, Any]) -> int:
+    """The rows of the part files of the study recorded in ``old`` (its study.json)."""
+    try:
+        count, size = int(old["count"]), int(old["chunk_size"])
+    except (KeyError, TypeError, ValueError):
+        return 0
+    return sum(min(size, count - start) for k, start in enumerate(range(0, count, max(size, 1)))
+               if _part(out_dir, k).is_file())
+
+
+def _refuse_other(out_dir: Path, state: Path, old: dict[str, Any], new: dict[str, Any]) -> None:
+    """Refuse a folder whose study (``old``) is not this one (``new``), naming what differs and how to start over."""
+    if old.get("spec") != new["spec"]:
+        problem, where = f"holds a study of another spec or other designs (see {state.name})", out_dir
+    else:
+        changed = _changed_file(old.get("files") or {}, new["files"])
+        if changed is not None:
+            problem, where = changed, state
+        elif {k: old.get(k) for k in ("designs", "count")} != {k: new[k] for k in ("designs", "count")}:
+            problem, where = f"holds a study of other designs (see {state.name})", out_dir
+        else:
+            return
+    raise InputError(f"{problem}; run with --restart to discard the {_rows_done(out_dir, old):,} rows done, or give "
+                     "another --out", file=where)
+
+
+def _discard(out_dir: Path) -> None:
+    """Remove a study's files from ``out_dir``: study.json, the part files and the designs tables."""
+    for path in [out_dir / "study.json", *(out_dir / "parts").glob("part-*.parquet"), out_dir / "designs.parquet",
+                 out_dir / "designs.csv"]:
+        path.unlink(missing_ok=True)
+
+
+def _prepare(out_dir: Path, spec: Spec, designs: pd.DataFrame, chunk_size: int | None,
+             restart: bool = False) -> tuple[int, str]:
+    """Create ``out_dir`` (or check the study it holds: the same spec, designs and files; with ``restart``,
+    discard it); returns the chunk size and the study's identity."""
     from ..io.output import output_directory, write_text
 
     state = out_dir / "study.json"
-    stamp = {"spec": spec.digest(), "designs": _digest(designs), "count": len(designs)}
+    stamp = _stamp(spec, designs)
     if state.is_file():
         try:
             old = json.loads(state.read_text())
+            if not isinstance(old, dict):
+                raise ValueError
         except (OSError, ValueError):
             raise InputError("not a study's state file; use another output folder", file=state) from None
-        if {k: old.get(k) for k in stamp} != stamp:
-            raise InputError(f"holds a study of another spec or other designs (see {state.name}); use another "
-                             "output folder or remove it", file=out_dir)
-        if chunk_size is not None and chunk_size != old.get("chunk_size"):
-            raise InputError(f"was started with chunks of {old.get('chunk_size')} designs; resume it with the "
-                             "same chunk size", file=out_dir)
-        return int(old["chunk_size"])
+        if restart:
+            _discard(out_dir)
+        else:
+            _refuse_other(out_dir, state, old, stamp)
+            if chunk_size is not None and chunk_size != old.get("chunk_size"):
+                raise InputError(f"was started with chunks of {old.get('chunk_size')} designs; resume it with the "
+                                 "same chunk size", file=out_dir)
+            return int(old["chunk_size"]), _identity(stamp)
+    elif restart:
+        _discard(out_dir)
     chunk_size = chunk_size or max(1, min(64, math.ceil(len(designs) / 32)))
     _isolated(lambda: output_directory(out_dir / "parts"))
     text = json.dumps({**stamp, "chunk_size": chunk_size, "spec_file": spec.file}, indent=2) + "\n"
     _isolated(lambda: write_text(state, text))
-    return chunk_size
+    return chunk_size, _identity(stamp)
+
+
+# -------------------------------------------------------------------------------------------- part files
+#: The key of a part file's Parquet metadata that records its designs.
+PART_KEY = b"mechatron.study"
+
+
+def _record(identity: str, chunk: pd.DataFrame) -> dict[str, Any]:
+    """What a part file records: the study's identity, its designs' numbers and the digest of their values."""
+    return {"study": identity, "designs": [int(d) for d in chunk["design"]], "values": _digest(chunk)}
+
+
+def _write_part(rows: pd.DataFrame, record: dict[str, Any], path: Path) -> None:
+    """Write a chunk's rows with its :func:`_record` in the file's metadata, whole or not at all."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from ..io.output import write_atomically
+
+    table = pa.Table.from_pandas(rows, preserve_index=False)
+    table = table.replace_schema_metadata({**(table.schema.metadata or {}), PART_KEY: json.dumps(record).encode()})
+    _isolated(lambda: write_atomically(path, lambda fh: pq.write_table(table, fh), binary=True))
+
+
+def _span(designs: Any) -> str:
+    """Designs' numbers as ``first–last``."""
+    if not isinstance(designs, list) or not designs:
+        return "none"
+    return f"{designs[0]}" if len(designs) == 1 else f"{designs[0]}–{designs[-1]}"
+
+
+def _part_problem(path: Path, record: dict[str, Any]) -> str | None:
+    """Why the part file ``path`` does not hold the rows of the chunk of ``record``, None if it does: it does not
+    read, records other designs or another study, or its rows are not the designs it records."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    try:
+        table = pq.read_table(path)
+        kept = json.loads((table.schema.metadata or {}).get(PART_KEY, b"null"))
+    except (OSError, ValueError, pa.ArrowException) as exc:
+        return f"does not read ({(str(exc).splitlines() or [type(exc).__name__])[0][:120]})"
+    if not isinstance(kept, dict):
+        return "records no designs (not written by this study)"
+    if kept.get("study") != record["study"]:
+        return "is of another study"
+    if kept.get("designs") != record["designs"]:
+        return f"holds designs {_span(kept.get('designs'))}, not {_span(record['designs'])}"
+    if kept.get("values") != record["values"]:
+        return f"holds other values of designs {_span(record['designs'])}"
+    if "design" not in table.column_names or table.column("design").to_pylist() != record["designs"]:
+        return "has rows of other designs than it records"
+    return None
+
+
+def _pending(paths: list[Path], records: list[dict[str, Any]]) -> list[int]:
+    """The chunks to run: those without a part file, and those whose part does not hold them (one note for all,
+    :class:`~mechatron.errors.MechatronWarning`: they are computed again)."""
+    pending, bad = [], []
+    for k, (path, record) in enumerate(zip(paths, records)):
+        problem = _part_problem(path, record) if path.is_file() else "missing"
+        if problem is not None:
+            pending.append(k)
+            if problem != "missing":
+                bad.append(f"{_shown(str(path))} {problem}")
+    if bad:
+        more = f" (and {len(bad) - 1} more part files)" if len(bad) > 1 else ""
+        warnings.warn(f"{bad[0]}{more}; computed again", MechatronWarning, stacklevel=3)
+    return pending
+
+
+def _read_part(path: Path) -> pd.DataFrame:
+    """A part file's rows (an error naming it if it does not read: run the study again to recompute it)."""
+    import pandas as pd
+    import pyarrow as pa
+
+    try:
+        return pd.read_parquet(path)
+    except (OSError, ValueError, pa.ArrowException) as exc:
+        raise InputError(f"cannot read the part file ({(str(exc).splitlines() or [''])[0][:120]}); run the study "
+                         "again to compute it anew", file=path) from None
 
 
 def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, scheduler: str | None = None,
               chunk_size: int | None = None, progress: Callable[[int, int], None] | None = None,
-              max_chunks: int | None = None) -> StudyResult | None:
+              max_chunks: int | None = None, restart: bool = False) -> StudyResult | None:
     """Run a study (see the module docstring) and return its :class:`~mechatron.studies.result.StudyResult`.
 
     Args:
@@ -127,6 +300,11 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
         chunk_size: Designs per task and per part file (default: n/32, 1 to 64; a resumed study keeps its own).
         progress: Called as ``progress(done, total)`` with the designs done (those of earlier runs included).
         max_chunks: Stop after this many chunks (the study is then resumed by running it again); returns None.
+        restart: Discard the study in ``out_dir`` (its state, parts and tables) and start again.
+
+    Raises:
+        InputError: when ``out_dir`` holds another study, or one whose files (the mechanism's, the designs, the
+            analyses') changed since it started, naming what differs.
     """
     import pandas as pd
 
@@ -141,24 +319,26 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
     out_dir = Path(out_dir)
     client = connect(workers, scheduler)
     try:
-        chunk_size = _prepare(out_dir, spec, designs, chunk_size)
+        chunk_size, identity = _prepare(out_dir, spec, designs, chunk_size, restart)
         chunks = [designs.iloc[k:k + chunk_size] for k in range(0, len(designs), chunk_size)]
-        part = [out_dir / "parts" / f"part-{k:05d}.parquet" for k in range(len(chunks))]
-        pending = [k for k in range(len(chunks)) if not part[k].is_file()][:max_chunks]
-        done = len(designs) - sum(len(chunks[k]) for k in range(len(chunks)) if not part[k].is_file())
+        part = [_part(out_dir, k) for k in range(len(chunks))]
+        records = [_record(identity, chunk) for chunk in chunks]
+        pending = _pending(part, records)
+        done = len(designs) - sum(len(chunks[k]) for k in pending)
+        pending = pending[:max_chunks]
         if progress is not None:
             progress(done, len(designs))
         for k, rows in _results(client, spec, chunks, pending):
-            _write_parquet(rows, part[k])
+            _write_part(rows, records[k], part[k])
             done += len(rows)
             if progress is not None:
                 progress(done, len(designs))
     finally:
         if client is not None:
             disconnect(client, scheduler)
-    if not all(p.is_file() for p in part):
+    if max_chunks is not None and done < len(designs):
         return None
-    table = pd.concat([pd.read_parquet(p) for p in part], ignore_index=True)
+    table = pd.concat([_read_part(p) for p in part], ignore_index=True)
     table = table.sort_values("design", kind="stable").reset_index(drop=True)
     _write_parquet(table, out_dir / "designs.parquet")
     from ..io.output import write_table

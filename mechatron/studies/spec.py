@@ -3,9 +3,14 @@ designs are drawn, which analyses run on every design and what the result shows.
 
 :func:`read_spec` checks everything before any design runs — the mechanism loads, every parameter is one of its
 named parameters (or an analysis option: ``target = "ANALYSIS.OPTION"``), every range is non-empty, every analysis
-is known and its ``check`` accepts the mechanism and the options — and raises one
-:class:`~mechatron.errors.InputError` naming the file and the field otherwise. The :class:`Spec` it returns is
-plain, picklable data: a worker rebuilds the mechanism from ``Spec.mechanism`` and a design's overrides.
+is known and its ``check`` accepts the mechanism and the options (with every value of a targeted list), the
+``[output.pareto]`` axes are among the analyses' outputs — and raises one :class:`~mechatron.errors.InputError`
+naming the file and the field otherwise. The :class:`Spec` it returns is plain, picklable data: a worker rebuilds the
+mechanism from ``Spec.mechanism`` and a design's overrides.
+
+A study's identity (:mod:`mechatron.studies.runner`) is :meth:`Spec.digest` — the fields that decide its rows, not
+the output settings — and the bytes of every file it reads, ``Spec.files``: the mechanism's file, the CSV of
+designs and each analysis' files (:func:`input_files`).
 """
 
 from __future__ import annotations
@@ -13,7 +18,8 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import asdict, dataclass, field
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +32,9 @@ METHODS = ("grid", "lhs", "sobol", "csv")
 UNIT_SUFFIXES = {"": 1.0, "_mm": 1e-3, "_deg": math.pi / 180}
 #: Directions of a Pareto axis.
 GOALS = ("minimize", "maximize")
+#: The fields of a :class:`Spec` that do not decide its rows: the file's name, what the result shows (recomputed from
+#: the table of a finished study) and the files read (their bytes are compared apart, to name the one that changed).
+NOT_ROWS = ("file", "pareto", "sensitivity", "files")
 
 
 @dataclass(frozen=True)
@@ -63,11 +72,11 @@ class Spec:
     analyses: dict[str, dict[str, Any]] = field(default_factory=dict)
     pareto: tuple[str, str, str, str] | None = None  # x, x goal, y, y goal
     sensitivity: bool = False
+    files: tuple[str, ...] = ()
 
     def digest(self) -> str:
-        """SHA-256 of everything that decides the study's rows (not the file's name)."""
-        data = asdict(self)
-        data.pop("file")
+        """SHA-256 of the fields that decide the study's rows (not those of :data:`NOT_ROWS`)."""
+        data = {k: v for k, v in asdict(self).items() if k not in NOT_ROWS}
         return hashlib.sha256(json.dumps(data, sort_keys=True, default=str).encode()).hexdigest()
 
     def options(self, name: str, design: dict[str, Any]) -> dict[str, Any]:
@@ -262,19 +271,82 @@ def read_spec(path: str | Path) -> Spec:
     reader.finish()
     spec = Spec(str(path), mechanism, tuple(parameters), analyses=analyses, **designs, **output)
     _check_analyses(spec, mech)
-    return spec
+    _check_pareto(spec, mech)
+    return replace(spec, files=tuple(input_files(spec, mech)))
+
+
+def variants(spec: Spec) -> Iterator[tuple[str, dict[str, Any], str | None]]:
+    """(analysis, options, field) of every set of options the designs give an analysis, as far as its targeted
+    lists go: the first value of every targeted parameter, then each further value of a targeted list with the others
+    at their first; ``field`` names that value in the spec (``parameters.NAME.values[i]``), None for the first."""
+    first = {p.name: p.pick(0.0) for p in spec.parameters if p.target}
+    for name in spec.analyses:
+        yield name, spec.options(name, first), None
+        for p in spec.parameters:
+            if p.target and p.target.split(".", 1)[0] == name and p.values is not None:
+                for i, value in enumerate(p.values[1:], start=1):
+                    yield name, spec.options(name, {**first, p.name: value}), f"parameters.{p.name}.values[{i}]"
 
 
 def _check_analyses(spec: Spec, mech: Any) -> None:
-    """Each analysis' ``check`` on the nominal mechanism with the first value of every targeted parameter."""
+    """Each analysis' ``check`` on the nominal mechanism with every set of options of :func:`variants` (every file
+    of a targeted list exists and reads)."""
     from .analyses import analysis
 
-    first = {p.name: p.pick(0.0) for p in spec.parameters if p.target}
-    for name in spec.analyses:
+    for name, options, where in variants(spec):
         try:
-            analysis(name).check(mech, spec.options(name, first))
+            analysis(name).check(mech, options)
         except InputError as exc:
             if exc.file:
                 raise
-            field_name = f"analyses.{name}" + (f".{exc.field}" if exc.field else "")
-            raise InputError(exc.message, file=spec.file, field=field_name) from None
+            field_name = where or f"analyses.{name}" + (f".{exc.field}" if exc.field else "")
+            message = exc.message if where is None or not exc.field else f"{exc.field}: {exc.message}"
+            raise InputError(message, file=spec.file, field=field_name) from None
+
+
+def output_names(spec: Spec, mech: Any) -> list[str]:
+    """The output columns of the study's rows, in order: each analysis' ``output_names`` for every set of options
+    of :func:`variants`."""
+    from .analyses import analysis
+
+    names = [n for name, options, _ in variants(spec) for n in analysis(name).output_names(mech, options)]
+    return list(dict.fromkeys(names))
+
+
+def _check_pareto(spec: Spec, mech: Any) -> None:
+    """Refuse a Pareto axis that is neither an output of the analyses nor a numeric parameter, naming
+    ``output.pareto.x`` or ``y`` and listing the known outputs."""
+    if spec.pareto is None:
+        return
+    outputs = output_names(spec, mech)
+    numeric = [p.name for p in spec.parameters
+               if p.values is None or all(isinstance(v, (int, float)) for v in p.values)]
+    for axis, column in (("x", spec.pareto[0]), ("y", spec.pareto[2])):
+        if column not in outputs and column not in numeric:
+            raise InputError(f"unknown output {column!r}; the analyses' outputs: {', '.join(outputs)}"
+                             + (f" (or a parameter: {', '.join(numeric)})" if numeric else ""),
+                             file=spec.file, field=f"output.pareto.{axis}")
+
+
+def mechanism_files(mechanism: str) -> list[Path]:
+    """The files the mechanism is read from: its file (a name's: the file :func:`mechatron.library.load` reads)
+    and, beside a URDF, the SRDF of its rotor parameters (if there is one)."""
+    from ..library import robot_origins
+
+    path = Path(mechanism) if Path(mechanism).is_file() else robot_origins().get(mechanism, (None, None))[1]
+    if path is None:
+        return []
+    srdf = path.with_suffix(".srdf")
+    return [path, srdf] if path.suffix.lower() == ".urdf" and srdf.is_file() else [path]
+
+
+def input_files(spec: Spec, mech: Any) -> list[str]:
+    """Every file the study's rows are computed from (absolute paths, each once): the mechanism's, the CSV of
+    designs, and the files every analysis reads for every set of options of :func:`variants` (``input_files`` of
+    the analysis: tasks and their trajectories, catalogs, tolerances, poses — given or default)."""
+    from .analyses import analysis
+
+    paths = [*mechanism_files(spec.mechanism), *([spec.csv] if spec.csv else [])]
+    for name, options, _ in variants(spec):
+        paths.extend(analysis(name).input_files(mech, options))
+    return list(dict.fromkeys(str(Path(p).resolve()) for p in paths))

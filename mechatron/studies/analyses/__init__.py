@@ -4,6 +4,11 @@
 - ``check(mech: Mechanism, options: dict) -> None``: raise :class:`~mechatron.errors.InputError` (one line naming
   the spec's ``[analyses.NAME]`` field) when the options are wrong or the mechanism cannot have this analysis, before
   any design runs;
+- ``output_names(mech: Mechanism, options: dict) -> list[str]``: the names of the columns ``outputs`` gives for
+  these options, without running (the spec's ``[output.pareto]`` axes are checked against them);
+- ``input_files(mech: Mechanism, options: dict) -> list[Path]``: every file ``outputs`` reads for these options
+  (those named and the defaults: a task, its trajectory CSV, catalogs, tolerances, poses), whose bytes are part of
+  a study's identity;
 - ``outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float | bool]``: the outputs of one design (SI
   units, finite numbers); a design that cannot be analysed (does not assemble, no feasible drive, …) raises a
   :class:`~mechatron.errors.MechatronError` whose message becomes the row's reason. ``seed`` seeds any random draw,

@@ -34,6 +34,8 @@ from ...errors import InputError, MechatronError
 from .sizing import field_error, field_file, field_names, field_number
 
 if TYPE_CHECKING:  # pragma: no cover
+    from pathlib import Path
+
     from ...accuracy.sources import ErrorSource
     from ...model.mechanism import Mechanism
 
@@ -104,6 +106,17 @@ def check(mech: Mechanism, options: dict) -> None:
         monte_carlo_budget(values["samples"], len(sources), len(poses))
     except InputError as exc:
         raise field_error("accuracy", "samples", exc.message) from None
+
+
+def output_names(mech: Mechanism, options: dict) -> list[str]:
+    """The names of the outputs (the same for every mechanism and options): :data:`OUTPUTS`."""
+    return list(OUTPUTS)
+
+
+def input_files(mech: Mechanism, options: dict) -> list[Path]:
+    """The files the analysis of one design reads: the tolerances file and the poses file, if any."""
+    values = settings(mech, options)
+    return [values[key] for key in ("tolerances", "poses") if values[key] is not None]
 
 
 def outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float]:

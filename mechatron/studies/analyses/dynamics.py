@@ -16,6 +16,7 @@ for a displacement (``NAME_peak_N``, ``NAME_rms_N``).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -88,6 +89,35 @@ def check(mech, options: dict[str, Any]) -> None:
         from ...dynamics.task import read_task
 
         read_task(opts["task"], mech)
+
+
+def output_names(mech, options: dict[str, Any]) -> list[str]:
+    """The names of the outputs for ``options`` without running: the peak and RMS load of every moving coordinate
+    (``NAME_peak_Nm``, ``NAME_rms_Nm`` for an angle, ``NAME_peak_N``, ``NAME_rms_N`` for a displacement)."""
+    opts = _options(mech, options)
+    return [f"{name}_{kind}_{'Nm' if angle else 'N'}" for name, angle in zip(opts["names"], opts["angular"])
+            for kind in ("peak", "rms")]
+
+
+def task_files(path: str | Path | None, mech) -> list[Path]:
+    """The files a task reads: the task file ``path`` (None: the mechanism's own ``robots/tasks/NAME.toml``, if
+    any) and the trajectory CSV a task TOML names (relative to the task file's folder)."""
+    from ...dynamics.task import task_file
+    from ...io.toml import read_toml
+
+    path = task_file(mech) if path is None else Path(path)
+    if path is None:
+        return []
+    named = read_toml(path).get("trajectory") if path.suffix.lower() == ".toml" else None
+    if not isinstance(named, str):
+        return [path]
+    return [path, Path(named) if Path(named).is_absolute() else path.parent / named]
+
+
+def input_files(mech, options: dict[str, Any]) -> list[Path]:
+    """The files the outputs of one design read: the task's (:func:`task_files`; none for a move)."""
+    opts = _options(mech, options)
+    return [] if opts["start"] is not None else task_files(opts["task"], mech)
 
 
 def _motion(mech, opts: dict[str, Any]):

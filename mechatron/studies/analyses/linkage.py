@@ -93,6 +93,33 @@ def check(mech, options: dict[str, Any]) -> None:
     _options(mech, options)
 
 
+def output_names(mech, options: dict[str, Any]) -> list[str]:
+    """The names of the outputs for ``options`` without running: the point's extents (z too in a spatial loop),
+    the smallest transmission angle (of a mechanism with such measures), each cylinder's largest force and, with its
+    bore and rod given, its largest pressure."""
+    opts = _options(mech, options)
+    names = ["reach_m", "height_m", "depth_m", "x_travel_m", "y_travel_m"]
+    if _spatial(mech):
+        names.append("z_travel_m")
+    if any(m.kind == "transmission_angle" for m in mech.measures):
+        names.append("min_transmission_angle_deg")
+    for name in (n for n in mech.actuated if n in mech.cylinders):
+        names.append(f"{name}_max_force_N")
+        if name in opts["cylinders"]:
+            names.append(f"{name}_max_pressure_Pa")
+    return names
+
+
+def _spatial(mech) -> bool:
+    """Whether a closure of ``mech`` is spatial (its sweep has z coordinates)."""
+    return any(not getattr(c, "planar", True) for c in mech.closures)
+
+
+def input_files(mech, options: dict[str, Any]) -> list:
+    """The files the analysis of one design reads: none (the mechanism's file aside)."""
+    return []
+
+
 def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
     """The outputs of one design (m, deg, N, Pa; see the module docstring). ``seed`` is not used (no random
     draw)."""

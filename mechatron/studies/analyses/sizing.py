@@ -110,14 +110,19 @@ def _catalog(path: str, stamp: int, kind: str) -> pd.DataFrame:
     return read_catalog(path, kind)
 
 
-def catalogs(options: dict) -> dict[str, pd.DataFrame]:
-    """The four catalogs of the options (the example ones where left out), read and checked once per process."""
+def catalog_files(options: dict) -> dict[str, Path]:
+    """The four catalogs' files: the options', the example ones of ``catalogs/`` where left out."""
     from ...drives.catalogs import DEFAULT_FILES
     from ...io.data import data_dir
 
+    return {kind: field_file("sizing", options, kind) or data_dir("catalogs") / DEFAULT_FILES[kind]
+            for kind in CATALOGS}
+
+
+def catalogs(options: dict) -> dict[str, pd.DataFrame]:
+    """The four catalogs of the options (the example ones where left out), read and checked once per process."""
     out = {}
-    for kind in CATALOGS:
-        path = field_file("sizing", options, kind) or data_dir("catalogs") / DEFAULT_FILES[kind]
+    for kind, path in catalog_files(options).items():
         try:
             out[kind] = _catalog(str(path.resolve()), path.stat().st_mtime_ns, kind)
         except InputError as exc:
@@ -167,6 +172,19 @@ def check(mech: Mechanism, options: dict) -> None:
     """Refuse unknown options, bad values, missing or malformed task and catalog files, and a mechanism without
     an actuated joint (:class:`~mechatron.errors.InputError` naming ``[analyses.sizing] FIELD``)."""
     arguments(mech, options)
+
+
+def output_names(mech: Mechanism, options: dict) -> list[str]:
+    """The names of the outputs (the same for every mechanism and options): :data:`OUTPUTS`."""
+    return list(OUTPUTS)
+
+
+def input_files(mech: Mechanism, options: dict) -> list[Path]:
+    """The files the sizing of one design reads: the task's (its trajectory CSV too; the mechanism's own task when
+    left out) and the four catalogs."""
+    from .dynamics import task_files
+
+    return [*task_files(field_file("sizing", options, "task"), mech), *catalog_files(options).values()]
 
 
 def _known(value: Any) -> float:
