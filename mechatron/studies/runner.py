@@ -39,21 +39,29 @@ if TYPE_CHECKING:  # pragma: no cover
     from .spec import Spec
 
 @lru_cache(maxsize=4)
-def base_mechanism(mechanism: str):
-    """The study's mechanism as loaded from its name or file (once per process)."""
+def base_mechanism(mechanism: str, content: tuple[str | None, ...] = ()):
+    """The study's mechanism as loaded from its name or file (once per process and ``content``: the SHA-256 of its
+    files, so that an edited file is loaded anew)."""
     from ..library import load
 
     return load(mechanism)
 
 
-def _one(spec: Spec, design: dict[str, Any]) -> dict[str, Any]:
+def mechanism_content(mechanism: str) -> tuple[str | None, ...]:
+    """The SHA-256 of each file the mechanism is read from (:func:`~mechatron.studies.spec.mechanism_files`)."""
+    from .spec import mechanism_files
+
+    return tuple(_file_hash(str(path)) for path in mechanism_files(mechanism))
+
+
+def _one(spec: Spec, design: dict[str, Any], content: tuple[str | None, ...]) -> dict[str, Any]:
     """The outputs of one design, or its failure and the reason."""
     from .analyses import analysis
 
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", MechatronWarning)
-            mech = base_mechanism(spec.mechanism)
+            mech = base_mechanism(spec.mechanism, content)
             geometry = spec.geometry(design)
             mech = mech.with_parameters(geometry) if geometry else mech
             out: dict[str, Any] = {}
@@ -72,9 +80,10 @@ def evaluate(spec: Spec, designs: pd.DataFrame) -> pd.DataFrame:
     """The rows of a chunk of designs: the designs' columns, ``status``, ``reason`` and the analyses' outputs."""
     import pandas as pd
 
+    content = mechanism_content(spec.mechanism)
     rows = []
     for design in designs.to_dict(orient="records"):
-        rows.append({**design, **_one(spec, design)})
+        rows.append({**design, **_one(spec, design, content)})
     return pd.DataFrame(rows)
 
 
@@ -163,8 +172,9 @@ def _refuse_other(out_dir: Path, state: Path, old: dict[str, Any], new: dict[str
             problem, where = f"holds a study of other designs (see {state.name})", out_dir
         else:
             return
-    raise InputError(f"{problem}; run with --restart to discard the {_rows_done(out_dir, old):,} rows done, or give "
-                     "another --out", file=where)
+    done = _rows_done(out_dir, old)
+    raise InputError(f"{problem}; run with --restart to discard the {done:,} row{'' if done == 1 else 's'} done, or "
+                     "give another --out", file=where)
 
 
 def _discard(out_dir: Path) -> None:
@@ -235,6 +245,11 @@ def _span(designs: Any) -> str:
     return f"{designs[0]}" if len(designs) == 1 else f"{designs[0]}–{designs[-1]}"
 
 
+def _unreadable(exc: Exception) -> str:
+    """Why a part file does not read, in words: the system's reason, else not a whole Parquet file."""
+    return exc.strerror if isinstance(exc, OSError) and exc.strerror else "not a whole Parquet file"
+
+
 def _part_problem(path: Path, record: dict[str, Any]) -> str | None:
     """Why the part file ``path`` does not hold the rows of the chunk of ``record``, None if it does: it does not
     read, records other designs or another study, or its rows are not the designs it records."""
@@ -245,7 +260,7 @@ def _part_problem(path: Path, record: dict[str, Any]) -> str | None:
         table = pq.read_table(path)
         kept = json.loads((table.schema.metadata or {}).get(PART_KEY, b"null"))
     except (OSError, ValueError, pa.ArrowException) as exc:
-        return f"does not read ({(str(exc).splitlines() or [type(exc).__name__])[0][:120]})"
+        return f"does not read ({_unreadable(exc)})"
     if not isinstance(kept, dict):
         return "records no designs (not written by this study)"
     if kept.get("study") != record["study"]:
@@ -270,7 +285,7 @@ def _pending(paths: list[Path], records: list[dict[str, Any]]) -> list[int]:
             if problem != "missing":
                 bad.append(f"{_shown(str(path))} {problem}")
     if bad:
-        more = f" (and {len(bad) - 1} more part files)" if len(bad) > 1 else ""
+        more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
         warnings.warn(f"{bad[0]}{more}; computed again", MechatronWarning, stacklevel=3)
     return pending
 
@@ -283,8 +298,8 @@ def _read_part(path: Path) -> pd.DataFrame:
     try:
         return pd.read_parquet(path)
     except (OSError, ValueError, pa.ArrowException) as exc:
-        raise InputError(f"cannot read the part file ({(str(exc).splitlines() or [''])[0][:120]}); run the study "
-                         "again to compute it anew", file=path) from None
+        raise InputError(f"cannot read the part file ({_unreadable(exc)}); run the study again to compute it anew",
+                         file=path) from None
 
 
 def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, scheduler: str | None = None,
