@@ -63,8 +63,12 @@ class StudyResult(Result):
         table: One row per design (sorted by ``design``): the parameters, ``seed``, ``status`` (``ok`` or
             ``failed``), ``reason`` and the analyses' outputs (SI; units in the names).
         out_dir: The study's folder.
-        sensitivity: Sobol indices (:func:`mechatron.studies.sensitivity.sobol_indices`), or None.
+        sensitivity: Sobol indices (:func:`mechatron.studies.sensitivity.sobol_indices`): each with its 95 %
+            interval's half-width, the Saltelli blocks it used and whether the interval resolves it; or None.
         skipped: Outputs without indices → why.
+        warnings: Plain sentences on the indices: outputs whose intervals are wider than their indices, outputs
+            that vary only by numerical noise.
+        blocks: N, the Saltelli blocks of the designs (of D + 2 designs each), with Sobol indices; else None.
     """
 
     spec: Spec
@@ -72,6 +76,32 @@ class StudyResult(Result):
     out_dir: Path | None = None
     sensitivity: pd.DataFrame | None = None
     skipped: dict[str, str] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    blocks: int | None = None
+
+    def sobol_lines(self) -> list[str]:
+        """The report's lines on the Sobol indices: each output's largest total index with both indices' 95 %
+        intervals (an output that varies only by noise is not ranked), the blocks used, the outputs without indices
+        and the warnings."""
+        lines = []
+        frame = self.sensitivity
+        if frame is not None and len(frame):
+            used = sorted(set(int(b) for b in frame["blocks"]))
+            warned = {w.split(":", 1)[0] for w in self.warnings}
+            lines.append(f"Sobol indices from {_blocks_phrase(used, self.blocks or max(used))}; each output's "
+                         "largest total index, ± the half-widths of the 95 % intervals:")
+            top = frame.sort_values("ST", ascending=False, kind="stable").groupby("output", sort=False).head(1)
+            for r in top.itertuples():
+                count = f" [{r.blocks} blocks]" if len(used) > 1 else ""
+                flag = " (not resolved: see the warning)" if r.output in warned else ""
+                lines.append(f"  {r.output}: {r.parameter} S1 = {r.S1:.3f} ± {r.S1_conf:.3f}, ST = {r.ST:.3f} ± "
+                             f"{r.ST_conf:.3f}{count}{flag}")
+        for output, why in self.skipped.items():
+            line = f"no Sobol indices of {output}: {why}"
+            if line not in self.warnings:
+                lines.append("  " + line)
+        lines.extend(f"warning: {w}" for w in self.warnings)
+        return lines
 
     @property
     def ok(self) -> pd.DataFrame:
@@ -128,7 +158,8 @@ class StudyResult(Result):
                 "pareto": {"x": x, "x_goal": x_goal, "y": y, "y_goal": y_goal,
                            "designs": [int(d) for d in self.pareto()["design"]] if len(self.ok) else []},
                 "sensitivity": frame_records(self.sensitivity) if self.sensitivity is not None else None,
-                "skipped": dict(self.skipped), "rows": frame_records(self.table)}
+                "sobol_blocks": self.blocks, "skipped": dict(self.skipped), "warnings": list(self.warnings),
+                "rows": frame_records(self.table)}
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """Every ok design in the plane of the two chosen outputs, the Pareto front highlighted."""
@@ -157,27 +188,32 @@ class StudyResult(Result):
             lines.append(f"Pareto front of {x} and {y} ({len(front)} designs; first 10):")
             lines.extend("  " + line for line in front[list(dict.fromkeys(shown))].head(10)
                          .to_string(index=False, float_format=lambda v: f"{v:.6g}").splitlines())
-        if self.sensitivity is not None and len(self.sensitivity):
-            top = self.sensitivity.sort_values("ST", ascending=False).groupby("output", sort=False).head(1)
-            lines.append("Sobol indices (largest total index of each output):")
-            lines.extend(f"  {r.output}: {r.parameter} S1 = {r.S1:.3f} ± {r.S1_conf:.3f}, ST = {r.ST:.3f} ± "
-                         f"{r.ST_conf:.3f}" for r in top.itertuples())
-        for output, why in self.skipped.items():
-            lines.append(f"  no Sobol indices of {output}: {why}")
+        lines.extend(self.sobol_lines())
         if self.out_dir is not None:
             lines.append(f"table: {self.out_dir / 'designs.parquet'} and designs.csv")
         return "\n".join(lines)
 
 
+def _blocks_phrase(used: list[int], total: int) -> str:
+    """How many of the ``total`` Saltelli blocks the outputs' indices used (``used``: the counts, one per output)."""
+    if not used or min(used) == total:
+        return f"{total} Saltelli blocks"
+    if min(used) == max(used):
+        return f"{used[0]} of {total} Saltelli blocks ({total - used[0]} left out: a failed design in each)"
+    return (f"{min(used)} to {max(used)} of {total} Saltelli blocks (those with a failed design left out: each "
+            "output's count in brackets)")
+
+
 def study_result(spec: Spec, table: pd.DataFrame, out_dir: Path | None = None) -> StudyResult:
     """The result of a study's table: with its Sobol indices if the spec asks for them; the Pareto columns are
     checked (an error naming ``output.pareto.x`` or ``y`` lists the table's columns)."""
-    sensitivity, skipped = None, {}
+    sensitivity, skipped, notes, blocks = None, {}, [], None
     if spec.sensitivity:
-        from .sensitivity import sobol_indices
+        from .sensitivity import saltelli_blocks, sobol_indices
 
-        sensitivity, skipped = sobol_indices(spec, table)
-    result = StudyResult(spec, table, out_dir, sensitivity, skipped)
+        sensitivity, skipped, notes = sobol_indices(spec, table)
+        blocks = saltelli_blocks(spec, table)
+    result = StudyResult(spec, table, out_dir, sensitivity, skipped, notes, blocks)
     if len(result.ok):
         result.pareto()
     return result
