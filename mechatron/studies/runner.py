@@ -38,6 +38,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .result import StudyResult
     from .spec import Spec
 
+
 @lru_cache(maxsize=4)
 def base_mechanism(mechanism: str, content: tuple[str | None, ...] = ()):
     """The study's mechanism as loaded from its name or file (once per process and ``content``: the SHA-256 of its
@@ -165,7 +166,8 @@ def _refuse_other(out_dir: Path, state: Path, old: dict[str, Any], new: dict[str
     if old.get("spec") != new["spec"]:
         problem, where = f"holds a study of another spec or other designs (see {state.name})", out_dir
     else:
-        changed = _changed_file(old.get("files") or {}, new["files"])
+        files = old.get("files")
+        changed = _changed_file(files if isinstance(files, dict) else {}, new["files"])
         if changed is not None:
             problem, where = changed, state
         elif {k: old.get(k) for k in ("designs", "count")} != {k: new[k] for k in ("designs", "count")}:
@@ -195,7 +197,7 @@ def _prepare(out_dir: Path, spec: Spec, designs: pd.DataFrame, chunk_size: int |
     if state.is_file():
         try:
             old = json.loads(state.read_text())
-            if not isinstance(old, dict):
+            if not isinstance(old, dict) or not isinstance(old.get("chunk_size"), int) or old["chunk_size"] < 1:
                 raise ValueError
         except (OSError, ValueError):
             raise InputError("not a study's state file; use another output folder", file=state) from None
