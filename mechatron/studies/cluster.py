@@ -11,8 +11,9 @@ Dask's TCP protocol itself, every step under one deadline of :data:`HANDSHAKE_SE
 2. the greeting: a Dask server writes its handshake (a small msgpack dict) as soon as it accepts, before reading
    anything; nothing within the deadline, a frame length above :data:`MAX_MESSAGE` or bytes that are not Dask's
    frames → "not a Dask scheduler" (a silent port is asked ``GET /`` to tell an HTTP server such as the dashboard);
-3. this side's handshake (without compression: the check reads msgpack only), then the ``identity`` operation: a Dask worker or nanny
-   greets too, but only a scheduler says ``type = "Scheduler"``; then ``close``, so the scheduler logs nothing.
+3. this side's handshake (without compression: the check reads msgpack only), then the ``identity`` operation:
+   a Dask worker or nanny greets too, but only a scheduler says ``type = "Scheduler"``; then ``close``, so that the
+   scheduler logs nothing.
 
 Addresses of other schemes (``tls://``, ``inproc://``, ``ucx://``) go to Dask directly, with its timeout.
 """
