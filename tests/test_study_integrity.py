@@ -269,3 +269,12 @@ def test_every_file_of_a_targeted_list_is_checked_up_front(tmp_path, capfd, valu
                                      '[analyses.accuracy]\nlimit_mm = 2.0\nsamples = 50\n')
     assert_clean_error(["study", "s.toml", "--out", "out"], capfd, tmp_path,
                        ["s.toml", f"field 'parameters.tol.{field}'", "tolerances", "tol_b.csv"])
+
+
+def test_every_value_of_a_targeted_option_list_is_checked_up_front(tmp_path, capfd):
+    # not files only: a profile misspelt in the second place of the list is refused before any design runs
+    (tmp_path / "s.toml").write_text('mechanism = "planar_2r"\n[parameters.profile]\ntarget = "dynamics.profile"\n'
+                                     'values = ["trapezoidal", "quintik"]\n[designs]\nmethod = "grid"\n'
+                                     '[analyses.dynamics]\nstart = [0.0, 0.0]\nend = [1.0, 0.0]\n')
+    assert_clean_error(["study", "s.toml", "--out", "out"], capfd, tmp_path,
+                       ["s.toml", "field 'parameters.profile.values[1]'", "unknown profile 'quintik'", "quintic"])

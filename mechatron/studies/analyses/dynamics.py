@@ -74,6 +74,11 @@ def _options(mech, options: dict[str, Any]) -> dict[str, Any]:
         raise InputError("a move needs both start and end", field="end" if opts["end"] is None else "start")
     if opts["start"] is not None and opts["task"] is not None:
         raise InputError("give a move (start, end) or a task, not both", field="task")
+    from ...dynamics.motion import PROFILES
+
+    if opts["profile"] not in PROFILES:
+        raise InputError(f"unknown profile {opts['profile']!r}; expected one of: {', '.join(PROFILES)}",
+                         field="profile")
     opts["dt"] = _field("dt", lambda: number("dt", opts["dt"], positive=True, unit="s"))
     for key in ("vmax", "amax"):
         if opts[key] is not None:
