@@ -29,10 +29,11 @@ import time
 
 from ..errors import InputError
 
-#: Seconds for the whole check of a running scheduler: connection, greeting and identity (and again at most this
-#: long for Dask's client after it). A scheduler greets within milliseconds; a busy one within a second or two.
+#: Seconds for the whole check of a running scheduler: connection, greeting (or ``GET /`` to a silent port) and
+#: identity; Dask's client then gets as long again to connect. A scheduler greets within milliseconds, a busy one
+#: within a second or two; with Python's start, the spec and the designs (~2 s) a refusal comes within 10 s.
 HANDSHAKE_SECONDS = 5.0
-#: Seconds an HTTP server gets to answer ``GET /`` once a port has stayed silent.
+#: Seconds of :data:`HANDSHAKE_SECONDS` kept for an HTTP server to answer ``GET /`` once a port has stayed silent.
 HTTP_SECONDS = 1.0
 #: The largest message the check reads (bytes): a handshake is ~100 bytes, a scheduler's identity ~1 kB a worker.
 MAX_MESSAGE = 64 * 2**20
@@ -137,10 +138,10 @@ def check_scheduler(scheduler: str, host: str, port: int, seconds: float = HANDS
     """Refuse, in one line naming ``--scheduler ADDR``, an address where no Dask scheduler answers within
     ``seconds`` (see the module docstring): refused, unknown host, unreachable, silent, another server or another
     Dask server (a worker)."""
-    deadline = time.monotonic() + seconds
+    start, wait = time.monotonic(), seconds - HTTP_SECONDS
     where = f"--scheduler {scheduler}"
     try:
-        sock = socket.create_connection((host, port), timeout=seconds)
+        sock = socket.create_connection((host, port), timeout=wait)
     except socket.gaierror as exc:
         raise InputError(f"{where}: cannot reach the Dask scheduler: unknown host {host!r} ({exc.strerror})") \
             from None
@@ -149,19 +150,20 @@ def check_scheduler(scheduler: str, host: str, port: int, seconds: float = HANDS
                          f"{port} of {host})") from None
     except TimeoutError:
         raise InputError(f"{where}: cannot reach the Dask scheduler: no answer to the connection within "
-                         f"{seconds:g} s (a firewall, or a host that is down)") from None
+                         f"{wait:g} s (a firewall, or a host that is down)") from None
     except OSError as exc:
         raise InputError(f"{where}: cannot reach the Dask scheduler: {exc.strerror or exc}") from None
     with sock:
-        _converse(sock, where, deadline, seconds)
+        _converse(sock, where, start + wait, start + seconds, wait)
 
 
-def _converse(sock: socket.socket, where: str, deadline: float, seconds: float) -> None:
-    """The greeting, this side's handshake, ``identity`` and ``close`` on ``sock``."""
+def _converse(sock: socket.socket, where: str, greeted: float, deadline: float, wait: float) -> None:
+    """The greeting (by the time ``greeted``, ``wait`` seconds from the start), this side's handshake,
+    ``identity`` and ``close`` (by ``deadline``) on ``sock``."""
     try:
-        greeting = _loads(_read_message(sock, deadline))
+        greeting = _loads(_read_message(sock, greeted))
     except _Silent:
-        raise InputError(f"{where}: not a Dask scheduler: {_silence(sock, seconds)}") from None
+        raise InputError(f"{where}: not a Dask scheduler: {_silence(sock, deadline, wait)}") from None
     except _NotDask as exc:
         raise InputError(f"{where}: not a Dask scheduler: {_stranger(exc.args[0])}") from None
     except OSError as exc:
@@ -176,8 +178,8 @@ def _converse(sock: socket.socket, where: str, deadline: float, seconds: float) 
         identity = _loads(_read_message(sock, deadline))
         sock.sendall(_message({"op": "close", "reply": False}))
     except _Silent:
-        raise InputError(f"{where}: not a Dask scheduler: it greets as Dask does but did not say what it is within "
-                         f"{seconds:g} s") from None
+        raise InputError(f"{where}: not a Dask scheduler: it greets as Dask does but did not say what it is in "
+                         "time") from None
     except (_NotDask, OSError):
         raise InputError(f"{where}: not a Dask scheduler: the connection broke after Dask's greeting") from None
     kind = identity.get("type") if isinstance(identity, dict) else None
@@ -277,17 +279,18 @@ _HTTP = (f"an HTTP server answers there (a Dask dashboard? the scheduler itself 
          "unless started with another)")
 
 
-def _silence(sock: socket.socket, seconds: float) -> str:
-    """What a port that sent nothing is: an HTTP server (it answers ``GET /``) or a silent one."""
+def _silence(sock: socket.socket, deadline: float, waited: float) -> str:
+    """What a port that sent nothing for ``waited`` seconds is: an HTTP server (it answers ``GET /`` before
+    ``deadline``) or a silent one."""
     try:
-        sock.settimeout(HTTP_SECONDS)
+        sock.settimeout(max(deadline - time.monotonic(), 0.05))
         sock.sendall(b"GET / HTTP/1.0\r\nHost: mechatron\r\n\r\n")
         answer = sock.recv(16)
     except OSError:
         answer = b""
     if answer.startswith(b"HTTP/"):
         return _HTTP
-    return f"it accepts connections but sent nothing within {seconds:g} s (a Dask scheduler greets at once)"
+    return f"it accepts connections but sent nothing within {waited:g} s (a Dask scheduler greets at once)"
 
 
 def disconnect(client, scheduler: str | None) -> None:
