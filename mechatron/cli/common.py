@@ -201,11 +201,15 @@ def outputs(parser: argparse.ArgumentParser, args: argparse.Namespace) -> Iterat
     writes is staged and all of them are renamed together when it succeeds, none when it fails. Before any work,
     each output option's path is checked (:func:`~mechatron.io.output.check_output`: not a directory, its folder
     exists and is writable, a suffix of its kind; ``--plots``: :func:`~mechatron.io.output.check_directory`), and
-    two output options naming the same file, or an output naming one of the command's input files, is an error."""
-    from ..io.output import check_directory, check_output, transaction
+    two output options naming the same file is an error. No command writes over a file it reads: each output file
+    is told to the transaction (:meth:`~mechatron.io.output.Transaction.writes`), which refuses any read of it
+    (:func:`~mechatron.io.output.check_input`), wherever the file was named — on the command line (checked here,
+    before any work) or in a file the command reads (a spec's designs, catalog, task or mechanism)."""
+    from ..io.output import check_directory, check_input, check_output, transaction
 
     command = _command_parser(parser, args) or parser
     labels: dict[Path, str] = {}
+    files: dict[str, str] = {}
     for action in _output_actions(command):
         path = getattr(args, action.dest, None)
         if not path:
@@ -215,18 +219,24 @@ def outputs(parser: argparse.ArgumentParser, args: argparse.Namespace) -> Iterat
             check_directory(path, where=f"{label} {path}")
         else:
             check_output(path, action.type.kind, where=f"{label} {path}")
+            files[path] = label
         if key in labels:
             raise InputError(f"{labels[key]} and {label} both name {path}; give each output its own file")
         labels[key] = label
-    inputs = [getattr(args, a.dest) for a in command._actions if not isinstance(a.type, OutputPath)
-              and isinstance(getattr(args, a.dest, None), str)
-              and (a.dest == "robot" or str(a.metavar).startswith(("FILE", "CSV")))]
-    for path in inputs:
-        if Path(path).is_file() and Path(path).resolve() in labels:
-            raise InputError(f"{labels[Path(path).resolve()]} {path} is an input of this command; write the output "
-                             "to another file")
-    with transaction(labels):
+    with transaction(labels) as current:
+        for path, label in files.items():
+            current.writes(path, label)
+        for path in _named_inputs(command, args):
+            check_input(path)
         yield
+
+
+def _named_inputs(command: argparse.ArgumentParser, args: argparse.Namespace) -> list[str]:
+    """The input files named on the command line: the robot argument, a command's spec, and the options whose
+    metavar is FILE or CSV."""
+    return [getattr(args, a.dest) for a in command._actions if not isinstance(a.type, OutputPath)
+            and isinstance(getattr(args, a.dest, None), str)
+            and (a.dest in ("robot", "spec") or str(a.metavar).startswith(("FILE", "CSV")))]
 
 
 def emit(result: Result, args: argparse.Namespace, written: Sequence[str | Path] = (), **context: Any) -> None:

@@ -13,6 +13,14 @@ A target that exists and is not a regular file (``/dev/null``, ``/dev/stdout``, 
 the commit, before the renames, so that a failed write there (``/dev/full``: no space left) is an error before
 any other file is replaced. :func:`check_output` checks a path before any work (a directory, a folder that does
 not exist or cannot be written, an unsupported format) so that the command line refuses it at once.
+
+No command writes over a file it reads. The command line tells its transaction the files it will write before any
+work (:meth:`Transaction.writes`); from then on every file opened for reading inside the transaction — by the readers
+of :mod:`mechatron.io` (TOML, CSV), the URDF and SRDF loaders, the study's hashing of its files, or anything else
+that opens a file in Python — goes through :func:`check_input` (an audit hook on Python's ``open`` event), which
+refuses, in one line naming the output option and the file, a file that one of the outputs would replace: the same
+file (device and inode), however it was named (an option, a path in a spec, a symbolic link). A refused command has
+written nothing, as its transaction rolls back.
 """
 
 from __future__ import annotations
@@ -22,6 +30,7 @@ import io
 import os
 import stat
 import struct
+import sys
 import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from contextvars import ContextVar
@@ -145,9 +154,12 @@ class Transaction:
     Attributes:
         labels: Where a path came from (its resolved path, or the folder it is in → the option, e.g. ``--csv``),
             for the error messages.
+        written: The existing files this command will replace, by identity (device, inode) → (their option, the
+            path as given): reading one of them is refused (:func:`check_input`).
     """
 
     labels: dict[Path, str] = field(default_factory=dict)
+    written: dict[tuple[int, int], tuple[str, str]] = field(default_factory=dict)
     _staged: list[_Staged] = field(default_factory=list)
     _stale: list[Path] = field(default_factory=list)
     _created: list[Path] = field(default_factory=list)
@@ -174,6 +186,18 @@ class Transaction:
         else:
             self._staged.append(_Staged(target, path, _temporary(target, write, binary, self.where(path))))
         return path
+
+    def writes(self, path: str | Path, option: str) -> None:
+        """``path``, named by ``option`` (``--csv``), is a file this command will write: from now on a read of it
+        inside the transaction is refused (:func:`check_input`). Only an existing regular file is recorded (a new
+        file replaces nothing; a device or pipe such as ``/dev/stdout`` is written, not replaced)."""
+        try:
+            info = os.stat(path)
+        except (OSError, ValueError):
+            return
+        if stat.S_ISREG(info.st_mode):
+            self.written[(info.st_dev, info.st_ino)] = (option, str(path))
+            _watch_reads()
 
     def remove(self, path: str | Path) -> None:
         """Remove ``path`` (a stale companion of an earlier run) at the commit, unless this command writes it."""
@@ -209,6 +233,7 @@ class Transaction:
             self.rollback()
             raise
         self._created = []
+        self.written = {}  # replaced: their inodes are free to be reused by files read from now on
         written = {Path(os.path.abspath(s.target)) for s in staged}
         for path in stale:
             if Path(os.path.abspath(path)) not in written:
@@ -253,6 +278,68 @@ def transaction(labels: Mapping[Path, str] | None = None) -> Iterator[Transactio
         raise
     finally:
         _CURRENT.reset(token)
+
+
+# ------------------------------------------------------------------------------------------ inputs protected
+_UNCHECKED: ContextVar[bool] = ContextVar("mechatron_unchecked_reads", default=False)
+_WATCHING = False
+
+
+def check_input(path: str | Path) -> None:
+    """Refuse to read ``path`` if the current command's transaction will replace it (:meth:`Transaction.writes`):
+    :class:`InputError` naming the output option and the file as given, e.g. ``--csv designs.csv is an input of
+    this command; write the output to another file``. Outside a transaction, or for a path that does not exist,
+    nothing happens. Every Python ``open`` for reading inside a transaction calls it (:func:`_watch_reads`); code
+    that reads a file by other means (a library in C++) may call it first."""
+    current = _CURRENT.get()
+    if current is None or not current.written or _UNCHECKED.get():
+        return
+    try:
+        info = os.stat(path)
+    except (OSError, ValueError):
+        return
+    hit = current.written.get((info.st_dev, info.st_ino))
+    if hit is None:
+        return
+    option, given = hit
+    read = os.fsdecode(path)
+    also = f" (read as {read})" if os.path.abspath(read) != os.path.abspath(given) else ""
+    raise InputError(f"{option} {given} is an input of this command{also}; write the output to another file")
+
+
+@contextlib.contextmanager
+def unchecked() -> Iterator[None]:
+    """Reads inside are not checked by :func:`check_input`: for the transaction's own look at a file it may
+    replace (whose chart is it, :func:`png_owner`), which is no input."""
+    token = _UNCHECKED.set(True)
+    try:
+        yield
+    finally:
+        _UNCHECKED.reset(token)
+
+
+def _reading(mode: str | None, flags: int | None) -> bool:
+    """Whether an ``open`` event (``open()``: its mode; ``os.open``: None and its flags) opens for reading."""
+    if mode is None:
+        return (flags or 0) & os.O_ACCMODE != os.O_WRONLY
+    return "r" in mode or "+" in mode
+
+
+def _audit(event: str, args: tuple) -> None:
+    """The audit hook: every Python ``open`` for reading inside a transaction that replaces files is checked."""
+    if event != "open" or _CURRENT.get() is None:
+        return
+    path, mode, flags = args
+    if isinstance(path, (str, bytes, os.PathLike)) and _reading(mode, flags):
+        check_input(path)
+
+
+def _watch_reads() -> None:
+    """Install :func:`_audit` (once per process; it costs a comparison per audited event outside a transaction)."""
+    global _WATCHING
+    if not _WATCHING:
+        sys.addaudithook(_audit)
+        _WATCHING = True
 
 
 def _where(path: str | Path) -> str:
@@ -370,7 +457,7 @@ def output_directory(directory: str | Path) -> Path:
 def png_owner(path: Path) -> str | None:
     """The owner mark (:data:`PNG_OWNER_KEY`) of a PNG written by :func:`save_figure`, or None."""
     try:
-        with open(path, "rb") as fh:
+        with unchecked(), open(path, "rb") as fh:
             if fh.read(8) != b"\x89PNG\r\n\x1a\n":
                 return None
             while True:
@@ -430,7 +517,7 @@ def stale_failures(path: str | Path) -> Path | None:
     path = Path(path)
     companion = path.with_name(path.stem + ".failures.csv")
     try:
-        with open(companion, encoding="utf-8", errors="replace") as fh:
+        with unchecked(), open(companion, encoding="utf-8", errors="replace") as fh:
             header = fh.readline(10_000).strip()
     except OSError:
         return None
