@@ -10,6 +10,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..report.result import Result, frame_records
+from .sensitivity import unit_of
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -17,16 +18,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from .spec import Spec
-
-#: The unit of an output by the suffix of its name.
-UNITS = {"m": "m", "mm": "mm", "deg": "deg", "rad": "rad", "N": "N", "Nm": "N·m", "Pa": "Pa", "kg": "kg",
-         "s": "s", "W": "W"}
-
-
-def unit_of(column: str) -> str:
-    """The unit of a column from the suffix of its name (``reach_m`` → m), ``-`` if it has none."""
-    return UNITS.get(column.rsplit("_", 1)[-1], "-")
-
 
 #: Outputs that agree to this fraction of their largest magnitude are equal on a Pareto front: the rounding of the
 #: analyses that compute them (a sweep's Newton solutions, sums over samples) must not decide a design's place.

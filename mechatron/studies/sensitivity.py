@@ -33,6 +33,9 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from .spec import Spec
 
+#: The unit of an output by the suffix of its name.
+UNITS = {"m": "m", "mm": "mm", "deg": "deg", "rad": "rad", "N": "N", "Nm": "N·m", "Pa": "Pa", "kg": "kg",
+         "s": "s", "W": "W"}
 #: Columns of a designs table that are not outputs.
 FIXED = ("design", "seed", "status", "reason")
 #: The columns of the indices table.
@@ -55,6 +58,11 @@ NOISE = 1e-9
 RESOLUTION = 0.01
 #: The fewest Saltelli blocks that give indices (a bootstrap of one block has no spread).
 MIN_BLOCKS = 2
+
+
+def unit_of(column: str) -> str:
+    """The unit of a column from the suffix of its name (``reach_m`` → m), ``-`` if it has none."""
+    return UNITS.get(column.rsplit("_", 1)[-1], "-")
 
 
 def numeric_outputs(spec: Spec, table: pd.DataFrame) -> list[str]:
@@ -88,8 +96,6 @@ def saltelli_blocks(spec: Spec, table: pd.DataFrame) -> int:
 def spread_note(output: str, y: np.ndarray) -> tuple[str | None, bool]:
     """(why ``output`` gets no indices, whether that is a warning) from its values ``y``: the same on every design
     (:data:`SAME`) or only numerical noise (:data:`NOISE`, a warning); (None, False) if it varies."""
-    from .result import unit_of
-
     spread, magnitude = float(np.ptp(y)), float(np.abs(y).max())
     scale = max(1.0, magnitude)
     if spread <= SAME * scale:
