@@ -151,7 +151,8 @@ def test_a_closed_port_and_bad_addresses(study, capfd):
     refused(study, capfd, f"127.0.0.1:{port}", "connection refused")  # Dask's default scheme, tcp
     refused(study, capfd, "tcp://no-such-host.invalid:8786", "cannot reach the Dask scheduler", "unknown host")
     refused(study, capfd, "http://127.0.0.1:8787/status", "not a Dask address", "'http'", "tcp://HOST:8786")
-    refused(study, capfd, "tcp://127.0.0.1", "not a Dask address", "give the port")
+    refused(study, capfd, "tcp://127.0.0.1", "not a Dask address", "expected tcp://HOST:PORT")
+    refused(study, capfd, "tcp://127.0.0.1:abc", "not a Dask address", "the port a number")
     refused(study, capfd, "tcp://127.0.0.1:99999", "not a Dask address", "port 99999")
 
 

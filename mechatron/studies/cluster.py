@@ -110,7 +110,7 @@ def _client(scheduler: str):
 def scheduler_address(scheduler: str) -> tuple[str, str, int]:
     """(scheme, host, port) of a scheduler's address (``tcp://HOST:PORT``, ``HOST:PORT``); the host and port only
     of a ``tcp`` address (else ``""`` and 0). Refused: a scheme Dask does not know (``http://`` of a dashboard) and
-    a ``tcp`` address without its port."""
+    a ``tcp`` address without its port or with one that is not a number in 1 … 65535."""
     from distributed.comm import registry
     from distributed.comm.addressing import parse_address, parse_host_port
 
@@ -127,8 +127,8 @@ def scheduler_address(scheduler: str) -> tuple[str, str, int]:
     try:
         host, port = parse_host_port(location)
     except ValueError:
-        raise InputError(f"{where}: not a Dask address: give the port, tcp://HOST:PORT (a scheduler's is "
-                         f"{SCHEDULER_PORT} unless it was started with another)") from None
+        raise InputError(f"{where}: not a Dask address: expected tcp://HOST:PORT with the port a number (a "
+                         f"scheduler's is {SCHEDULER_PORT} unless it was started with another)") from None
     if not 0 < port < 65536:
         raise InputError(f"{where}: not a Dask address: port {port} is not in 1 … 65535")
     return scheme, host, port
