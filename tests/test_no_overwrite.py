@@ -15,10 +15,10 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
-from corpus import assert_clean_error, run
 
 from mechatron.errors import InputError
 from mechatron.io.output import check_input, transaction
+from tests.corpus import assert_clean_error, run
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 DATA = EXAMPLES / "data"

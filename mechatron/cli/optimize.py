@@ -10,16 +10,20 @@ from .values import FILE
 
 
 def cmd_optimize(args: argparse.Namespace) -> int:
+    """Solve the spec and emit the optimum; exit 1 when a requirement is not met at the optimum (the Pinocchio
+    model's), as ``size`` does without a feasible drive."""
     from ..studies.optimize import optimize, read_spec
 
     spec = read_spec(args.spec)
-    emit(optimize(spec), args)
-    return 0
+    result = optimize(spec)
+    emit(result, args)
+    return 0 if result.feasible else 1
 
 
 def register(sub) -> None:
     p = sub.add_parser("optimize", help="optimal design of a mechanism's named parameters with CasADi (ipopt), "
-                                        "compared with a DOE over the same box")
+                                        "compared with a DOE over the same box; exit 1 if a requirement is not "
+                                        "met at the optimum")
     p.add_argument("spec", type=FILE, metavar="SPEC.toml", help="the optimisation spec (docs/optimize_file.md)")
     add_output_options(p)
     p.set_defaults(func=cmd_optimize)

@@ -13,7 +13,6 @@ design the optimum is compared with.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -90,15 +89,15 @@ NDArrayBool = Any
 
 
 def sample_box(lower: Vector, upper: Vector, points: int, method: str = "sobol", seed: int = 0) -> Vector:
-    """``points`` designs in the box (rows), scrambled Sobol (``random_base2`` when a power of two) or Latin
-    hypercube points from ``scipy.stats.qmc`` seeded with ``seed``."""
+    """``points`` designs in the box (rows), scrambled Sobol (``points`` a power of two: their balance needs it) or
+    Latin hypercube points from ``scipy.stats.qmc`` seeded with ``seed``."""
     from scipy.stats import qmc
 
     d = len(lower)
     if method == "sobol":
-        engine = qmc.Sobol(d, scramble=True, seed=seed)
-        exponent = math.log2(points)
-        unit = engine.random_base2(int(exponent)) if exponent.is_integer() else engine.random(points)
+        if points < 1 or points & (points - 1):
+            raise InputError(f"Sobol points need a power of 2 of them (their balance needs it), got {points}")
+        unit = qmc.Sobol(d, scramble=True, seed=seed).random_base2(points.bit_length() - 1)
     elif method == "lhs":
         unit = qmc.LatinHypercube(d, seed=seed).random(points)
     else:

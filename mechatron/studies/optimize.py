@@ -10,19 +10,24 @@ DOE-then-refine);
 (:mod:`~mechatron.studies.optimal_solve`), evaluates the optimum with the Pinocchio model, and compares it with the
 best of a DOE (scrambled Sobol or Latin-hypercube points of the same box; the best feasible point by the CasADi
 expressions that the Pinocchio model confirms, of the ten best). The :class:`OptimumResult` follows the result
-protocol.
+protocol; ``mechatron optimize`` exits 1 when a requirement is not met at the optimum (:attr:`OptimumResult.feasible`).
+
+The DOE has at most :data:`MAX_DOE_POINTS` points, a power of two for Sobol points (their balance needs it). A
+warning of a library while solving (NumPy, SciPy, CasADi) becomes one of the result's ``notes``, never a raw message
+on stderr.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import InputError, MechatronError
+from ..errors import InputError, MechatronError, MechatronWarning
 from ..report.result import Result, json_ready
 from .optimal_problem import OptimalDesignProblem, Requirement, Vector
 
@@ -34,6 +39,8 @@ if TYPE_CHECKING:  # pragma: no cover
 DEG = math.pi / 180
 OBJECTIVES = ("bucket_angle_error", "max_cylinder_force", "positioning_error", "cylinder_mass")
 WORKING_RANGE = ("max_digging_radius", "max_digging_height", "max_digging_depth", "min_digging_radius")
+#: The most DOE points: each is judged in turn in one process (about a millisecond each: 2^20 take minutes).
+MAX_DOE_POINTS = 2 ** 20
 
 
 @dataclass
@@ -227,21 +234,57 @@ def read_spec(path: str | Path) -> Spec:
     solver = reader.table("solver", None) or FieldReader({}, file=path, path="solver")
     doe = reader.table("doe", None) or FieldReader({}, file=path, path="doe")
     method = solver.string("method", "ipopt", choices=("ipopt", "sqpmethod"))
+    doe_method = doe.string("method", "sobol", choices=("sobol", "lhs"))
     spec = Spec(name, problem, path, method, solver.whole("max_iterations", 200, minimum=1),
-                solver.number("tolerance", 1e-12, positive=True), doe.whole("points", 256, minimum=2),
-                doe.string("method", "sobol", choices=("sobol", "lhs")), doe.whole("seed", 0, minimum=0))
+                solver.number("tolerance", 1e-12, positive=True), _doe_points(doe, doe_method), doe_method,
+                doe.whole("seed", 0, minimum=0))
     for table in (solver, doe, reader):
         table.finish()
     return spec
+
+
+def _doe_points(doe: Any, method: str) -> int:
+    """``[doe] points``: at least 2, at most :data:`MAX_DOE_POINTS`, a power of two for Sobol points."""
+    points = doe.whole("points", 256, minimum=2)
+    if points > MAX_DOE_POINTS:
+        raise doe.error("points", f"{points:,} DOE points; a DOE has at most {MAX_DOE_POINTS:,} (2^20)")
+    if method == "sobol" and points & (points - 1):
+        lower = 1 << (points.bit_length() - 1)
+        raise doe.error("points", f"must be a power of 2 for Sobol points (their balance needs it), got {points}: "
+                                  f"use {lower} or {2 * lower}, or method = \"lhs\"")
+    return points
 
 
 # ------------------------------------------------------------------------------------------------ running
 def optimize(spec: Spec | str | Path) -> OptimumResult:
     """Solve the spec's problem, evaluate the optimum and the start with the Pinocchio model and compare the optimum
     with the best feasible design of a DOE over the same box (see the module docstring)."""
+    spec = spec if isinstance(spec, Spec) else read_spec(spec)
+    with warnings.catch_warnings(record=True) as caught:  # the filters as they are: what would be shown
+        result = _optimize(spec)
+    result.notes = _notes(caught)
+    return result
+
+
+def _notes(caught: list[warnings.WarningMessage]) -> list[str]:
+    """The library warnings recorded while solving as notes of the result (one line each, each once); mechatron's
+    own warnings are warned again, for the command line to show as it shows every command's."""
+    notes: list[str] = []
+    for w in caught:
+        if issubclass(w.category, MechatronWarning):
+            warnings.warn(w.message, w.category, stacklevel=3)
+            continue
+        text = " ".join(str(w.message).split())
+        note = f"{w.category.__name__} in {Path(w.filename).parent.name}/{Path(w.filename).name}: {text}"
+        if note not in notes:
+            notes.append(note)
+    return notes
+
+
+def _optimize(spec: Spec) -> OptimumResult:
+    """:func:`optimize` of a read spec."""
     from .optimal_solve import design_of_experiments, judge_with_pinocchio, solve
 
-    spec = spec if isinstance(spec, Spec) else read_spec(spec)
     p = spec.problem
     try:
         start_objective, start_requirements = p.judge(p.evaluate(p.start))
@@ -322,11 +365,13 @@ class OptimumResult(Result):
     doe_best: dict[str, Any] | None
     catalog_choice: list[dict[str, Any]] | None = None
     descent: list[dict[str, Any]] | None = None
+    notes: list[str] = field(default_factory=list)
 
     @property
     def feasible(self) -> bool:
-        """Every requirement met at the optimum (Pinocchio model)."""
-        return all(r.met() for r in self.requirements)
+        """Every requirement met at the optimum (Pinocchio model), and every catalog cylinder chosen passing its
+        checks (``cylinder_mass``)."""
+        return all(r.met() for r in self.requirements) and all(c["feasible"] for c in self.catalog_choice or [])
 
     @property
     def beats_doe(self) -> bool | None:
@@ -378,6 +423,7 @@ class OptimumResult(Result):
                         "objective": self.doe_best["objective"], "met": self.doe_best["met"]},
                     "optimum_at_least_as_good": self.beats_doe},
             **({} if self.catalog_choice is None else {"cylinders": self.catalog_choice, "descent": self.descent}),
+            "notes": self.notes,
         })
 
     def plot(self, ax: Axes | None = None) -> Figure:
@@ -449,4 +495,9 @@ class OptimumResult(Result):
             lines.append(f"DOE: {len(self.doe_points)} {self.doe_method} points, {feasible} feasible; best {best}: "
                          f"{self.doe_best['objective']:.6g} {self.objective_unit}; the optimum is "
                          f"{'at least as good' if self.beats_doe else 'WORSE'}")
+        if not self.feasible:
+            unmet = [r.name for r in self.requirements if not r.met()]
+            unmet += [f"{c['cylinder']} {c['key']}" for c in self.catalog_choice or [] if not c["feasible"]]
+            lines.append(f"NOT FEASIBLE: not met at the optimum: {', '.join(unmet)}")
+        lines += [f"note: {note}" for note in self.notes]
         return "\n".join(lines)
