@@ -72,6 +72,11 @@ ALL_AT_ONCE = 1 << 18
 PER_SAMPLE = (0, 1, _VOLTAGE)
 #: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
 PASS_TOLERANCE = 1e-9
+#: What an infinite load factor of a check means — a value where its limit is 0: no multiple of the limit is
+#: enough — in the words of a reason (:func:`failure`); other checks say it with :data:`NO_LIMIT`.
+BEYOND = {"speed-torque curve": "outside it (torque asked above the motor's maximum speed)",
+          "RMS torque": "no continuous torque at the mean speed (above the motor's maximum speed)"}
+NO_LIMIT = "a limit of 0 where a value is needed"
 
 
 @dataclass(frozen=True)
@@ -133,6 +138,20 @@ class DriveLimits:
             kt = motors["torque_constant"].to_numpy(dtype=float)
             return np.where(np.isfinite(kt), np.minimum(peak, kt * self.stop_current), peak)
         return peak
+
+
+def failure(name: str, factor: float) -> str:
+    """A check that fails, as the reasons say it: ``name ×load factor`` (``peak torque ×1.17``), or for an infinite
+    load factor what it means (``speed-torque curve: outside it (…)``, :data:`BEYOND`)."""
+    if math.isfinite(factor):
+        return f"{name} ×{factor:.2f}"
+    return f"{name}: {BEYOND.get(name, NO_LIMIT)}"
+
+
+def failures(names: tuple[str, ...], factors: ArrayLike) -> str:
+    """The checks that fail (load factor > 1 + :data:`PASS_TOLERANCE`) of one candidate, ``; ``-joined
+    :func:`failure` texts, or ``none``; ``factors``: the load factor of each of ``names``."""
+    return "; ".join(failure(name, float(f)) for name, f in zip(names, factors) if f > 1 + PASS_TOLERANCE) or "none"
 
 
 def _load_factor(value: ArrayLike, limit: ArrayLike) -> NDArray[np.float64] | float:
@@ -433,9 +452,9 @@ class Evaluation:
         return self.load_factors().max(axis=2)
 
     def failed(self, m: int, c: int) -> list[str]:
-        """The checks the pair (m, c) fails, as ``name ×load factor``."""
+        """The checks the pair (m, c) fails, each as :func:`failure` says it (``name ×load factor``)."""
         factors = self.load_factors_of(m, c)
-        return [f"{name} ×{factors[k]:.2f}" for k, name in enumerate(ALL_CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
+        return [failure(name, factors[k]) for k, name in enumerate(ALL_CHECKS) if factors[k] > 1 + PASS_TOLERANCE]
 
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), made exact first."""

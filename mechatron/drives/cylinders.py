@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..model.mechanism import Cylinder
 from ..report.result import json_ready
-from .checks import PASS_TOLERANCE, Check, _load_factor
+from .checks import PASS_TOLERANCE, Check, _load_factor, failures
 from .duty import JointDuty
 from .report import REPORTED, DriveSizing
 from .shafts import END_FIXINGS, STEEL_MODULUS, end_fixing, euler_load, fixing_factors
@@ -256,8 +256,7 @@ def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pre
     ranking = ranking.sort_values(["score", "mass"], kind="stable").reset_index(drop=True)
     order = np.argsort(worst, kind="stable")[:REPORTED]
     closest = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[order], "worst_load_factor": worst[order],
-                            "failed": ["; ".join(f"{n} ×{factors[i, k]:.2f}" for k, n in enumerate(CYLINDER_CHECKS)
-                                                 if factors[i, k] > 1 + PASS_TOLERANCE) or "none" for i in order]})
+                            "failed": [failures(CYLINDER_CHECKS, factors[i]) for i in order]})
     i = int(np.flatnonzero(catalog["key"].to_numpy() == ranking["cylinder"].iloc[0])[0]) if len(ranking) \
         else int(order[0])
     checks = [Check(name, float(values[i, k]), float(limits[i, k]), CYLINDER_UNITS[k])

@@ -37,7 +37,7 @@ from ..io.values import number
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
 from ..report.result import Result, json_ready
-from .checks import ALL_CHECKS, PASS_TOLERANCE, Check, DriveLimits, PairChecks, _load_factor, motor_side
+from .checks import ALL_CHECKS, PASS_TOLERANCE, Check, DriveLimits, PairChecks, _load_factor, failures, motor_side
 from .converters import Converters, converters_for
 from .duty import DriveMount, JointDuty, drive_carrier, joint_duties, mount_drives
 from .motor import continuous_torque, peak_torque_limit
@@ -500,8 +500,7 @@ class _Table:
                             "smallest_margin": 1 - factors.max(axis=1, initial=0.0)})
         if failed:
             out["worst_load_factor"] = factors.max(axis=1, initial=0.0)
-            out["failed"] = ["; ".join(f"{name} ×{f[k]:.2f}" for k, name in enumerate(ALL_CHECKS)
-                                       if f[k] > 1 + PASS_TOLERANCE) or "none" for f in factors]
+            out["failed"] = [failures(ALL_CHECKS, f) for f in factors]
         return out
 
 
