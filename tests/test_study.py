@@ -17,6 +17,7 @@ import pytest
 from pandas.testing import assert_frame_equal
 
 from mechatron.errors import InputError
+from mechatron.io.budget import available_cores
 from mechatron.studies.designs import make_designs
 from mechatron.studies.result import pareto_mask
 from mechatron.studies.runner import evaluate, run_study
@@ -113,7 +114,7 @@ def run(spec_path: Path, out: Path, **options) -> pd.DataFrame:
 def test_serial_and_local_cluster_give_the_same_table(tmp_path):
     spec = spec_file(tmp_path, "values = [0.1, 0.4]", 'method = "grid"\nlevels = 4')  # l1 = 0.4 > l2: 2 fail
     serial = run(spec, tmp_path / "serial", chunk_size=3)
-    dask = run(spec, tmp_path / "dask", workers=2, chunk_size=3)
+    dask = run(spec, tmp_path / "dask", workers=min(2, available_cores()), chunk_size=3)  # 2 where there are 2
     assert_frame_equal(serial, dask)
     assert len(serial) == 8 and set(serial["status"]) == {"ok", "failed"}
     assert_frame_equal(pd.read_parquet(tmp_path / "dask" / "designs.parquet"), serial)

@@ -195,21 +195,21 @@ def test_the_check_leaves_a_scheduler_quiet(caplog):
 def test_usable_cores(monkeypatch):
     # the process's CPU affinity where there is one, else every core
     if hasattr(os, "sched_getaffinity"):
-        assert cluster.usable_cores() == len(os.sched_getaffinity(0))
+        assert cluster.available_cores() == len(os.sched_getaffinity(0))
         monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})
-        assert cluster.usable_cores() == 1
+        assert cluster.available_cores() == 1
         monkeypatch.delattr(os, "sched_getaffinity")
     monkeypatch.setattr(os, "cpu_count", lambda: 7)
-    assert cluster.usable_cores() == 7
+    assert cluster.available_cores() == 7
 
 
 def test_more_workers_than_cores(study, capfd, monkeypatch):
-    cores = cluster.usable_cores()
+    cores = cluster.available_cores()
     for workers in sorted({cores + 1, 1000}):
         assert_clean_error(["study", "s.toml", "--workers", str(workers)], capfd, study,
                            [f"--workers {workers}", f"this machine has {cores} usable core", f"at most {cores}"])
     # the API refuses the same, before any file is written
-    monkeypatch.setattr(cluster, "usable_cores", lambda: 1)
+    monkeypatch.setattr(cluster, "available_cores", lambda: 1)
     with pytest.raises(InputError, match=r"--workers 2: this machine has 1 usable core; give at most 1"):
         run_study(study / "s.toml", study / "out", workers=2)
     assert not (study / "out").exists()

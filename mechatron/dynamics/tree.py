@@ -32,6 +32,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.budget import available_cores
 from ..io.values import number
 from ..kinematics.frames import lean_samples, samples
 from ..model.batched import REVOLUTE
@@ -103,14 +104,6 @@ THREADS_VARIABLE = "MECHATRON_THREADS"
 #: and hand-over), 0.5–3.2× one thread at N = 1,000 and 0.9–1.2× from 30,000 to 300,000. From 25,000 samples a
 #: thread the worst start-up is under 5 % of the serial time, and a second thread is used only on an idle core.
 SAMPLES_PER_THREAD = 25_000
-
-
-def available_cores() -> int:
-    """The cores this process may run on (``os.sched_getaffinity``; ``os.cpu_count()`` where that is missing)."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # pragma: no cover - macOS, Windows
-        return max(1, os.cpu_count() or 1)
 
 
 def idle_cores(cores: int) -> int:

@@ -55,6 +55,14 @@ class BudgetError(InputError):
         super().__init__(message)
 
 
+def available_cores() -> int:
+    """The cores this process may run on: its CPU affinity where the system has one (``os.sched_getaffinity``: a
+    container's or ``taskset``'s share), else every core (``os.cpu_count()``)."""
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return max(1, os.cpu_count() or 1)  # pragma: no cover - macOS, Windows
+
+
 def available_bytes() -> float | None:
     """The memory the machine has available now (bytes), or None where it cannot be read."""
     try:

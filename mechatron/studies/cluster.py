@@ -21,13 +21,13 @@ Addresses of other schemes (``tls://``, ``inproc://``, ``ucx://``) go to Dask di
 from __future__ import annotations
 
 import logging
-import os
 import socket
 import struct
 import sys
 import time
 
 from ..errors import InputError
+from ..io.budget import available_cores
 
 #: Seconds for the whole check of a running scheduler: connection, greeting (or ``GET /`` to a silent port) and
 #: identity; Dask's client then gets as long again to connect. A scheduler greets within milliseconds, a busy one
@@ -51,18 +51,10 @@ WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ": {"OMP_NUM_THREADS": 1, "
                  "distributed.worker.profile.enabled": False}
 
 
-def usable_cores() -> int:
-    """The cores this process may run on: its CPU affinity where the system has one (a container's or
-    ``taskset``'s share), else every core."""
-    if hasattr(os, "sched_getaffinity"):
-        return len(os.sched_getaffinity(0))
-    return os.cpu_count() or 1
-
-
 def check_workers(workers: int) -> None:
     """Refuse an embedded cluster of more worker processes than the usable cores: each runs one design at a time,
     so more only share the cores and multiply the memory."""
-    cores = usable_cores()
+    cores = available_cores()
     if workers > cores:
         raise InputError(f"--workers {workers}: this machine has {cores} usable core{'s' * (cores != 1)}; give "
                          f"at most {cores}, or --scheduler ADDR for a cluster of other machines")
@@ -70,7 +62,8 @@ def check_workers(workers: int) -> None:
 
 def connect(workers: int, scheduler: str | None):
     """A Dask client of a running scheduler (checked first, :func:`check_scheduler`) or of a new LocalCluster of
-    ``workers`` processes with one thread each (at most :func:`usable_cores`); None for a serial run."""
+    ``workers`` processes with one thread each (at most :func:`~mechatron.io.budget.available_cores`); None for a
+    serial run."""
     if scheduler is None:
         check_workers(workers)
         if workers == 1:
