@@ -8,6 +8,7 @@ every value and converts to SI; a problem raises :class:`~mechatron.errors.Input
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -106,12 +107,20 @@ def _column_field(column: str, schema: tuple[Field, ...], path: Path) -> tuple[F
     return None
 
 
+#: Catalogs parsed in this process, by (kind, the SHA-256 of the file's bytes): a sizing reads the same catalogs for
+#: every joint, pass and design; a file whose bytes changed is parsed again.
+_PARSED: dict[tuple[str, bytes], pd.DataFrame] = {}
+#: The most catalogs kept (the oldest goes first).
+PARSED_KEPT = 32
+
+
 def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
     """A validated catalog of ``kind`` (a key of :data:`SCHEMAS`) as a DataFrame in SI units with the schema's field
     names (extra columns kept as text; a value left empty in an optional column is NaN).
 
     Every cell is checked (a number, finite, > 0 or ≥ 0, within the field's maximum), converted by the unit of its
     column (:data:`mechatron.units.UNITS`), and so are keys (unique) and relations between columns (peak ≥ rated…).
+    The same bytes are parsed once per process (:data:`_PARSED`); each call returns its own copy.
 
     Raises:
         InputError: naming the file, the row (the file's line number) and the column.
@@ -119,6 +128,19 @@ def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
     if kind not in SCHEMAS:
         raise InputError(f"unknown catalog kind {kind!r}; expected one of: {', '.join(SCHEMAS)}")
     path = Path(path)
+    try:
+        key = (kind, hashlib.sha256(path.read_bytes()).digest())
+    except OSError:
+        return _parse_catalog(path, kind)  # read_csv names what is wrong with the file
+    if key not in _PARSED:
+        _PARSED[key] = _parse_catalog(path, kind)
+        while len(_PARSED) > PARSED_KEPT:
+            _PARSED.pop(next(iter(_PARSED)))
+    return _PARSED[key].copy()
+
+
+def _parse_catalog(path: Path, kind: str) -> pd.DataFrame:
+    """The table of :func:`read_catalog`, read and checked."""
     raw = read_csv(path, allow_empty=True)
     schema = SCHEMAS[kind]
     columns: dict[str, tuple[str, float]] = {}
