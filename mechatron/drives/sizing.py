@@ -322,8 +322,8 @@ def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], 
         m, c = _pairs_between(*primary, low, high)
         alive = checks.screen(m, c)
         ms, cs = _in_order(m[alive], c[alive], primary, tie)
-        for part in range(0, len(ms), FIRST_SLICE):
-            m_part, c_part = ms[part:part + FIRST_SLICE], cs[part:part + FIRST_SLICE]
+        for part in _growing(len(ms)):
+            m_part, c_part = ms[part], cs[part]
             ok = np.flatnonzero(_feasible(checks, m_part, c_part, screened=True))
             if prior is None and len(ok):
                 prior = _just_before((m, c), previous, (m_part[ok[0]], c_part[ok[0]]), primary, tie, before)
@@ -334,6 +334,17 @@ def _first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], 
         previous, low, size = (m, c), high, min(2 * size, CHUNK)
     m, c = np.concatenate(found_m)[:count], np.concatenate(found_c)[:count]
     return m, c, *(prior if prior is not None else (m[:0], c[:0]))
+
+
+def _growing(n: int, first: int = 8) -> list[slice]:
+    """Consecutive slices of range(n), the first ``first`` long and each next twice as long (up to
+    :data:`FIRST_SLICE`): the pairs in order are checked a few at a time while the first feasible ones are likely
+    near, more at a time further on."""
+    out, start, size = [], 0, first
+    while start < n:
+        out.append(slice(start, min(start + size, n)))
+        start, size = start + size, min(2 * size, FIRST_SLICE)
+    return out
 
 
 def _just_before(pairs: tuple[np.ndarray, np.ndarray], previous: tuple[np.ndarray, np.ndarray],
