@@ -70,6 +70,18 @@ def test_latin_hypercube(tmp_path):
     assert not np.allclose(other["l1"], table["l1"])
 
 
+@pytest.mark.parametrize("n, d, seed", [(1, 1, 0), (20, 2, 3), (7, 5, 0), (1000, 3, 12345)])
+def test_latin_hypercube_is_scipys(n, d, seed):
+    # the NumPy Latin hypercube draws SciPy's points to the last bit (a study of the same seed, the same designs),
+    # without importing scipy.stats
+    from scipy.stats import qmc
+
+    from mechatron.studies.designs import latin_hypercube
+
+    expected = qmc.LatinHypercube(d=d, scramble=True, rng=np.random.default_rng(seed)).random(n)
+    assert np.array_equal(latin_hypercube(n, d, seed), expected)
+
+
 def test_saltelli_layout(tmp_path):
     # N (D + 2) designs; in each block A, A_B^(1), A_B^(2), B: A_B^(i) is A with column i of B
     spec = read_spec(spec_file(tmp_path, designs='method = "sobol"\nsamples = 8'))

@@ -3,7 +3,9 @@ categorical parameter) and ``seed``, the design's own seed, so that a design's r
 
 - ``grid``: the full factorial of ``levels`` evenly spaced values from ``low`` to ``high`` of every range and all
   ``values`` of every list, the last parameter varying fastest;
-- ``lhs``: ``samples`` points of a scrambled Latin hypercube (``scipy.stats.qmc.LatinHypercube``, seeded);
+- ``lhs``: ``samples`` points of a scrambled Latin hypercube (:func:`latin_hypercube`: the points of
+  ``scipy.stats.qmc.LatinHypercube(d, rng=np.random.default_rng(seed))``, to the last bit, in a few lines of NumPy
+  instead of SciPy's statistics package, whose import alone takes over a second);
 - ``sobol``: Saltelli's scheme on scrambled Sobol points (``SALib.sample.sobol``, itself on
   ``scipy.stats.qmc.Sobol``, seeded): ``samples`` = N base points (a power of 2) give N (D + 2) designs for D
   parameters — the matrices A, B and the D matrices A_B^(i) whose Sobol indices
@@ -36,13 +38,26 @@ def design_seed(study_seed: int, design: int) -> int:
     return int(np.random.SeedSequence([study_seed, design]).generate_state(1, np.uint32)[0])
 
 
+def latin_hypercube(n: int, d: int, seed: int) -> np.ndarray:
+    """``n`` points of a scrambled Latin hypercube in ``d`` dimensions, (n, d): each axis cut into ``n`` equal strata
+    holds one point in each, placed uniformly within it. The same points, to the last bit, as
+    ``scipy.stats.qmc.LatinHypercube(d, scramble=True, rng=np.random.default_rng(seed)).random(n)`` (SciPy 1.15+):
+    its generator is the first child of the seed's sequence; it draws the offsets within the strata, then shuffles
+    the strata of each axis in turn."""
+    child = np.random.SeedSequence(seed).spawn(1)[0]
+    rng = np.random.Generator(np.random.PCG64(child))
+    offsets = rng.uniform(size=(n, d))
+    strata = np.tile(np.arange(1, n + 1), (d, 1))
+    for axis in range(d):
+        rng.shuffle(strata[axis, :])
+    return (strata.T - offsets) / n
+
+
 def unit_points(spec: Spec) -> np.ndarray:
     """The designs of ``spec`` (grid, lhs or sobol) as points of the unit cube, (n, D)."""
-    from scipy.stats import qmc
-
     d = len(spec.parameters)
     if spec.method == "lhs":
-        return qmc.LatinHypercube(d=d, scramble=True, rng=np.random.default_rng(spec.seed)).random(spec.samples)
+        return latin_hypercube(spec.samples, d, spec.seed)
     if spec.method == "sobol":
         from SALib.sample import sobol
 
