@@ -6,17 +6,21 @@ of the installed ``example-robot-data`` package (found on disk, never downloaded
 
 from __future__ import annotations
 
-import importlib.metadata
 import os
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .errors import InputError
 from .io.data import data_dir
-from .model.mechanism import Mechanism, unknown_name_error
-from .model.robotfile import read_robot_file
-from .model.urdf import load_urdf
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .model.mechanism import Mechanism
+
+# Imported where used, so that loading a robot file by name costs only what it needs: ``importlib.metadata`` (the
+# example-robot-data lookup, done only for a name no robot or mechanism file has), the URDF reader, the robot-file
+# reader and the mechanism-file reader (see benchmarks/startup.py).
 
 
 @dataclass(frozen=True)
@@ -49,6 +53,8 @@ EXAMPLE_ROBOTS: dict[str, ExampleRobot] = {
 @lru_cache(maxsize=1)
 def example_robot_data_dir() -> Path | None:
     """The ``robots`` folder of the installed ``example-robot-data`` package, or ``None``."""
+    import importlib.metadata
+
     try:
         dist = importlib.metadata.distribution("example-robot-data")
     except importlib.metadata.PackageNotFoundError:
@@ -117,18 +123,22 @@ def load_file(path: str | Path) -> Mechanism:
     """A mechanism from a file, told apart by its content: a robot file (a DH table, ``[[links]]``), a mechanism
     file (a closed-loop linkage, ``[points]`` and ``[[bodies]]``) or a URDF (``.urdf``)."""
     from .io.toml import read_toml
-    from .model.linkage_file import is_linkage_file, linkage_spec
-    from .model.spatial import build_mechanism
 
     path = Path(path)
     if path.suffix.lower() == ".urdf":
+        from .model.urdf import load_urdf
+
         return load_urdf(path)
     if path.suffix.lower() != ".toml":
         raise InputError("unknown kind of file: expected a robot or mechanism file (.toml) or a URDF (.urdf)",
                          file=path)
     data = read_toml(path)
-    if is_linkage_file(data):
-        return build_mechanism(linkage_spec(data, file=path, default_name=path.stem))
+    if "bodies" in data:  # every mechanism file has [[bodies]]: its reader is imported only for a file that may be one
+        from .model.linkage_file import is_linkage_file, linkage_spec
+        from .model.spatial import build_mechanism
+
+        if is_linkage_file(data):
+            return build_mechanism(linkage_spec(data, file=path, default_name=path.stem))
     links = data.get("links")
     structural = "pairs" in data or (isinstance(links, list) and bool(links)
                                      and all(isinstance(x, (str, int)) for x in links))
@@ -137,6 +147,8 @@ def load_file(path: str | Path) -> Mechanism:
         raise InputError(f"a structural description (moving links, pairs and loops){lacks}, not a mechanism: use "
                          "'mechatron structure' with it; see docs/structure_file.md", file=path)
     if "links" in data:
+        from .model.robotfile import read_robot_file
+
         return read_robot_file(path).mechanism()
     raise InputError("neither a robot file (a DH table: [[links]]) nor a mechanism file (a closed-loop linkage: "
                      "[points] and [[bodies]]); see docs/robot_file.md and docs/mechanism_file.md", file=path)
@@ -164,15 +176,16 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
     looks_like_path = isinstance(name_or_path, Path) or path.suffix.lower() in (".toml", ".urdf") or "/" in text
     if looks_like_path:
         mechanism = load_file(path)
+    elif text in (builtin := builtin_robot_files()):
+        mechanism = load_file(builtin[text])
+    elif text in (examples := installed_example_robots()):  # looked up only for a name no file has
+        from .model.urdf import load_urdf
+
+        robot = EXAMPLE_ROBOTS[text]
+        mechanism = load_urdf(examples[text], text, tool=robot.tool, locked_joints=robot.locked,
+                              description=robot.description)
     else:
-        builtin = builtin_robot_files()
-        examples = installed_example_robots()
-        if text in builtin:
-            mechanism = load_file(builtin[text])
-        elif text in examples:
-            robot = EXAMPLE_ROBOTS[text]
-            mechanism = load_urdf(examples[text], text, tool=robot.tool, locked_joints=robot.locked,
-                                  description=robot.description)
-        else:
-            raise unknown_name_error("robot", text, available_robots())
+        from .model.mechanism import unknown_name_error
+
+        raise unknown_name_error("robot", text, available_robots())
     return mechanism.with_parameters(parameters) if parameters else mechanism

@@ -7,46 +7,41 @@ with status 2 (set ``MECHATRON_DEBUG=1`` to see the traceback of an unexpected e
 from __future__ import annotations
 
 import argparse
+import importlib
 import os
 import sys
-import traceback
 import warnings
 from collections.abc import Sequence
 
 from .. import __version__
 from ..errors import MechatronError, MechatronWarning
 from ..io.budget import command_line
-from . import (
-    demo_command,
-    dynamics,
-    excavator,
-    export,
-    linkage,
-    listing,
-    optimize,
-    pose,
-    reduced,
-    show,
-    size,
-    structure,
-    study,
-    tolerance,
-)
 from .common import _join_negative_values, _Parser, outputs
 
-COMMANDS = (listing, show, pose, export, linkage, excavator, dynamics, reduced, size, tolerance, structure,
-            study, optimize, demo_command)
+#: Every command → the module of this package that registers it (its ``register(sub)`` adds the sub-parsers of its
+#: commands), in the order ``mechatron --help`` lists them. A command's module is imported only when its parser is
+#: built: a command run by name builds its own parser alone (see :func:`build_parser`).
+COMMANDS = {
+    "list": "listing", "show": "show", "fk": "pose", "jacobian": "pose", "export-urdf": "export",
+    "linkage": "linkage", "excavator": "excavator", "dynamics": "dynamics", "reduced": "reduced", "size": "size",
+    "tolerance": "tolerance", "structure": "structure", "study": "study", "optimize": "optimize",
+    "demo": "demo_command",
+}
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser of the command line: every command's sub-parser, or, for ``command`` (a key of :data:`COMMANDS`),
+    only the sub-parsers of its module, which parse that command's arguments exactly as the whole parser does
+    (the start-up of a command does not build the others' parsers nor import their modules)."""
     parser = _Parser(prog="mechatron", description="Sizing and analysis of mechatronic modules and mechanisms "
                                                    "(Pinocchio inside). SI units throughout.")
     parser.add_argument("--version", action="version", version=f"mechatron {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
-    for command in COMMANDS:
-        command.register(sub)
+    modules = [COMMANDS[command]] if command in COMMANDS else COMMANDS.values()
+    for module in dict.fromkeys(modules):
+        importlib.import_module(f"{__name__}.{module}").register(sub)
     return parser
 
 
@@ -71,8 +66,9 @@ class _Warnings:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (0 ok, 1 a design that fails its checks, 2 error)."""
-    parser = build_parser()
-    args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
+    arguments = _join_negative_values(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(arguments[0] if arguments else None)  # a command's own parser, when it comes first
+    args = parser.parse_args(arguments)
     shown = _Warnings()
     try:
         with outputs(parser, args), command_line(), warnings.catch_warnings():
@@ -88,6 +84,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback unless asked to
         if os.environ.get("MECHATRON_DEBUG"):
+            import traceback
+
             traceback.print_exc()
         print(f"mechatron: internal error: {type(exc).__name__}: {exc} (set MECHATRON_DEBUG=1 for details)",
               file=sys.stderr)

@@ -31,7 +31,6 @@ import os
 import stat
 import struct
 import sys
-import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from contextvars import ContextVar
 from dataclasses import dataclass, field
@@ -361,6 +360,8 @@ def _render(fh: IO, write: Callable[[IO], None], binary: bool) -> None:
 
 def _temporary(target: Path, write: Callable[[IO], None], binary: bool, where: str) -> str:
     """``write(file)`` into a new temporary file beside ``target``, complete and synced; returns its name."""
+    import tempfile  # imported here: a command that writes no file needs none of it
+
     folder = target.parent if str(target.parent) else Path(".")
     try:
         handle, temporary = tempfile.mkstemp(prefix=f".{target.name[:100]}.", suffix=".part", dir=folder)

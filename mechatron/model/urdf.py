@@ -18,7 +18,6 @@ import sys
 import tempfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 import pinocchio as pin
@@ -337,6 +336,8 @@ def _inertial_xml(inertia: pin.Inertia) -> str:
 
 def to_urdf(mechanism: Mechanism) -> str:
     """The URDF text of ``mechanism`` (joints, bodies with their inertia, and its named frames as fixed links)."""
+    from xml.sax.saxutils import quoteattr  # imported here: it imports urllib.request, http and ssl
+
     model = mechanism.model
     links = _body_link_names(model)
     lines = ['<?xml version="1.0"?>',
@@ -376,6 +377,8 @@ SRDF_MARK = ("rotor inertia (attribute 'mass', kg m^2) and gear ratio of each dr
 
 def to_srdf(mechanism: Mechanism) -> str | None:
     """SRDF ``<rotor_params>`` reproducing the model's armature, or ``None`` if every armature is zero."""
+    from xml.sax.saxutils import quoteattr
+
     model = mechanism.model
     entries = []
     for joint_id in range(1, model.njoints):
