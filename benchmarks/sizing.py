@@ -30,7 +30,7 @@ from mechatron.drives.catalogs import default_catalog
 from mechatron.drives.converters import converters_for
 from mechatron.drives.duty import DriveMount, drive_carrier, joint_duties, mount_drives
 from mechatron.drives.motor import continuous_torque, electrical_data, peak_torque_limit
-from mechatron.drives.sizing import _distal_first
+from mechatron.drives.system import distal_first
 from mechatron.dynamics.task import read_task, task_file
 
 TOLERANCE = 1 + 1e-9  # a check passes at value ≤ limit (1 + 1e-9), as mechatron's
@@ -83,7 +83,7 @@ def floor_size(mech, trajectory, motors: pd.DataFrame, gearboxes: pd.DataFrame, 
     """joint → (motor key, converter key): a pass with weightless drives, then passes distal to proximal, each
     joint with the drives chosen so far on their links, until a pass chooses what the one before chose."""
     bare = {d.name: d for d in joint_duties(mech, trajectory) if np.abs(d.speed).max() or np.abs(d.torque).max()}
-    order = _distal_first(mech, list(bare))
+    order = distal_first(mech, list(bare))
     carriers = {n: drive_carrier(mech, n) for n in order}
     converters = {n: converters_for(bare[n], gearboxes) for n in order}
     motor_mass = motors["mass"].fillna(0).to_numpy()

@@ -135,7 +135,8 @@ def test_sweep_estimate_bounds_the_measured_peak():
 def test_sizing_estimate_bounds_the_measured_peak(puma, monkeypatch):
     from mechatron.drives import checks
     from mechatron.drives.loads import loads_bytes
-    from mechatron.drives.sizing import _catalog_counts, size_mechanism, sizing_bytes, sizing_fixed_bytes
+    from mechatron.drives.sizing import size_mechanism, sizing_bytes, sizing_fixed_bytes
+    from mechatron.drives.system import _catalog_counts
     from mechatron.dynamics.motion import Trajectory
 
     t = np.linspace(0.0, 4.0, 4000)

@@ -21,7 +21,8 @@ from mechatron.drives.checks import PASS_TOLERANCE, PairChecks, _load_factor, ev
 from mechatron.drives.converters import converters_for
 from mechatron.drives.duty import JointDuty, joint_duties
 from mechatron.drives.report import REPORTED
-from mechatron.drives.sizing import _motor_passes, size_joint
+from mechatron.drives.search import motor_passes
+from mechatron.drives.sizing import size_joint
 from mechatron.dynamics.task import default_task
 
 
@@ -122,7 +123,7 @@ def test_time_objective_pass_test_equals_brute_force(large, duties):
     motors, gearboxes = large
     duty = duties[0]
     conv = converters_for(duty, gearboxes)
-    passes = _motor_passes(duty, motors, conv, 10.0)
+    passes = motor_passes(duty, motors, conv, 10.0)
     found = []
     for k in (0.1, 0.1222, 0.1225, 0.13):  # the fastest pace is k ≈ 0.1223 here
         brute = bool((evaluate(duty.scaled(k), motors, conv).worst() <= 1 + PASS_TOLERANCE).any())

@@ -1,0 +1,264 @@
+r"""The drives of a mechanism sized as a system (:func:`size_mechanism`): the duty of every driven coordinate from the
+dynamics, each sized alone (:func:`~mechatron.drives.joint.size_joint`,
+:func:`~mechatron.drives.cylinders.size_cylinder`), then again distal to proximal with every chosen drive's mass on
+the body that carries it, until the choice no longer changes (the fixed point).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pandas as pd
+
+from ..dynamics.motion import warn_limits
+from ..errors import InputError
+from ..io.values import number
+from ..model.loads import Loads
+from ..model.mechanism import Cylinder, Mechanism
+from .checks import DriveLimits
+from .converters import converters_for
+from .duty import DriveMount, JointDuty, drive_carrier, joint_duties, mount_drives
+from .joint import size_joint
+from .report import DriveSizing
+from .result import Iteration, SizingResult
+from .search import CHUNK, fastest_scale, motor_passes
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dynamics.motion import Trajectory
+
+
+#: The most sizing passes of the fixed point (:func:`size_mechanism`) before it reports that it did not converge.
+MAX_ITERATIONS = 10
+#: The most passes a sizing may be allowed (``max_iterations``).
+MAX_PASSES = 1000
+#: The lowest efficiency of the rest of the chain (``chain_efficiency``): below it the drives' currents overflow.
+MIN_EFFICIENCY = 0.01
+
+
+
+def distal_first(mech: Mechanism, names: list[str]) -> list[str]:
+    """``names`` ordered distal to proximal: by the depth of their joint in the tree, deepest first (stable)."""
+    def depth(name: str) -> int:
+        joint, count = mech.joint_id(name), 0
+        while joint > 0:
+            joint, count = mech.model.parents[joint], count + 1
+        return count
+
+    return sorted(names, key=lambda n: -depth(n))
+
+
+def sizing_bytes(nv: int) -> float:
+    """Bytes per sample a sizing of a mechanism of ``nv`` coordinates keeps beyond its loads (the trajectory, the
+    duties, the mounted mechanism's dynamics of every pass; an upper bound, tests/test_bounded.py): the per-pair
+    checks go a block at a time (:data:`~mechatron.drives.checks.SAMPLE_BLOCK`) and do not grow with the task."""
+    return 8.0 * (64 + 48 * nv)
+
+
+def sizing_fixed_bytes(samples: float = math.inf, converters: int = 512, pairs: int = 2 * CHUNK) -> float:
+    """Bytes of the per-converter time means (converters × samples, a block of at most
+    :data:`~mechatron.drives.checks.SAMPLE_BLOCK` elements, a few arrays of them at once) and of the pairs evaluated
+    at a time (at most two :data:`CHUNK` of them, 160 bytes each: indices, scores, checks), for a task of
+    ``samples`` samples and a joint with ``converters`` converters and ``pairs`` motor × converter pairs: they stop
+    growing with the task at the block's size and with the catalogs at the chunk's."""
+    from . import checks
+
+    return 8.0 * 8 * min(checks.SAMPLE_BLOCK, converters * samples) + 160.0 * min(pairs, 2 * CHUNK)
+
+
+def _catalog_counts(motors: pd.DataFrame | None, gearboxes: pd.DataFrame | None, linear: pd.DataFrame | None
+                    ) -> tuple[int, int]:
+    """(converters, pairs) of the largest joint the catalogs (the example ones where left out) can give."""
+    from .catalogs import default_catalog
+
+    def rows(catalog: pd.DataFrame | None, kind: str) -> int:
+        return len(catalog if catalog is not None else default_catalog(kind))
+
+    converters = max(rows(gearboxes, "gearboxes") + 1, rows(linear, "linear"))
+    return converters, rows(motors, "motors") * converters
+
+
+def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame | None = None,
+                   gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
+                   cylinders: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
+                   loads: Loads = None, task: str = "task", direct: bool = True, pressure: float = 32e6,
+                   chain_efficiency: float = 1.0, single_pass: bool = False, max_iterations: int = MAX_ITERATIONS,
+                   progress: Callable[[int, int], None] | None = None,
+                   limits: DriveLimits | None = None) -> SizingResult:
+    """Size every coordinate of ``mech`` that moves or carries load along ``trajectory``, as a system.
+
+    The duty of every coordinate comes from the inverse dynamics without drive inertia
+    (:func:`~mechatron.drives.duty.joint_duties`); then motors with gearboxes (revolute joints) or linear drives —
+    ball screws, racks — (prismatic joints) are checked pair by pair (:func:`size_joint`), catalog cylinders for
+    hydraulic cylinders (:func:`~mechatron.drives.cylinders.size_cylinder`).
+
+    The drives load the mechanism. Pass 1 sizes every coordinate with weightless drives (all a ``single_pass``
+    sizing does). Each further pass goes distal to proximal: each coordinate is sized with every drive chosen so
+    far (this pass's, else the last pass's) on the body that carries it (:func:`~mechatron.drives.duty.mount_drives`:
+    its motor's and converter's catalog mass at its placement, by default on the joint's parent body at the joint),
+    until a pass chooses what the one before chose: the fixed point, where every drive was sized with every other
+    final drive's mass in the model. A drive's spinning parts (rotor J_m, the converter's motor side J_c) are counted
+    once, in its own joint's motor torque (J_m + J_c) u ω̇ (Pinocchio's armature (J_m + J_c) u²), never as a body
+    inertia. A choice that comes back after changing is a cycle: the sizing stops and says so, as it does after
+    ``max_iterations`` passes; the result is then not feasible. Hydraulic cylinders are sized in the same passes;
+    their masses are the mechanism file's (``barrel_mass``, ``rod_mass``), not the catalog's.
+
+    Args:
+        mech: The mechanism, payload included (:func:`mechatron.model.payload.with_payload`).
+        trajectory: A :class:`~mechatron.dynamics.motion.Trajectory` of the joints (rad, m; s), or of the actuated
+            coordinates of a closed-loop mechanism.
+        motors, gearboxes, linear, cylinders: Catalogs in SI (:func:`~mechatron.drives.catalogs.read_catalog`); one
+            left out is the example one shipped in ``catalogs/``, when the mechanism needs it.
+        objective: ``"mass"``, ``"cost"``, ``"margin"`` or ``"time"`` (see the module docstring).
+        inertia_ratio_max: The largest load-to-motor inertia ratio (J_L/u² + J_c)/J_m allowed.
+        loads: External loads (:class:`mechatron.model.Load`: force in N, moment in N·m) held along the task.
+        task: The task's name, for reports.
+        direct: Whether gearless (direct-drive) motors are tried on revolute joints.
+        pressure: The hydraulic system's relief pressure (Pa).
+        chain_efficiency: Multiplies every converter's efficiency: the losses of the rest of the chain, the
+            series product η = Π η_i [Egorov, 7.53] (:func:`mechatron.mechanics.efficiency.series`).
+        single_pass: Size each coordinate once, with weightless drives (the drives load no joint).
+        max_iterations: The most passes (≥ 2).
+        progress: Called with (done, total) after each coordinate of each pass.
+        limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
+    """
+    from ..io.budget import count, require
+    from .catalogs import default_catalog
+    from .cylinders import cylinder_lengths, size_cylinder
+    from .loads import loads_bytes
+
+    check_arguments(inertia_ratio_max, pressure, chain_efficiency, max_iterations)
+    warn_limits(mech, trajectory, f"task '{task}'")
+    require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
+            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
+            fixed=sizing_fixed_bytes(len(trajectory.t), *_catalog_counts(motors, gearboxes, linear)),
+            advice="use fewer samples (a larger time step of the trajectory)")
+    bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
+            if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
+    if not bare:
+        raise InputError(f"no joint of {mech.name} moves or carries load in the task")
+    kinds = {d.kind for d in bare.values()}
+    motors = motors if motors is not None or kinds <= {"cylinder"} else default_catalog("motors")
+    gearboxes = gearboxes if gearboxes is not None or "revolute" not in kinds else default_catalog("gearboxes")
+    linear = linear if linear is not None or "prismatic" not in kinds else default_catalog("linear")
+    cylinders = cylinders if cylinders is not None or "cylinder" not in kinds else default_catalog("cylinders")
+    names = list(bare)
+    order = distal_first(mech, names)
+    carriers = {n: drive_carrier(mech, n) for n in names if bare[n].kind != "cylinder"}
+
+    lengths = cylinder_lengths(mech, trajectory)
+
+    sized: dict[tuple, DriveSizing] = {}
+
+    def size_one(duty: JointDuty, scale: float | None) -> DriveSizing:
+        """The sizing of one coordinate, once per duty and pace: a pass repeats the duties of the coordinates
+        whose load did not change (the same arrays give the same choice)."""
+        key = (duty.name, scale, duty.load_inertia, duty.stroke, *(None if x is None else x.tobytes() for x in (
+            duty.t, duty.speed, duty.acceleration, duty.torque, duty.static_torque, duty.moving)))
+        if key not in sized:
+            sized[key] = size_fresh(duty, scale)
+        return sized[key]
+
+    def size_fresh(duty: JointDuty, scale: float | None) -> DriveSizing:
+        if duty.kind == "cylinder":
+            spec, length = mech.cylinders[duty.name], lengths[duty.name]
+            if objective == "time":
+                return size_cylinder(duty.scaled(scale), spec, cylinders, pressure=pressure, objective="mass",
+                                     length=length)
+            return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective, length=length)
+        return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
+                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency, limits=limits)
+
+    fastest: dict[tuple, float] = {}
+
+    def fastest_for(d: JointDuty) -> float:
+        """The fastest pace of one coordinate (:func:`fastest_scale`), once per duty: a pass changes only the
+        duties of the coordinates proximal to a drive that changed."""
+        key = (d.name, d.torque.tobytes(), d.static_torque.tobytes(), d.load_inertia)
+        if key not in fastest:
+            fastest[key] = fastest_scale(
+                _cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure, lengths[d.name])
+                if d.kind == "cylinder" else
+                motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
+                              inertia_ratio_max, limits))
+        return fastest[key]
+
+    def pace(duties: dict[str, JointDuty]) -> float | None:
+        """The ``time`` objective's scale: the slowest coordinate's fastest pace sets the whole task's."""
+        if objective != "time":
+            return None
+        scales = [fastest_for(d) for d in duties.values()]
+        return max(scales) if all(math.isfinite(x) for x in scales) else 1.0
+
+    def mounts(chosen: dict[str, DriveSizing]) -> dict[str, DriveMount]:
+        return {n: DriveMount(n, s.choice(), s.drive_mass() or 0.0, *carriers[n])
+                for n, s in chosen.items() if n in carriers}
+
+    known: dict[tuple, dict[str, JointDuty]] = {}
+
+    def duties_with(chosen: dict[str, DriveSizing]) -> dict[str, JointDuty]:
+        """The duties with the drives of ``chosen`` on their bodies (those on a fixed body change nothing)."""
+        moving = [m for m in mounts(chosen).values() if m.parent > 0 and m.mass > 0]
+        key = tuple(sorted((m.joint, m.drive) for m in moving))
+        if not key:
+            return bare
+        if key not in known:
+            known.clear()
+            loaded = joint_duties(mount_drives(mech, moving), trajectory, loads)
+            known[key] = {d.name: d for d in loaded if d.name in bare}
+        return known[key]
+
+    chosen: dict[str, DriveSizing] = {}
+    iterations: list[Iteration] = []
+
+    def run_pass(weighted: bool) -> tuple:
+        before = dict(chosen)
+        scale = pace(duties_with(chosen) if weighted else bare)
+        for k, name in enumerate(order):
+            chosen[name] = size_one((duties_with(chosen) if weighted else bare)[name], scale)
+            if progress:
+                progress(k + 1, len(order))
+        changes = tuple((n, before[n].choice() if n in before else None, chosen[n].choice()) for n in order
+                        if n not in before or before[n].choice() != chosen[n].choice())
+        iterations.append(Iteration(len(iterations) + 1, weighted, scale or 1.0, changes))
+        return tuple(chosen[n].choice() for n in order), scale
+
+    history = [run_pass(False)]
+    converged, cycle = True, ()
+    if not single_pass and any(m.parent > 0 and m.mass > 0 for m in mounts(chosen).values()):
+        converged = False
+        while len(iterations) < max_iterations:
+            state = run_pass(True)
+            if state == history[-1]:
+                converged = True
+                break
+            if state in history:
+                cycle = (history.index(state) + 1, len(iterations))
+                break
+            history.append(state)
+    scale = iterations[-1].time_scale
+    sized = [chosen[n] for n in names]
+    duration = bare[names[0]].duration
+    return SizingResult(mech.name, task, objective, sized, scale, iterations, single_pass, converged,
+                        mounts(chosen), cycle, duration)
+
+
+def check_arguments(inertia_ratio_max: float, pressure: float, chain_efficiency: float, max_iterations: int
+                     ) -> None:
+    """The numeric arguments of :func:`size` and :func:`size_mechanism`, checked (one line naming the argument)."""
+    if isinstance(max_iterations, float):  # 3.0 is a count, 2.5 is not
+        raise InputError(f"max_iterations must be a whole number >= 2 and <= {MAX_PASSES}, got {max_iterations!r}")
+    number("max_iterations", max_iterations, integer=True, minimum=2, maximum=MAX_PASSES)
+    number("inertia_ratio_max", inertia_ratio_max, positive=True)
+    number("pressure", pressure, positive=True, maximum=1e10, unit="Pa")
+    number("chain_efficiency", chain_efficiency, minimum=MIN_EFFICIENCY, maximum=1.0)
+
+
+def _cylinder_passes(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, pressure: float,
+                     length: np.ndarray | None = None) -> Callable[[float], bool]:
+    from .cylinders import size_cylinder
+
+    return lambda k: size_cylinder(duty.scaled(k), spec, catalog, pressure=pressure, length=length).feasible
+
