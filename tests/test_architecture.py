@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import ast
 import importlib
+import json
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from mechatron.cli import COMMANDS, build_parser
 
 PACKAGE = Path(__file__).resolve().parent.parent / "mechatron"
 
@@ -148,6 +151,56 @@ def test_import_mechatron_is_light(heavy):
     code = f"import sys, mechatron, mechatron.model, mechatron.kinematics; print({heavy!r} in sys.modules)"
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "False", f"import mechatron imports {heavy}"
+
+
+#: Modules a real command of a shipped robot or mechanism needs none of (benchmarks/startup.py times its start-up).
+HEAVY = ("pandas", "scipy", "matplotlib", "casadi", "dask", "distributed", "pyarrow", "example_robot_data",
+         "importlib.metadata")
+
+RUN_COMMAND = """
+import contextlib, io, json, sys
+from mechatron.cli import main
+with contextlib.redirect_stdout(io.StringIO()) as out:
+    status = main(sys.argv[2:])
+print(json.dumps({"status": status, "output": out.getvalue(), "loaded": [m for m in json.loads(sys.argv[1])
+                                                                        if m in sys.modules]}))
+"""
+
+
+@pytest.mark.parametrize("command", [["fk", "puma560", "--q", "0,0,0,0,0,0"], ["fk", "crank_slider", "--q", "1,0,0"],
+                                     ["show", "examples/data/four_bar.toml"]], ids=" ".join)
+def test_a_real_command_of_a_shipped_file_is_light(command):
+    """A command's start-up imports what it uses: the pose of a shipped robot or linkage, or a mechanism file's
+    summary, imports no pandas, SciPy, matplotlib, CasADi, Dask or Arrow, and does not look for example-robot-data;
+    only its own command module is imported, and its parser alone is built."""
+    code = RUN_COMMAND + "print(sorted(m for m in sys.modules if m.startswith('mechatron.cli.')), file=sys.stderr)"
+    result = subprocess.run([sys.executable, "-c", code, json.dumps(HEAVY), *command], capture_output=True, text=True,
+                            check=True, cwd=PACKAGE.parent)
+    out = json.loads(result.stdout)
+    assert out["status"] == 0 and out["output"].strip(), out
+    assert not out["loaded"], f"mechatron {' '.join(command)} imports {', '.join(out['loaded'])}"
+    commands = {m.rsplit(".", 1)[1] for m in ast.literal_eval(result.stderr.strip().splitlines()[-1])}
+    assert commands <= {"common", "values", COMMANDS[command[0]]}, commands
+
+
+def test_each_command_has_its_module_and_builds_alone():
+    """The command line builds a command's parser alone (:func:`mechatron.cli.build_parser` with its name): every
+    command of the whole parser is in :data:`mechatron.cli.COMMANDS`, in its order, and its own parser parses and
+    describes it exactly as the whole parser's does."""
+    whole = _subparsers(build_parser())
+    assert list(whole) == list(COMMANDS)
+    for name, parser in whole.items():
+        alone = _subparsers(build_parser(name))
+        assert name in alone and set(alone) == {n for n, m in COMMANDS.items() if m == COMMANDS[name]}
+        assert alone[name].format_help() == parser.format_help()
+        assert [(a.option_strings, a.dest, a.default, a.required) for a in alone[name]._actions] == \
+            [(a.option_strings, a.dest, a.default, a.required) for a in parser._actions]
+
+
+def _subparsers(parser) -> dict:
+    import argparse
+
+    return next(dict(a.choices) for a in parser._actions if isinstance(a, argparse._SubParsersAction))
 
 
 def test_the_public_api_is_small_and_resolves():
