@@ -13,7 +13,6 @@ build once per mechanism (a loop solver, a pool of model copies) they keep in it
 
 from __future__ import annotations
 
-import difflib
 import re
 from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -56,6 +55,8 @@ class Parameter:
 
 def unknown_name_error(what: str, name: str, known: list[str], **where: Any) -> InputError:
     """An :class:`InputError` for an unknown name, suggesting the closest known names."""
+    import difflib  # imported here: only an error needs it
+
     close = difflib.get_close_matches(name, known, n=3)
     hint = f"; did you mean {', '.join(close)}?" if close else ""
     listing = ", ".join(known) if len(known) <= 30 else ", ".join(known[:30]) + ", ..."
