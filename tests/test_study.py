@@ -133,6 +133,25 @@ def test_serial_and_local_cluster_give_the_same_table(tmp_path):
     assert len(list((tmp_path / "dask" / "parts").glob("part-*.parquet"))) == 3
 
 
+@pytest.mark.parametrize("l1", [[0.1, 0.12], [0.1, 0.3], [0.3, 0.3]], ids=["ok", "mixed", "failed"])
+def test_the_rows_kept_are_those_of_the_part_file(tmp_path, l1):
+    # the study keeps each chunk's rows as written instead of reading its part file back: the same frame, dtypes
+    # included (a boolean output with a failed row, a chunk without outputs, a column of names)
+    from mechatron.studies.runner import _read_part, _write_part
+
+    spec = read_spec(spec_file(tmp_path, "values = [0.1, 0.3]", 'method = "grid"'))
+    designs = pd.DataFrame({"design": [0, 1], "l1": l1, "l2": [0.28, 0.28], "seed": [1, 2], "tag": ["a", "b"]})
+    path = tmp_path / "part.parquet"
+    kept = _write_part(evaluate(spec, designs), {"study": "s", "designs": [0, 1], "values": ""}, path)
+    assert_frame_equal(kept, _read_part(path))
+    # a sizing's rows: ``feasible`` true, false or missing (a failed design), an output missing
+    rows = pd.DataFrame([{"design": 0, "status": "ok", "reason": "", "feasible": True, "drive_mass_kg": 1.5},
+                         {"design": 1, "status": "ok", "reason": "", "feasible": False, "drive_mass_kg": 2.0},
+                         {"design": 2, "status": "failed", "reason": "no drive"}])
+    kept = _write_part(rows, {"study": "s", "designs": [0, 1, 2], "values": ""}, path)
+    assert_frame_equal(kept, _read_part(path))
+
+
 def test_a_stopped_study_resumes_to_the_same_table(tmp_path):
     spec = spec_file(tmp_path, designs='method = "lhs"\nsamples = 10')
     whole = run(spec, tmp_path / "whole", chunk_size=2)

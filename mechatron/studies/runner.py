@@ -24,13 +24,13 @@ import json
 import math
 import warnings
 from collections.abc import Callable
-from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, MechatronWarning
 from ..io.values import number
-from .cluster import connect, disconnect
+from .cluster import connect, disconnect, slots
+from .spec import base_mechanism, file_hash, mechanism_content, study_mechanism
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -38,21 +38,45 @@ if TYPE_CHECKING:  # pragma: no cover
     from .result import StudyResult
     from .spec import Spec
 
+__all__ = ["base_mechanism", "default_chunk", "evaluate", "mechanism_content", "run_study", "warm_up"]
 
-@lru_cache(maxsize=4)
-def base_mechanism(mechanism: str, content: tuple[str | None, ...] = ()):
-    """The study's mechanism as loaded from its name or file (once per process and ``content``: the SHA-256 of its
-    files, so that an edited file is loaded anew)."""
-    from ..library import load
+#: The chunks per worker that the default chunk size aims at. As the last chunks end one after the other, each
+#: worker waits on average half a chunk for the others: 1/32 of a study cut into 16 chunks a worker. A chunk's own
+#: cost (its round trip through the scheduler, its part file: a few ms) stays far below its designs'.
+CHUNKS_PER_WORKER = 16
+#: The fewest chunks of the default (the part files a stopped study resumes from) and the most designs of one.
+MIN_CHUNKS, MAX_CHUNK = 32, 64
 
-    return load(mechanism)
+
+def default_chunk(count: int, workers: int = 1) -> int:
+    """The default designs per chunk of ``count`` designs on ``workers`` (the designs that run at once): ``count``
+    over 32 chunks, or :data:`CHUNKS_PER_WORKER` per worker where that is more, between 1 and :data:`MAX_CHUNK`."""
+    return max(1, min(MAX_CHUNK, math.ceil(count / max(MIN_CHUNKS, CHUNKS_PER_WORKER * workers))))
 
 
-def mechanism_content(mechanism: str) -> tuple[str | None, ...]:
-    """The SHA-256 of each file the mechanism is read from (:func:`~mechatron.studies.spec.mechanism_files`)."""
-    from .spec import mechanism_files
+def warm_up(spec: Spec) -> None:
+    """Load what the designs of ``spec`` read before the first of them runs in this process: the mechanism (once per
+    process, :func:`~mechatron.studies.spec.study_mechanism`) and each analysis' inputs through its ``check``, for
+    every set of options of the study (the catalogs, parsed once per process; the task). Every worker of a study
+    runs it before its first chunk; what fails here fails again in that design's row, with its reason."""
+    from .analyses import analysis
+    from .spec import variants
 
-    return tuple(_file_hash(str(path)) for path in mechanism_files(mechanism))
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            mech = study_mechanism(spec.mechanism)
+            for name, options, _ in variants(spec):
+                analysis(name).check(mech, options)
+    except Exception:  # noqa: BLE001, S110 - a warm-up that fails leaves the work to the designs
+        pass
+
+
+async def _warm_worker(spec: Spec) -> None:
+    """:func:`warm_up` on a Dask worker, in a thread of its event loop (the worker keeps answering meanwhile)."""
+    import asyncio
+
+    await asyncio.get_running_loop().run_in_executor(None, warm_up, spec)
 
 
 def _one(spec: Spec, design: dict[str, Any], content: tuple[str | None, ...]) -> dict[str, Any]:
@@ -105,19 +129,10 @@ def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
 
 
 # ------------------------------------------------------------------------------------ the study's identity
-def _file_hash(path: str) -> str | None:
-    """SHA-256 of a file's bytes, None if it cannot be read."""
-    try:
-        with open(path, "rb") as fh:
-            return hashlib.file_digest(fh, "sha256").hexdigest()
-    except OSError:
-        return None
-
-
 def _stamp(spec: Spec, designs: pd.DataFrame) -> dict[str, Any]:
     """What decides the study's rows: the spec's digest, the designs' digest and count, every file read → SHA-256."""
     return {"spec": spec.digest(), "designs": _digest(designs), "count": len(designs),
-            "files": {path: _file_hash(path) for path in spec.files}}
+            "files": {path: file_hash(path) for path in spec.files}}
 
 
 def _identity(stamp: dict[str, Any]) -> str:
@@ -187,9 +202,10 @@ def _discard(out_dir: Path) -> None:
 
 
 def _prepare(out_dir: Path, spec: Spec, designs: pd.DataFrame, chunk_size: int | None,
-             restart: bool = False) -> tuple[int, str]:
+             restart: bool = False, workers: int = 1) -> tuple[int, str]:
     """Create ``out_dir`` (or check the study it holds: the same spec, designs and files; with ``restart``,
-    discard it); returns the chunk size and the study's identity."""
+    discard it); returns the chunk size (``chunk_size``, a resumed study's own, else :func:`default_chunk` for
+    ``workers``) and the study's identity."""
     from ..io.output import output_directory, write_text
 
     state = out_dir / "study.json"
@@ -211,7 +227,7 @@ def _prepare(out_dir: Path, spec: Spec, designs: pd.DataFrame, chunk_size: int |
             return int(old["chunk_size"]), _identity(stamp)
     elif restart:
         _discard(out_dir)
-    chunk_size = chunk_size or max(1, min(64, math.ceil(len(designs) / 32)))
+    chunk_size = chunk_size or default_chunk(len(designs), workers)
     _isolated(lambda: output_directory(out_dir / "parts"))
     text = json.dumps({**stamp, "chunk_size": chunk_size, "spec_file": spec.file}, indent=2) + "\n"
     _isolated(lambda: write_text(state, text))
@@ -228,8 +244,9 @@ def _record(identity: str, chunk: pd.DataFrame) -> dict[str, Any]:
     return {"study": identity, "designs": [int(d) for d in chunk["design"]], "values": _digest(chunk)}
 
 
-def _write_part(rows: pd.DataFrame, record: dict[str, Any], path: Path) -> None:
-    """Write a chunk's rows with its :func:`_record` in the file's metadata, whole or not at all."""
+def _write_part(rows: pd.DataFrame, record: dict[str, Any], path: Path) -> pd.DataFrame:
+    """Write a chunk's rows with its :func:`_record` in the file's metadata, whole or not at all; return the rows as
+    :func:`_read_part` reads them back (through the same Arrow table: the same dtypes, with no file read)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -238,6 +255,7 @@ def _write_part(rows: pd.DataFrame, record: dict[str, Any], path: Path) -> None:
     table = pa.Table.from_pandas(rows, preserve_index=False)
     table = table.replace_schema_metadata({**(table.schema.metadata or {}), PART_KEY: json.dumps(record).encode()})
     _isolated(lambda: write_atomically(path, lambda fh: pq.write_table(table, fh), binary=True))
+    return table.to_pandas()
 
 
 def _span(designs: Any) -> str:
@@ -325,6 +343,7 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
     """
     import pandas as pd
 
+    from .analyses import worker_modules
     from .designs import make_designs
     from .result import study_result
     from .spec import read_spec
@@ -334,9 +353,9 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
     chunk_size = number("chunk", chunk_size, integer=True, minimum=1, allow_none=True)
     designs = make_designs(spec)
     out_dir = Path(out_dir)
-    client = connect(workers, scheduler)
+    client = connect(workers, scheduler, worker_modules())
     try:
-        chunk_size, identity = _prepare(out_dir, spec, designs, chunk_size, restart)
+        chunk_size, identity = _prepare(out_dir, spec, designs, chunk_size, restart, slots(client))
         chunks = [designs.iloc[k:k + chunk_size] for k in range(0, len(designs), chunk_size)]
         part = [_part(out_dir, k) for k in range(len(chunks))]
         records = [_record(identity, chunk) for chunk in chunks]
@@ -345,9 +364,10 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
         pending = pending[:max_chunks]
         if progress is not None:
             progress(done, len(designs))
-        for k, rows in _results(client, spec, chunks, pending):
-            _write_part(rows, records[k], part[k])
-            done += len(rows)
+        rows = {}
+        for k, chunk_rows in _results(client, spec, chunks, pending):
+            rows[k] = _write_part(chunk_rows, records[k], part[k])
+            done += len(chunk_rows)
             if progress is not None:
                 progress(done, len(designs))
     finally:
@@ -355,7 +375,7 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
             disconnect(client, scheduler)
     if max_chunks is not None and done < len(designs):
         return None
-    table = pd.concat([_read_part(p) for p in part], ignore_index=True)
+    table = pd.concat([rows[k] if k in rows else _read_part(p) for k, p in enumerate(part)], ignore_index=True)
     table = table.sort_values("design", kind="stable").reset_index(drop=True)
     _write_parquet(table, out_dir / "designs.parquet")
     from ..io.output import write_table
@@ -365,14 +385,21 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
 
 
 def _results(client, spec: Spec, chunks: list, pending: list[int]):
-    """(chunk number, rows) of every pending chunk, as each finishes."""
+    """(chunk number, rows) of every pending chunk, as each finishes: in this process one after the other, or on the
+    client's cluster, whose workers first :func:`warm_up` (not waited for: each starts its first chunk when warm),
+    all chunks sent in one message and their rows gathered as they end."""
     if client is None:
         for k in pending:
             yield k, evaluate(spec, chunks[k])
         return
+    if not pending:
+        return
     from distributed import as_completed
 
-    futures = {client.submit(evaluate, spec, chunks[k], pure=False): k for k in pending}
-    for future in as_completed(futures):
-        rows = future.result()
-        yield futures.pop(future), rows  # released: the worker forgets the chunk's rows once they are here
+    client.run(_warm_worker, spec, wait=False)
+    futures = client.map(evaluate, [spec] * len(pending), [chunks[k] for k in pending], pure=False)
+    chunk_of = {future.key: k for future, k in zip(futures, pending)}
+    finished = as_completed(futures, with_results=True)
+    del futures  # as each chunk's rows are here, its future goes, and the worker forgets them
+    for future, rows in finished:
+        yield chunk_of.pop(future.key), rows

@@ -20,6 +20,7 @@ import json
 import math
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field, replace
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -231,12 +232,10 @@ def _analyses(reader: FieldReader, folder: Path) -> dict[str, dict[str, Any]]:
 
 
 def _mechanism(reader: FieldReader, folder: Path) -> tuple[str, Any]:
-    from ..library import load
-
     given = reader.string("mechanism")
     where = str((folder / given).resolve()) if (folder / given).is_file() else given
     try:
-        return where, load(where)
+        return where, study_mechanism(where)
     except InputError as exc:
         if exc.file:
             raise
@@ -326,6 +325,35 @@ def _check_pareto(spec: Spec, mech: Any) -> None:
             raise InputError(f"unknown output {column!r}; the analyses' outputs: {', '.join(outputs)}"
                              + (f" (or a parameter: {', '.join(numeric)})" if numeric else ""),
                              file=spec.file, field=f"output.pareto.{axis}")
+
+
+@lru_cache(maxsize=4)
+def base_mechanism(mechanism: str, content: tuple[str | None, ...] = ()):
+    """The study's mechanism as loaded from its name or file (once per process and ``content``: the SHA-256 of its
+    files, so that an edited file is loaded anew)."""
+    from ..library import load
+
+    return load(mechanism)
+
+
+def file_hash(path: str | Path) -> str | None:
+    """SHA-256 of a file's bytes, None if it cannot be read."""
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.file_digest(fh, "sha256").hexdigest()
+    except OSError:
+        return None
+
+
+def mechanism_content(mechanism: str) -> tuple[str | None, ...]:
+    """The SHA-256 of each file the mechanism is read from (:func:`mechanism_files`)."""
+    return tuple(file_hash(path) for path in mechanism_files(mechanism))
+
+
+def study_mechanism(mechanism: str):
+    """The mechanism of a study (its name or file), loaded once per process and content of its files: the spec's
+    checks and every design of the study in this process (or on a worker) share it."""
+    return base_mechanism(mechanism, mechanism_content(mechanism))
 
 
 def mechanism_files(mechanism: str) -> list[Path]:

@@ -31,6 +31,25 @@ MODULES = {
 }
 
 
+#: Analysis name → the modules its ``outputs`` imports on first use: the workers of an embedded cluster start with
+#: them imported (:func:`worker_modules`), so that no worker's first chunk pays for them.
+IMPORTS = {
+    "linkage": ("mechatron.kinematics.sweep", "mechatron.machines.excavator", "mechatron.dynamics.trajectory"),
+    "dynamics": ("mechatron.dynamics.motion", "mechatron.dynamics.task", "mechatron.dynamics.tree"),
+    "sizing": ("mechatron.drives.sizing", "mechatron.dynamics.task"),
+    "accuracy": ("mechatron.accuracy.study", "mechatron.accuracy.sources"),
+}
+
+
+def worker_modules() -> list[str]:
+    """The modules a worker of a study imports: the runner, the library (Pinocchio), every analysis and what its
+    ``outputs`` uses (:data:`IMPORTS`)."""
+    names = ["mechatron.studies.runner", "mechatron.library"]
+    for name, module in MODULES.items():
+        names += [module, *IMPORTS[name]]
+    return list(dict.fromkeys(names))
+
+
 def analysis(name: str) -> ModuleType:
     """The module of the analysis ``name``.
 
