@@ -14,6 +14,7 @@ from the last good sample.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -445,20 +446,16 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     points = list(mech.points if frames is None else frames)
     links = list(links or [])
     measures = list(mech.measures if measures is None else measures)
+    failures = _out_of_range(base, U, names)
+    kernel = _kernel(base, points, links, measures) if BATCHED and n >= COMPILED_MIN else None
+    if kernel is not None and kernel.driven:  # the compiled continuation and analysis, straight into the table
+        return _driven(base, kernel, U, R, A, q, failures, progress, names, points, links, measures)
     wanted = list(dict.fromkeys(points + [p for m in measures for p in m.points] + links))
     solver = LoopSolver(mech, extra_frames=wanted)  # evaluates the reported frames with the closures' frames
     system = solver.system
 
-    lower, upper = solver.lower[solver.act], solver.upper[solver.act]
-    out_of_range = (U < lower - 1e-12) | (U > upper + 1e-12)
-    failures: dict[int, str] = {}
-    for k in np.flatnonzero(out_of_range.any(axis=1)):
-        j = int(np.argmax(out_of_range[k]))
-        failures[int(k)] = f"{names[j]} = {U[k, j]:.6g} is outside its range [{lower[j]:.6g}, {upper[j]:.6g}]"
-
     # positions: by batched Newton between anchors solved by continuation (kinematics/batch.py) when the batched
     # kinematics knows the joints, else by continuation from sample to sample
-    kernel = _kernel(solver, points, links, measures) if BATCHED and n >= COMPILED_MIN else None
     closing = _batched_frames(base) if BATCHED and kernel is None else None  # the closures' frames
     every = _batched_frames(solver) if closing is not None else None  # and the reported ones
     if (kernel is not None or closing is not None) and n >= BATCH_MIN:
@@ -477,9 +474,18 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     else:
         good, V, Aq, columns = _analyse_pinocchio(solver, Q, ok, saved, R, A, reported, wanted, points, links,
                                                   measures, U, failures)
-    failure_rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
-                    for k in sorted(failures)]
-    return _result(mech, U, good, Q[good], V, Aq, columns, links, measures, failure_rows, names, points)
+    return _result(mech, U, good, Q[good], V, Aq, columns, links, measures, failures, names, points)
+
+
+def _out_of_range(solver: LoopSolver, U: np.ndarray, names: list[str]) -> dict[int, str]:
+    """The samples whose inputs U (N, n_act) leave their joint's range, with the reason."""
+    lower, upper = solver.lower[solver.act], solver.upper[solver.act]
+    out_of_range = (U < lower - 1e-12) | (U > upper + 1e-12)
+    failures: dict[int, str] = {}
+    for k in np.flatnonzero(out_of_range.any(axis=1)):
+        j = int(np.argmax(out_of_range[k]))
+        failures[int(k)] = f"{names[j]} = {U[k, j]:.6g} is outside its range [{lower[j]:.6g}, {upper[j]:.6g}]"
+    return failures
 
 
 #: Use the batched position analysis and kinematics where the joints allow (False: the sequential reference).
@@ -785,6 +791,160 @@ def _analyse_compiled(solver: LoopSolver, kernel: LoopKernel, Q: np.ndarray, ok:
     return _drop_singular(solver, rows, ~(ratio <= SINGULAR_RATIO), V, Aq, columns, U, failures)
 
 
+#: The row of max |J_d⁻¹| in a driven sweep's block (after the table's columns).
+_RATIO = "max |J_d⁻¹|"
+
+
+def _driven(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: np.ndarray,
+            failures: dict[int, str], progress: ProgressCallback | None, names: list[str], points: list[str],
+            links: list[str], measures: list[Measure]) -> SweepResult:
+    """The sweep by the kernel's compiled driver (:data:`compiled.DRIVER`): the continuation over the samples with
+    every solution's analysis written into the rows of one block, the table's columns (:class:`_Layout`); the
+    samples it leaves by the sequential continuation (:func:`_drive`), analysed after; then the singular positions
+    dropped, the measures and the unwrapped link angles (:func:`_finish_columns`)."""
+    mech, n = solver.mech, len(U)
+    layout = _layout(mech, kernel, names, measures)
+    valid = np.ones(n, dtype=np.uint8)
+    valid[list(failures)] = 0
+    arrays = {"U": np.ascontiguousarray(U), "R": np.ascontiguousarray(R), "A": np.ascontiguousarray(A),
+              "same": _same_steps(U).astype(np.uint8), "valid": valid, "begin": q.copy(),
+              "reach": np.ascontiguousarray(solver.max_step, dtype=float),
+              "history": np.zeros((4, kernel.nq)), "state": np.zeros(2, dtype=np.int64),
+              "maps": np.zeros(kernel.nd * kernel.na), "table": np.empty((len(layout.where), n)),
+              "motion": np.empty((3, n, kernel.nq)), "rows": layout.rows}
+    ok, solved = _drive(solver, kernel, arrays, failures, progress)
+    if len(solved):
+        kernel.analyse_rows(solved, arrays)
+    table, motion = arrays["table"], arrays["motion"]
+    table[:len(names)] = U.T
+    good = np.flatnonzero(ok)
+    singular = ~(table[layout.where[_RATIO], good] <= SINGULAR_RATIO)
+    for k in good[singular]:
+        failures[int(k)] = _singular_reason(mech, names, U[k])
+    good = good[~singular]
+    if len(good) < n:
+        table, motion = table[:, good], motion[:, good]
+    _finish_columns(table, layout.where, links, measures)
+    return SweepResult(mech, layout.frame(table, good), _failure_frame(U, names, failures), *motion, measures, points,
+                       links)
+
+
+@dataclass
+class _Layout:
+    """The block of a driven sweep: its rows are the table's float columns in order (the inputs; q, v and a of
+    every joint; the kernel's frame columns but the measures' other points; the measures), then max |J_d⁻¹| and
+    the other points' positions. ``columns`` (pandas Index) names the table's columns, ``sample`` first; ``rows``
+    the block row of each q_i and each output of the kernel (the driver's ``rows``); ``where`` the row of every
+    column by name."""
+
+    columns: Any
+    rows: np.ndarray
+    where: dict[str, int]
+
+    def frame(self, table: np.ndarray, good: np.ndarray) -> pd.DataFrame:
+        """The table: the samples ``good`` and the block's first rows as they are (one float block, no copy)."""
+        import pandas as pd
+
+        floats = table[:len(self.columns) - 1]
+        try:
+            from pandas.api.internals import create_dataframe_from_blocks
+        except ImportError:  # pragma: no cover - pandas before 2.3
+            frame = pd.DataFrame(floats.T, columns=self.columns[1:], copy=False)
+            frame.insert(0, "sample", good)
+            return frame
+        return create_dataframe_from_blocks([(good[None, :], np.zeros(1, dtype=np.intp)),
+                                             (floats, np.arange(1, len(self.columns)))],
+                                            index=pd.RangeIndex(len(good)), columns=self.columns)
+
+
+def _layout(mech: Mechanism, kernel: LoopKernel, names: list[str], measures: list[Measure]) -> _Layout:
+    """The :class:`_Layout` of a driven sweep of ``kernel`` with these inputs and measures (kept in the
+    mechanism's cache)."""
+    def build() -> _Layout:
+        import pandas as pd
+
+        nq, na = kernel.nq, len(names)
+        columns = list(names)
+        for joint in mech.joint_names:
+            columns += [f"q_{joint}", f"v_{joint}", f"a_{joint}"]
+        others = kernel.names[len(kernel.names) - 2 * len(kernel.others):]
+        columns += [c for c in kernel.names if c not in others] + [m.name for m in measures]
+        where = {name: row for row, name in enumerate([*columns, _RATIO, *others])}
+        joints = na + 3 * np.arange(nq)
+        rows = np.concatenate([joints, joints + 1, joints + 2, [where[_RATIO]], [where[c] for c in kernel.names]])
+        return _Layout(pd.Index(["sample", *columns]), rows.astype(np.int64), where)
+
+    return mech.cached(("sweep_layout", id(kernel), tuple(names), tuple(m.name for m in measures)), build)
+
+
+def _drive(solver: LoopSolver, kernel: LoopKernel, arrays: dict[str, np.ndarray], failures: dict[int, str],
+           progress: ProgressCallback | None) -> tuple[np.ndarray, np.ndarray]:
+    """The positions of all samples into ``arrays["table"]`` and ``arrays["motion"]``: the driver's continuation
+    chunk by chunk (:meth:`LoopKernel.continuation`), each sample it leaves solved by the sequential continuation
+    from the same history (:meth:`_Continuation.solve`, which records the failures), and the driver on from there.
+    Returns which samples were solved and those solved here (not yet analysed)."""
+    U, table, rows, history, state, same, begin = (arrays[key] for key in ("U", "table", "rows", "history",
+                                                                            "state", "same", "begin"))
+    n, joints = len(U), rows[:kernel.nq]
+    ok, solved = np.zeros(n, dtype=bool), []
+    continuation = _Continuation(solver, U, begin.copy(), failures)
+    k = 0
+    for part in batch.chunks(n, compiled.CHUNK):
+        while k < part.stop:
+            stop = kernel.continuation(k, part.stop, arrays)
+            ok[k:stop] = True
+            m = int(state[0])
+            continuation.history = [history[i].copy() for i in range(m)]
+            continuation.q = history[m - 1].copy() if m else continuation.q
+            k = stop
+            if k == part.stop:
+                break
+            solution = continuation.solve(k, bool(same[k]))
+            if solution is not None:
+                table[joints, k] = arrays["motion"][0, k] = solution[0]
+                ok[k] = True
+                solved.append(k)
+            m = len(continuation.history)
+            if m:
+                history[:m] = continuation.history
+            state[:] = (m, 0)
+            begin[:] = continuation.q
+            k += 1
+        if progress is not None:
+            progress(part.stop, n)
+    return ok, np.array(solved, dtype=np.int64)
+
+
+def _finish_columns(table: np.ndarray, where: dict[str, int], links: list[str], measures: list[Measure]) -> None:
+    """In the block of the good samples: the link angles unwrapped and the measures from the points' rows."""
+    for link in links:
+        row = where[f"{link}_angle"]
+        table[row] = np.unwrap(table[row])
+    for m in measures:
+        table[where[m.name]] = measure_values(m, {p: np.stack([table[where[f"{p}_x"]], table[where[f"{p}_y"]]],
+                                                              axis=1) for p in m.points})
+
+
+def _failure_frame(U: np.ndarray, names: list[str], failures: dict[int, str]) -> pd.DataFrame:
+    """One row per failed sample: ``sample``, its inputs, ``reason`` (without failures a copy of the empty one,
+    built once)."""
+    if not failures:
+        return _no_failures(tuple(names)).copy()
+    import pandas as pd
+
+    rows = [{"sample": k, **{name: U[k, j] for j, name in enumerate(names)}, "reason": failures[k]}
+            for k in sorted(failures)]
+    return pd.DataFrame(rows, columns=["sample", *names, "reason"])
+
+
+@functools.lru_cache(maxsize=64)
+def _no_failures(names: tuple[str, ...]) -> pd.DataFrame:
+    """The empty failures of a sweep of the inputs ``names`` (copied for each result)."""
+    import pandas as pd
+
+    return pd.DataFrame([], columns=["sample", *names, "reason"])
+
+
 def _drop_singular(solver: LoopSolver, rows: np.ndarray, singular: np.ndarray, V: np.ndarray, Aq: np.ndarray,
                    columns: dict[str, np.ndarray], U: np.ndarray, failures: dict[int, str]):
     """The analysed ``rows`` without the ``singular`` ones, whose reason goes to ``failures``: (rows, V, q̈,
@@ -874,8 +1034,8 @@ def _norm(vectors: np.ndarray) -> np.ndarray:
 
 
 def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: np.ndarray, A: np.ndarray,
-            frame_columns: dict[str, np.ndarray], links: list[str], measures: list[Measure], failures: list[dict],
-            names: list[str], points: list[str]) -> SweepResult:
+            frame_columns: dict[str, np.ndarray], links: list[str], measures: list[Measure],
+            failures: dict[int, str], names: list[str], points: list[str]) -> SweepResult:
     """The table of the samples ``good`` (their q, v, a and the reported frames' :func:`_frame_columns`)."""
     import pandas as pd
 
@@ -889,6 +1049,4 @@ def _result(mech: Mechanism, U: np.ndarray, good: np.ndarray, Q: np.ndarray, V: 
         angle[:] = np.unwrap(angle)
     columns.update(frame_columns)
     table = pd.DataFrame(columns, copy=False)  # pandas keeps the arrays as they are (one block each)
-    failure_columns = ["sample", *names, "reason"]
-    return SweepResult(mech, table, pd.DataFrame(failures, columns=failure_columns), Q,
-                       V, A, measures, points, links)
+    return SweepResult(mech, table, _failure_frame(U, names, failures), Q, V, A, measures, points, links)
