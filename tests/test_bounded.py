@@ -132,7 +132,8 @@ def test_sweep_estimate_bounds_the_measured_peak():
             assert_bounds(fixed + samples * per_position, measured)
 
 
-def test_sizing_estimate_bounds_the_measured_peak(puma, monkeypatch):
+@pytest.mark.parametrize("single_pass", [True, False])
+def test_sizing_estimate_bounds_the_measured_peak(puma, monkeypatch, single_pass):
     from mechatron.drives import checks
     from mechatron.drives.loads import loads_bytes
     from mechatron.drives.sizing import size_mechanism, sizing_bytes, sizing_fixed_bytes
@@ -147,9 +148,9 @@ def test_sizing_estimate_bounds_the_measured_peak(puma, monkeypatch):
     size_mechanism(puma, Trajectory(t[:50], trajectory.q[:50], v[:50], a[:50], names, q[:50], [True] * puma.nv),
                    single_pass=True)
     monkeypatch.setattr(checks, "SAMPLE_BLOCK", 1 << 15)  # full blocks at a test's size
-    measured, _ = peak(lambda: size_mechanism(puma, trajectory, single_pass=True))
+    measured, _ = peak(lambda: size_mechanism(puma, trajectory, single_pass=single_pass))
     fixed = sizing_fixed_bytes(len(t), *_catalog_counts(None, None, None))
-    assert_bounds(len(t) * (sizing_bytes(puma.nv) + loads_bytes(puma.nv)) + fixed, measured)
+    assert_bounds(len(t) * (sizing_bytes(puma.nv, single_pass) + loads_bytes(puma.nv)) + fixed, measured)
 
 
 # --------------------------------------------------------------------- the sizing's checks, a block at a time

@@ -65,9 +65,9 @@ UNITS = ("N·m", "-", "N·m", "rad/s", "-", "N·m", "N·m", "N·m", "rad/s", "ra
 ALL_CHECKS = CHECKS + ("voltage limit",) + SCREW_CHECKS
 ALL_UNITS = UNITS + ("V",) + SCREW_UNITS
 _VOLTAGE = len(CHECKS)
-#: Converters × samples up to which the time means of every converter are computed at once (small catalogs);
-#: beyond, only for the converters a step needs (:class:`PairChecks`).
-ALL_AT_ONCE = 1 << 18
+#: Pairs of a joint checked sample by sample over every sample before the samples that can decide are sought
+#: (:meth:`JointDuty.envelope`, worth its cost only for many pairs; :meth:`PairChecks.per_sample`).
+BEFORE_ENVELOPE = 32
 #: The checks evaluated sample by sample (lower bounds until refined).
 PER_SAMPLE = (0, 1, _VOLTAGE)
 #: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
@@ -221,12 +221,10 @@ class PairChecks:
         self.inertia_ratio_max = inertia_ratio_max
 
         # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩ and the mean and top motor speeds of each converter:
-        # exact (sums over the samples) for the converters asked for (:meth:`_means`), every one at once for small
-        # catalogs; in closed form from moments of the duty for the screening (:meth:`_bounds`)
+        # exact (sums over the samples) for the converters asked for (:meth:`_means`); in closed form from moments
+        # of the duty for the screening (:meth:`_bounds`)
         self._weights = weights
         self._exact = np.full((5, len(conv)), math.nan)
-        if len(conv) * len(weights) <= ALL_AT_ONCE:
-            self._means(np.arange(len(conv)))
         self._closed_form(duty, weights, conv)
         self.load_inertia = duty.load_inertia / conv.ratio**2 + conv.inertia  # J_L/u² + J_c (kg·m²)
         # transmission (output side): values of the duty alone, limits of the converter
@@ -244,7 +242,8 @@ class PairChecks:
         self.converter_passes = _passes(alone, np.column_stack([self.transmission[:, [0, 1, 3, 4]],
                                                                 self.screw_limits])).all(axis=1)
         self._strong = motor_side(duty, u, eta, Jc, duty.strong_samples(2))
-        self._keep: NDArray[np.intp] | None = None  # the envelope's samples, when first needed
+        self._keep: NDArray[np.intp] | None = None  # the envelope's samples, when many pairs are checked
+        self._checked = 0  # pairs checked sample by sample so far
 
     def table(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(values, limits) of every check (:data:`ALL_CHECKS`) of the pairs (m[i], c[i]), each (len(m),
@@ -334,15 +333,17 @@ class PairChecks:
         samples, ε the machine epsilon); the bounds of :meth:`_bounds` subtract ROUNDING = max(1e-9, 8 N ε) of it."""
         motoring = duty.torque * duty.speed >= 0
         product = duty.acceleration * duty.torque
-
-        def mean(x: NDArray[np.float64], where: NDArray[np.bool_]) -> float:
-            return float(weights @ np.where(where, x, 0.0))
+        # the time means over the motoring and the braking samples: weights zero elsewhere, one dot product each
+        plus = np.where(motoring, weights, 0.0)
+        minus = weights - plus
+        sums = np.stack([plus, minus]) @ np.stack([product, np.abs(product), duty.torque**2]).T  # (2, 3)
+        (cross_p, abs_p, load_p), (cross_n, abs_n, load_n) = sums.tolist()
 
         u, eta = conv.ratio, conv.efficiency
         self._aa = u**2 * float(weights @ duty.acceleration**2)
-        self._cross = mean(product, motoring) / eta + eta * mean(product, ~motoring)
-        self._cross_abs = mean(np.abs(product), motoring) / eta + eta * mean(np.abs(product), ~motoring)
-        self._load2 = (mean(duty.torque**2, motoring) / eta**2 + eta**2 * mean(duty.torque**2, ~motoring)) / u**2
+        self._cross = cross_p / eta + eta * cross_n
+        self._cross_abs = abs_p / eta + eta * abs_n
+        self._load2 = (load_p / eta**2 + eta**2 * load_n) / u**2
         self._rounding = max(1e-9, 8 * len(weights) * np.finfo(float).eps)
         low = 1 - self._rounding
         self._mean_low = np.abs(u) * float(weights @ np.abs(duty.speed)) * low
@@ -372,18 +373,22 @@ class PairChecks:
         return torque.max(axis=1), _load_factor(torque, available).max(axis=1), voltage.max(axis=1)
 
     def per_sample(self, m: ArrayLike, c: ArrayLike, batch: int = 512) -> NDArray[np.float64]:
-        """The exact per-sample checks (:data:`PER_SAMPLE`) of the pairs (m[i], c[i]), (len(m), 3), over the
-        samples that can decide them; ``batch`` pairs at a time, so that the (pairs, samples) arrays stay within
-        :data:`SAMPLE_BLOCK` elements."""
+        """The exact per-sample checks (:data:`PER_SAMPLE`) of the pairs (m[i], c[i]), (len(m), 3): over every
+        sample for the first :data:`BEFORE_ENVELOPE` pairs of the joint, then over the samples that can decide them
+        (:meth:`JointDuty.envelope`: the same maxima, the samples left out having a kept one that needs at least
+        their torque at a speed at least as high); ``batch`` pairs at a time, so that the (pairs, samples) arrays
+        stay within :data:`SAMPLE_BLOCK` elements."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         out = np.empty((len(m), len(PER_SAMPLE)))
-        if self._keep is None:
+        self._checked += len(m)
+        if self._keep is None and self._checked > BEFORE_ENVELOPE:
             self._keep = self._duty.envelope()
-        batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._keep))))
+        samples = slice(None) if self._keep is None else self._keep
+        batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._duty.t[samples]))))
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
             used = np.unique(cb)  # the converters of the batch, at the samples that can decide
-            side = motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], self._keep)
+            side = motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], samples)
             out[start:start + batch] = np.column_stack(self._per_sample(mb, np.searchsorted(used, cb), *side))
         return out
 

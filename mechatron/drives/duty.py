@@ -25,6 +25,11 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..dynamics.motion import Trajectory
 
 
+#: The envelope's full pass (:meth:`JointDuty.envelope`) is done when it compares at most this many times as many
+#: pairs of samples as the task has samples (its cost, about that of checking as many motor × converter pairs over
+#: every sample).
+ENVELOPE_WORK = 64
+
 @dataclass(frozen=True)
 class JointDuty:
     """One joint's duty over a task.
@@ -87,11 +92,12 @@ class JointDuty:
         among = np.arange(len(self.t)) if among is None else among
         if len(among) == 0:
             return among
-        magnitudes = [np.abs(x[among]) for x in (self.speed, self.acceleration, self.torque)]
+        every = len(among) == len(self.t)  # all samples: no copies
+        magnitudes = [np.abs(x if every else x[among]) for x in (self.speed, self.acceleration, self.torque)]
         scaled = np.stack([x / x.max() if x.max() > 0 else x for x in magnitudes], axis=1)
         weights = np.array([[1, 1, 1], [2, 1, 1], [1, 2, 1], [1, 1, 2], [1, 0, 0], [0, 1, 0], [0, 0, 1],
                             [1, 1, 0], [1, 0, 1], [0, 1, 1], [0, 1, 3], [0, 3, 1]], dtype=float)
-        return np.unique(among[np.argsort(-(scaled @ weights.T), axis=0, kind="stable")[:count].ravel()])
+        return np.unique(among[_largest(scaled @ weights.T, count)])
 
     def envelope(self) -> NDArray[np.intp]:
         """Indices of the samples that can decide a per-sample motor check, for *every* converter and motor.
@@ -122,11 +128,12 @@ class JointDuty:
         candidates = index[aligned]
         if len(candidates) == 0:
             return index
-        # a few strong dominators first, then all of them
+        # a few strong dominators first, then all of them where that costs no more than checking a few pairs over
+        # every sample (the pass compares every sample left with every aligned one left: quadratic)
         left = index[~dominated(index, self.strong_samples(16, candidates))]
-        if len(left) > len(index) // 2:  # smooth motions: few samples are dominated, the full pass would not pay
-            return left
         survivors = np.intersect1d(left, candidates)
+        if len(left) * len(survivors) > ENVELOPE_WORK * len(index):
+            return left
         return np.concatenate([part[~dominated(part, survivors)]
                                for part in np.array_split(left, max(1, len(left) // 1024))])
 
@@ -149,6 +156,18 @@ class DriveMount:
     parent: int
     placement: pin.SE3
     carrier: str
+
+
+def _largest(scores: NDArray[np.float64], count: int) -> NDArray[np.intp]:
+    """Row indices of the ``count`` largest values of every column of ``scores`` (N, k), ≥ 0 and finite, ties in
+    row order (as a stable sort of −score): ``count`` passes of argmax, O(count · N · k)."""
+    scores = scores.copy()
+    columns, found = np.arange(scores.shape[1]), []
+    for _ in range(min(count, len(scores))):
+        best = scores.argmax(axis=0)  # the first of the largest: ties in row order
+        found.append(best)
+        scores[best, columns] = -np.inf
+    return np.concatenate(found)
 
 
 def drive_carrier(mech: Mechanism, joint: str) -> tuple[int, pin.SE3, str]:

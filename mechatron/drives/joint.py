@@ -59,15 +59,16 @@ class JointSizing(DriveSizing):
         motor, converter, converter_kind, ratio: the chosen pair (or, if none is feasible, the closest one); the
             ratio u is motor speed / joint speed (rad/rad, or rad/m for a screw or rack).
         checks: every applicable check of that pair (:class:`~mechatron.drives.checks.Check`, SI units).
-        ranking: the feasible pairs, best first: motor, converter, kind, ratio, mass (kg), price, smallest margin,
-            score (the objective's value).
-        closest: the pairs with the smallest worst load factor and the checks they fail.
+        closest: the pairs with the smallest worst load factor and the checks they fail (empty when a pair is
+            feasible).
         duty: the joint's duty (:class:`~mechatron.drives.duty.JointDuty`), replayed at ``time_scale``.
         motor_data, converter_data: the chosen pair's catalog data (SI).
         time_scale: the task's moves were replayed this many times slower (``time`` objective; < 1: faster), its
             dwells as they are.
-        rivals: the pairs ranked just before the chosen one by the objective, nearest first, which fail a check
-            (ranking's columns and ``failed``); empty for the ``margin`` objective and when nothing is feasible.
+        alternatives: the ranking and the rivals (:class:`Alternatives`), found when first asked for.
+
+    Properties :attr:`ranking` and :attr:`rivals`: the best feasible pairs and the pairs that come before the chosen
+    one by the objective but fail a check (:class:`Alternatives`).
     """
 
     joint: str
@@ -79,13 +80,26 @@ class JointSizing(DriveSizing):
     converter_kind: str
     ratio: float
     checks: list[Check]
-    ranking: pd.DataFrame
     closest: pd.DataFrame
     duty: JointDuty
     motor_data: dict = field(default_factory=dict)
     converter_data: dict = field(default_factory=dict)
     time_scale: float = 1.0
-    rivals: pd.DataFrame = field(default_factory=pd.DataFrame)
+    alternatives: Alternatives | None = field(default=None, repr=False)
+
+    @property
+    def ranking(self) -> pd.DataFrame:
+        """The feasible pairs, best first (at least :data:`~mechatron.drives.report.REPORTED` when there are that
+        many): motor, converter, kind, ratio, mass (kg), price, smallest_margin (exact), score (the objective's
+        value)."""
+        return self.alternatives.ranking() if self.alternatives else pd.DataFrame()
+
+    @property
+    def rivals(self) -> pd.DataFrame:
+        """The pairs ranked just before the chosen one by the objective, nearest first, which fail a check (the
+        ranking's columns, worst_load_factor and ``failed``); empty for the ``margin`` objective and when nothing
+        is feasible."""
+        return self.alternatives.rivals() if self.alternatives else pd.DataFrame()
 
     def operating_points(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Motor speed n = u ω (rad/s) and torque T_m = (J_m + J_c) u ω̇ + τ*/u (N·m) at every sample of the task
@@ -191,13 +205,15 @@ class JointSizing(DriveSizing):
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
                linear: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0,
-               limits: DriveLimits | None = None) -> JointSizing:
+               limits: DriveLimits | None = None, converters: Converters | None = None) -> JointSizing:
     """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
 
-    Every pair is checked; the per-sample checks are made exact in the order of the objective until the best
-    pairs are certain (:class:`~mechatron.drives.checks.Evaluation`), so the ranking lists the best feasible
-    pairs (at least :data:`~mechatron.drives.report.REPORTED` when there are that many), exact. The pairs ranked
-    just before the chosen one by the objective (all of which fail a check) are kept as its ``rivals``.
+    The pairs are screened by exact bounds and checked sample by sample in the order of the objective until the
+    first feasible one (:func:`~mechatron.drives.search.first_in_order`; ``margin``: by branch and bound,
+    :func:`~mechatron.drives.search.smallest_worst`). Its ranking — the best feasible pairs (at least
+    :data:`~mechatron.drives.report.REPORTED` when there are that many), exact — and its rivals — the pairs ranked
+    just before it by the objective, all of which fail a check — are found the same way when first asked for
+    (:class:`Alternatives`).
 
     Args:
         duty: The joint's duty (:class:`~mechatron.drives.duty.JointDuty`; rad or m, s, N·m or N).
@@ -211,6 +227,8 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         direct: Whether the motor alone (u = 1) is tried on a revolute joint.
         chain_efficiency: Multiplies every converter's efficiency (η = Π η_i [Egorov, 7.53]).
         limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
+        converters: The converters to try, when already built (:func:`~mechatron.drives.converters.converters_for`
+            of this duty, the catalogs, ``direct`` and ``chain_efficiency``).
     """
     if objective not in OBJECTIVES:
         raise InputError(f"unknown objective {objective!r}; expected one of: {', '.join(OBJECTIVES)}")
@@ -218,7 +236,7 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         raise InputError(f"the inertia ratio limit must be > 0, got {inertia_ratio_max!r}")
     if len(motors) == 0:
         raise InputError("the motor catalog is empty")
-    conv = converters_for(duty, gearboxes, linear, direct, chain_efficiency)
+    conv = converters or converters_for(duty, gearboxes, linear, direct, chain_efficiency)
     scale = 1.0
     if objective == "time":
         scale = time_scale or fastest_scale(motor_passes(duty, motors, conv, inertia_ratio_max, limits))
@@ -227,31 +245,25 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     checks = PairChecks(duty, motors, conv, inertia_ratio_max, limits)
     motor_mass = motors["mass"].fillna(0).to_numpy() if "mass" in motors else np.zeros(len(motors))
     motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
-    mass, price = (motor_mass, conv.mass), (motor_price, conv.price)
-    primary, tie = (price, mass) if objective == "cost" else (mass, price)
-    before = (np.zeros(0, dtype=int),) * 2
+    table = _Table(motors, conv, (motor_mass, conv.mass), (motor_price, conv.price))
+    alternatives = Alternatives(checks, table, objective)
     if objective == "margin":
-        im, ic = smallest_worst(checks, REPORTED, feasible_only=True)
-        score = checks.worst(im, ic)
+        first = alternatives.best()
     else:
-        im, ic, *before = first_in_order(checks, primary, tie, REPORTED)
-        score = primary[0][im] + primary[1][ic]
-    table = _Table(motors, conv, mass, price)
-    ranking = table.rows(checks, im, ic).assign(score=score, _m=im, _c=ic)
-    tie_break = ["price"] if objective in ("mass", "time") else ["mass"]
-    ranking = ranking.sort_values(["score", *tie_break], kind="stable").reset_index(drop=True)
-    feasible = bool(len(ranking))
+        first_m, first_c, *before = first_in_order(checks, *alternatives.order(), 1)
+        first = first_m, first_c
+        alternatives.before = tuple(before) if len(first_m) else None
+    feasible = bool(len(first[0]))
     closest = pd.DataFrame() if feasible else _closest(checks, table)
     if feasible:
-        m, c = int(ranking["_m"].iloc[0]), int(ranking["_c"].iloc[0])
+        m, c = int(first[0][0]), int(first[1][0])
     else:
         m = int(np.flatnonzero(motors["key"].to_numpy() == closest["motor"].iloc[0])[0])
         c = int(np.flatnonzero(conv.key == closest["converter"].iloc[0])[0])
-    rivals = table.rows(checks, *before, failed=True) if feasible and objective != "margin" else pd.DataFrame()
-    return JointSizing(duty.name, duty.kind, objective, feasible, str(motors["key"].iloc[m]),
-                       str(conv.key[c]), str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c),
-                       ranking.drop(columns=["_m", "_c"]), closest, duty, motors.iloc[m].to_dict(),
-                       {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale, rivals)
+    return JointSizing(duty.name, duty.kind, objective, feasible, str(motors["key"].iloc[m]), str(conv.key[c]),
+                       str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c), closest, duty,
+                       motors.iloc[m].to_dict(), {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__},
+                       scale, alternatives)
 
 
 @dataclass(frozen=True)
@@ -276,6 +288,55 @@ class _Table:
             out["worst_load_factor"] = factors.max(axis=1, initial=0.0)
             out["failed"] = [failures(ALL_CHECKS, f) for f in factors]
         return out
+
+
+@dataclass
+class Alternatives:
+    """What a joint's choice is weighed against, found when a report first asks (the sizing itself needs only the
+    first feasible pair): the ranking — the best feasible pairs by the objective, exact — and the rivals — the
+    pairs just before the chosen one by the objective, which fail a check. ``before``: the rivals' (motors,
+    converters), set by the search that found the chosen pair."""
+
+    checks: PairChecks
+    table: _Table
+    objective: str
+    before: tuple[np.ndarray, np.ndarray] | None = None
+    _ranking: pd.DataFrame | None = field(default=None, repr=False)
+    _rivals: pd.DataFrame | None = field(default=None, repr=False)
+
+    def order(self) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """(primary, tie): the objective's (per motor, per converter) scores — mass then price, or price then mass
+        for ``cost``."""
+        mass, price = self.table.mass, self.table.price
+        return (price, mass) if self.objective == "cost" else (mass, price)
+
+    def ranking(self) -> pd.DataFrame:
+        """The best feasible pairs (:attr:`JointSizing.ranking`), with their indices ``_m`` and ``_c`` for the
+        ``margin`` objective's choice."""
+        if self._ranking is None:
+            if self.objective == "margin":
+                m, c = smallest_worst(self.checks, REPORTED, feasible_only=True)
+                score = self.checks.worst(m, c)
+            else:
+                primary, tie = self.order()
+                m, c, *_ = first_in_order(self.checks, primary, tie, REPORTED)
+                score = primary[0][m] + primary[1][c]
+            tie_break = ["price"] if self.objective in ("mass", "time") else ["mass"]
+            rows = self.table.rows(self.checks, m, c).assign(score=score, _m=m, _c=c)
+            self._ranking = rows.sort_values(["score", *tie_break], kind="stable").reset_index(drop=True)
+        return self._ranking.drop(columns=["_m", "_c"])
+
+    def best(self) -> tuple[np.ndarray, np.ndarray]:
+        """(motors, converters) of the ranking's first pair (none when nothing is feasible)."""
+        self.ranking()
+        return self._ranking["_m"].to_numpy()[:1], self._ranking["_c"].to_numpy()[:1]
+
+    def rivals(self) -> pd.DataFrame:
+        """The rivals (:attr:`JointSizing.rivals`): none for the ``margin`` objective (:attr:`before` ``None``)."""
+        if self._rivals is None:
+            self._rivals = pd.DataFrame() if self.before is None else \
+                self.table.rows(self.checks, *self.before, failed=True)
+        return self._rivals
 
 
 def _closest(checks: PairChecks, table: _Table) -> pd.DataFrame:

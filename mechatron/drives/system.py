@@ -19,7 +19,7 @@ from ..io.values import number
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
 from .checks import DriveLimits
-from .converters import converters_for
+from .converters import Converters, converters_for
 from .duty import DriveMount, JointDuty, drive_carrier, joint_duties, mount_drives
 from .joint import size_joint
 from .report import DriveSizing
@@ -50,11 +50,12 @@ def distal_first(mech: Mechanism, names: list[str]) -> list[str]:
     return sorted(names, key=lambda n: -depth(n))
 
 
-def sizing_bytes(nv: int) -> float:
+def sizing_bytes(nv: int, single_pass: bool = False) -> float:
     """Bytes per sample a sizing of a mechanism of ``nv`` coordinates keeps beyond its loads (the trajectory, the
-    duties, the mounted mechanism's dynamics of every pass; an upper bound, tests/test_bounded.py): the per-pair
-    checks go a block at a time (:data:`~mechatron.drives.checks.SAMPLE_BLOCK`) and do not grow with the task."""
-    return 8.0 * (64 + 48 * nv)
+    duties and, for the fixed point, the mounted mechanism's dynamics of every pass; an upper bound,
+    tests/test_bounded.py): the per-pair checks go a block at a time
+    (:data:`~mechatron.drives.checks.SAMPLE_BLOCK`) and do not grow with the task."""
+    return 8.0 * (64 + (16 if single_pass else 48) * nv)
 
 
 def sizing_fixed_bytes(samples: float = math.inf, converters: int = 512, pairs: int = 2 * CHUNK) -> float:
@@ -132,7 +133,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     check_arguments(inertia_ratio_max, pressure, chain_efficiency, max_iterations)
     warn_limits(mech, trajectory, f"task '{task}'")
     require(f"sizing along {count(len(trajectory.t))} samples of {mech.name}", len(trajectory.t),
-            sizing_bytes(mech.nv) + loads_bytes(mech.nv, bool(mech.closures)),
+            sizing_bytes(mech.nv, single_pass) + loads_bytes(mech.nv, bool(mech.closures)),
             fixed=sizing_fixed_bytes(len(trajectory.t), *_catalog_counts(motors, gearboxes, linear)),
             advice="use fewer samples (a larger time step of the trajectory)")
     bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
@@ -169,7 +170,17 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                                      length=length)
             return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective, length=length)
         return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
-                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency, limits=limits)
+                          direct=direct, time_scale=scale, chain_efficiency=chain_efficiency, limits=limits,
+                          converters=converters(duty))
+
+    built: dict[tuple, Converters] = {}
+
+    def converters(duty: JointDuty) -> Converters:
+        """The converters to try on a joint, built once per kind (and stroke: a screw's length follows it)."""
+        key = (duty.kind, duty.stroke if duty.kind == "prismatic" else None)
+        if key not in built:
+            built[key] = converters_for(duty, gearboxes, linear, direct, chain_efficiency)
+        return built[key]
 
     fastest: dict[tuple, float] = {}
 
@@ -181,8 +192,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
             fastest[key] = fastest_scale(
                 _cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure, lengths[d.name])
                 if d.kind == "cylinder" else
-                motor_passes(d, motors, converters_for(d, gearboxes, linear, direct, chain_efficiency),
-                              inertia_ratio_max, limits))
+                motor_passes(d, motors, converters(d), inertia_ratio_max, limits))
         return fastest[key]
 
     def pace(duties: dict[str, JointDuty]) -> float | None:
