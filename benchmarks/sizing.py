@@ -10,7 +10,10 @@ gearbox's in mass order (then price), the per-sample checks — peak torque, the
 the links change. Printed: both times (best of the repeats, taking turns), their ratio (goal ≤ 2×), whether the
 drives agree, on the default task (1,115 samples) with and without the fixed point, on the same cycle sampled
 finely to 20,000 and 100,000 rows (time linear in the task: the 100,000-row time within 10 % of 5× the 20,000-row
-one), and with a catalog ten times larger (each motor and gearbox in ten variants).
+one), and with a catalog ten times larger (each motor and gearbox in ten variants). A closed loop: the scissor lift
+of examples/data (one hydraulic cylinder) sized along its generic task sampled to about 5,000 rows, against the
+sweep of its loops (position, velocity and acceleration analysis, :func:`mechatron.sweep`) at as many samples
+(goal ≤ 10×: the sizing's constrained inverse dynamics and cylinder checks cost at most nine sweeps).
 
     python benchmarks/sizing.py [--repeats R] [--skip-long]
 """
@@ -31,7 +34,7 @@ from mechatron.drives.converters import converters_for
 from mechatron.drives.duty import DriveMount, drive_carrier, joint_duties, mount_drives
 from mechatron.drives.motor import continuous_torque, electrical_data, peak_torque_limit
 from mechatron.drives.system import distal_first
-from mechatron.dynamics.task import read_task, task_file
+from mechatron.dynamics.task import generic_task, read_task, task_file
 
 TOLERANCE = 1 + 1e-9  # a check passes at value ≤ limit (1 + 1e-9), as mechatron's
 MOTOR_COLUMNS = ["rated_torque", "peak_torque", "rotor_inertia", "mass", "price"]
@@ -186,6 +189,23 @@ def main() -> None:
                   f"{'ok' if 0.9 <= proportion <= 1.1 else 'not linear'})")
         big = larger(motors, 10, MOTOR_COLUMNS, 1), larger(gearboxes, 10, GEARBOX_COLUMNS, 2)
         compare(f"catalogs ×10 ({len(big[0])} motors, {len(big[1])} gearboxes)", task, *big, False, 1)
+    closed_loop(args.repeats)
+
+
+def closed_loop(repeats: int, rows: int = 5000) -> float:
+    """The scissor lift sized along ``rows`` samples against its sweep of as many (both warm: the loop kernels
+    built by a first run of each); prints both and the ratio (goal ≤ 10×)."""
+    lift = mechatron.load(Path(__file__).resolve().parents[1] / "examples" / "data" / "scissor_lift.toml")
+    probe = generic_task(lift)
+    task = generic_task(lift, dt=probe.trajectory.duration / (rows - 1))
+    samples = len(task.trajectory.t)
+    times, _ = interleaved_best({"size": lambda: mechatron.size(lift, task),
+                                 "sweep": lambda: mechatron.sweep(lift, samples=samples)}, repeats + 1)
+    ratio = times["size"] / times["sweep"]
+    print(f"{'scissor lift (closed loop), ' + f'{samples:,} samples':<46}{times['size'] * 1e3:>10.1f} ms"
+          f"{times['sweep'] * 1e3:>10.1f} ms{ratio:>8.2f}x   {'ok' if ratio <= 10 else 'over 10x'}   "
+          "(mechatron.size against mechatron.sweep)")
+    return ratio
 
 
 if __name__ == "__main__":

@@ -17,7 +17,6 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..kinematics.loops import loop_solver
 from ..model.loads import Loads
 from ..model.mechanism import Mechanism
 
@@ -198,7 +197,8 @@ def mount_drives(mech: Mechanism, mounts: list[DriveMount]) -> Mechanism:
     return replace(mech, model=model, rebuild=None, derivatives=None)
 
 
-def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> list[JointDuty]:
+def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *,
+                 kinematics: Mechanism | None = None) -> list[JointDuty]:
     """The duty of every driven coordinate along a :class:`~mechatron.dynamics.motion.Trajectory` (``loads``:
     external :class:`~mechatron.model.Load` s, N and N·m, as in :func:`mechatron.dynamics.tree.inverse_dynamics`),
     from the model with its drive inertia (armature) removed.
@@ -210,7 +210,9 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -
     forces from the constrained inverse dynamics, load inertia the reduced inertia Sᵀ M S of that coordinate with
     the other inputs held (the reduced moment of inertia [Egorov, 6.8]); its kind is ``"cylinder"`` for a
     hydraulic cylinder. Joints of more than one coordinate (spherical, free-flyer) cannot be sized. Every duty knows
-    the trajectory's moves and dwells (:func:`~mechatron.dynamics.task.moving_intervals`)."""
+    the trajectory's moves and dwells (:func:`~mechatron.dynamics.task.moving_intervals`). ``kinematics``: a
+    mechanism of the same linkage whose loops to solve (``mech`` with its drives mounted changes only masses; the
+    loops' compiled kernels are kept by the mechanism that built them), default ``mech``."""
     from ..dynamics.task import moving_intervals
 
     model = pin.Model(mech.model)
@@ -221,7 +223,7 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -
         raise InputError("a sizing task needs at least two samples at increasing times")
     V, A = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (trajectory.v, trajectory.a))
     if mech.closures:
-        Q, tau, static, inertia = _closed_loop(bare, trajectory, loads)
+        Q, tau, static, inertia = _closed_loop(bare, kinematics or mech, trajectory, loads)
         names = list(mech.actuated)
         kinds = ["cylinder" if n in mech.cylinders else mech.joint_kind(n) for n in names]
         positions = np.asarray(trajectory.q, dtype=float)
@@ -251,17 +253,11 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -
             for name, kind, j in zip(names, kinds, columns)]
 
 
-def _closed_loop(mech: Mechanism, trajectory: Trajectory, loads: Loads
+def _closed_loop(mech: Mechanism, kinematics: Mechanism, trajectory: Trajectory, loads: Loads
                  ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """(Q, forces, holding forces, largest reduced inertia of each actuated coordinate) along the trajectory."""
-    from ..dynamics.trajectory import actuator_forces, holding_forces
-    from ..dynamics.tree import mass_matrix
+    """(Q, forces, holding forces, largest reduced inertia of each actuated coordinate) along the trajectory: the
+    loops of ``kinematics``, the masses of ``mech`` (:func:`~mechatron.dynamics.trajectory.actuator_duty`)."""
+    from ..dynamics.trajectory import actuator_duty
 
-    Q, forces = actuator_forces(mech, trajectory, loads)
-    static = holding_forces(mech, Q, loads)
-    solver = loop_solver(mech)
-    inertia = np.zeros(len(mech.actuated))
-    for q in Q[:: max(1, len(Q) // 50)]:
-        S = solver.velocity_matrix(q)
-        inertia = np.maximum(inertia, np.diagonal(S.T @ mass_matrix(mech, q) @ S))
-    return Q, forces, static, inertia
+    duty = actuator_duty(mech, trajectory, loads, kinematics=kinematics)
+    return duty.q, duty.forces, duty.holding, duty.inertia

@@ -216,7 +216,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
             return bare
         if key not in known:
             known.clear()
-            loaded = joint_duties(mount_drives(mech, moving), trajectory, loads)
+            loaded = joint_duties(mount_drives(mech, moving), trajectory, loads, kinematics=mech)
             known[key] = {d.name: d for d in loaded if d.name in bare}
         return known[key]
 

@@ -7,6 +7,7 @@ joint's state, and the constrained inverse dynamics (:func:`mechatron.dynamics.c
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -44,39 +45,110 @@ def actuator_forces(mech: Mechanism, trajectory: Trajectory, loads: Loads = None
     coordinates and the actuator forces (N, n_actuated; N for a cylinder, N·m for a crank) that drive it under
     gravity and ``loads`` (constrained inverse dynamics, :func:`~mechatron.dynamics.constrained.inverse`)."""
     Q, V, A = closed_loop_states(mech, trajectory)
-    return Q, _forces(mech, Q, V, A, loads)
+    return Q, _forces(mech, mech, Q, V, A, (loads,))[0]
 
 
 def holding_forces(mech: Mechanism, Q: ArrayLike, loads: Loads = None) -> Array:
     """Actuator forces (N, n_actuated; N or N·m) that hold a closed-loop mechanism at rest, under gravity and
     ``loads``, in each assembled position of Q (N, nq)."""
     Q = np.atleast_2d(np.asarray(Q, dtype=float))
-    return _forces(mech, Q, np.zeros((len(Q), mech.nv)), np.zeros((len(Q), mech.nv)), loads)
+    return _forces(mech, mech, Q, np.zeros((len(Q), mech.nv)), np.zeros((len(Q), mech.nv)), (loads,))[0]
 
 
-def _forces(mech: Mechanism, Q: Array, V: Array, A: Array, loads: Loads) -> Array:
-    """The actuator forces (N, n_actuated) of the constrained inverse dynamics at every state, all at once where the
+@dataclass(frozen=True)
+class ActuatorDuty:
+    """What the actuators of a closed-loop mechanism carry along a trajectory of its actuated coordinates (SI:
+    N for a cylinder, N·m for a crank; kg or kg·m²).
+
+    Attributes:
+        q: the joint positions (N, nq).
+        forces: the actuator forces that drive the motion (N, n_actuated).
+        holding: the forces that hold each position at rest (gravity and the loads alone) (N, n_actuated).
+        inertia: the largest reduced inertia of each actuated coordinate with the other inputs held, the diagonal
+            of Sᵀ M S over about ``inertia_samples`` positions (the reduced moment of inertia [Egorov, 6.8]).
+    """
+
+    q: Array
+    forces: Array
+    holding: Array
+    inertia: Array
+
+
+def actuator_duty(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *,
+                  kinematics: Mechanism | None = None, inertia_samples: int = 50) -> ActuatorDuty:
+    """The :class:`ActuatorDuty` of a closed-loop mechanism along ``trajectory``: its loops solved once (position,
+    velocity and acceleration analysis), the driving and the holding forces together, from the same closure
+    Jacobians, and the reduced inertias at every (N // ``inertia_samples``)-th position.
+
+    ``kinematics``: the mechanism whose loops give the states and the Jacobians, when ``mech`` only changes the
+    masses of the same linkage (its drives' masses mounted on the bodies, the armature removed): its compiled loop
+    kernels are built once for every such variant (default ``mech``)."""
+    from .tree import mass_matrix
+
+    kinematics = kinematics or mech
+    Q, V, A = closed_loop_states(kinematics, trajectory)
+    forces, holding = _forces(mech, kinematics, Q, V, A, (loads, loads), at_rest=(False, True))
+    Qs = Q[:: max(1, len(Q) // inertia_samples)]
+    S = _velocity_matrices(kinematics, Qs)
+    inertia = np.einsum("kia,kij,kja->ka", S, np.atleast_3d(mass_matrix(mech, Qs)).reshape(len(Qs), mech.nv, -1), S)
+    return ActuatorDuty(Q, forces, holding, np.max(inertia, axis=0, initial=0.0))
+
+
+def _velocity_matrices(kinematics: Mechanism, Q: Array) -> Array:
+    """S (N, nv, n_actuated) with q̇ = S q̇_a at every position: S_a = I, S_d = −J_d⁻¹ J_a, all at once where the
+    closures are not redundant (else :meth:`~mechatron.kinematics.loops.LoopSolver.velocity_matrix` each)."""
+    from ..kinematics import batch
+    from ..kinematics.loops import loop_solver
+
+    solver = loop_solver(kinematics)
+    frames = _batched_frames(solver)
+    if frames is None:
+        return np.array([solver.velocity_matrix(q) for q in Q]).reshape(len(Q), kinematics.nv, len(solver.act))
+    S = np.zeros((len(Q), kinematics.nv, len(solver.act)))
+    S[:, solver.act, np.arange(len(solver.act))] = 1.0
+    if len(solver.dep):
+        _, J = solver.system.stack(frames.placements(Q))
+        S[:, solver.dep] = -batch.solve(J[:, :, solver.dep], J[:, :, solver.act])
+    return S
+
+
+def _batched_frames(solver):
+    """The closures' batched frame placements, or ``None`` where the closures are redundant or the batched
+    kinematics does not know a joint."""
+    system = solver.system
+    try:
+        return system.batched() if system.nrows == len(solver.dep) else None
+    except NotImplementedError:
+        return None
+
+
+def _forces(mech: Mechanism, kinematics: Mechanism, Q: Array, V: Array, A: Array, loads: tuple[Loads, ...],
+            at_rest: tuple[bool, ...] = (False,)) -> list[Array]:
+    """The actuator forces (N, n_actuated) of the constrained inverse dynamics at every state, for each of
+    ``loads`` (at rest — zero velocities and accelerations — where ``at_rest`` says so), all at once where the
     closures are not redundant: with need = M q̈ + h − Q (batched RNEA) and the closure Jacobian J split into its
     actuated and dependent columns, [B Jᵀ][τ_a; λ] = need reads J_dᵀ λ = need_d and τ_a = need_a − J_aᵀ λ (the
-    sweep that gave the states has refused the singular ones, where J_d is not invertible). Redundant closures, or
-    joints the batched kinematics does not know: :func:`~mechatron.dynamics.constrained.inverse` state by state."""
+    sweep that gave the states has refused the singular ones, where J_d is not invertible); one Jacobian for every
+    right-hand side. Redundant closures, or joints the batched kinematics does not know:
+    :func:`~mechatron.dynamics.constrained.inverse` state by state. The loops of ``kinematics`` (the same linkage),
+    the masses of ``mech``."""
     from ..kinematics import batch
     from ..kinematics.loops import loop_solver
     from .tree import inverse_dynamics
 
-    solver = loop_solver(mech)
-    system = solver.system
-    try:
-        frames = system.batched() if system.nrows == len(solver.dep) else None
-    except NotImplementedError:
-        frames = None
+    solver = loop_solver(kinematics)
+    frames = _batched_frames(solver)
+    rest = np.zeros_like(V)
+    states = [(rest, rest) if still else (V, A) for still in at_rest]
     if frames is None or not len(Q):
-        return np.array([[f[n] for n in mech.actuated] for f in
-                         (inverse(mech, q, v, a, loads)[0] for q, v, a in zip(Q, V, A))]).reshape(len(Q), -1)
-    need = np.atleast_2d(inverse_dynamics(mech, Q, V, A, loads))
-    out = np.empty((len(Q), len(solver.act)))
+        return [np.array([[f[n] for n in mech.actuated] for f in
+                          (inverse(mech, q, v, a, load)[0] for q, v, a in zip(Q, Vs, As))]).reshape(len(Q), -1)
+                for load, (Vs, As) in zip(loads, states)]
+    need = np.stack([np.atleast_2d(inverse_dynamics(mech, Q, Vs, As, load)) for load, (Vs, As) in
+                     zip(loads, states)], axis=-1)  # (N, nv, cases)
+    out = np.empty((len(Q), len(solver.act), len(loads)))
     for part in batch.chunks(len(Q)):
-        _, J = system.stack(frames.placements(Q[part]))
-        lam = batch.solve(np.swapaxes(J[:, :, solver.dep], 1, 2), need[part][:, solver.dep, None])[..., 0]
-        out[part] = need[part][:, solver.act] - batch.apply(np.swapaxes(J[:, :, solver.act], 1, 2), lam)
-    return out
+        _, J = solver.system.stack(frames.placements(Q[part]))
+        lam = batch.solve(np.swapaxes(J[:, :, solver.dep], 1, 2), need[part][:, solver.dep])
+        out[part] = need[part][:, solver.act] - np.swapaxes(J[:, :, solver.act], 1, 2) @ lam
+    return [out[..., k] for k in range(len(loads))]
