@@ -84,6 +84,14 @@ def start_forkserver(modules: Iterable[str]) -> str:
     return "forkserver"
 
 
+def prestart(workers: int, scheduler: str | None, modules: Iterable[str]) -> None:
+    """Start the fork server of an embedded cluster of ``workers`` (:func:`start_forkserver`) ahead of
+    :func:`connect`, so that its imports (~1 s) run while this process reads the spec and draws the designs; nothing
+    for a serial run, a running scheduler, or more workers than cores (:func:`connect` refuses them)."""
+    if scheduler is None and 1 < workers <= available_cores():
+        start_forkserver(modules)
+
+
 def connect(workers: int, scheduler: str | None, modules: Iterable[str] = ()):
     """A Dask client of a running scheduler (checked first, :func:`check_scheduler`) or of a new LocalCluster of
     ``workers`` processes with one thread each (at most :func:`~mechatron.io.budget.available_cores`), forked from a

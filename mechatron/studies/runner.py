@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, MechatronWarning
 from ..io.values import number
-from .cluster import connect, disconnect, slots
+from .cluster import connect, disconnect, prestart, slots
 from .spec import base_mechanism, file_hash, mechanism_content, study_mechanism
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -348,8 +348,9 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
     from .result import study_result
     from .spec import read_spec
 
-    spec = read_spec(spec) if not hasattr(spec, "analyses") else spec
     workers = number("workers", workers, integer=True, minimum=1, maximum=1024)
+    prestart(workers, scheduler, worker_modules())
+    spec = read_spec(spec) if not hasattr(spec, "analyses") else spec
     chunk_size = number("chunk", chunk_size, integer=True, minimum=1, allow_none=True)
     designs = make_designs(spec)
     out_dir = Path(out_dir)
