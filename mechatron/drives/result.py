@@ -72,6 +72,9 @@ class SizingResult(Result):
     pass; SI units). ``as_dict()``: mechanism, task, objective, method, converged, feasible, time_scale, task_time
     (s), iterations, totals, joints (each joint's ``as_dict`` with its explanation and ``mounted_on``). ``plot()``:
     one panel per joint, its drive's chart. ``str()``: the report of ``mechatron size``.
+
+    ``given``: the :class:`~mechatron.dynamics.task.Task` sized (:func:`~mechatron.drives.sizing.size` keeps it), so
+    that the report shows the task as it was sized — its trajectory and file text — whatever the file holds later.
     """
 
     mechanism: str
@@ -85,6 +88,7 @@ class SizingResult(Result):
     mounts: dict[str, DriveMount] = field(default_factory=dict)
     cycle: tuple[int, ...] = ()
     task_duration: float | None = None
+    given: Task | None = field(default=None, repr=False, compare=False)
 
     @property
     def feasible(self) -> bool:
@@ -273,9 +277,10 @@ class SizingResult(Result):
     def report(self, mechanism: Mechanism | None = None, task: Task | str | Path | None = None, **context) -> Report:
         """The HTML report (:mod:`mechatron.report.html`): the method, every joint's drive and the check deciding it,
         per joint every check, the best alternatives (the closest drives when none is feasible) and its chart; given
-        ``mechanism`` (and ``task`` as given to :func:`size`, default its default task) the task and the mechanism
-        at its most loaded pose: the sample where the :meth:`critical` joint carries its largest |τ| (N·m or N)."""
-        from ..dynamics.task import Task, default_task, read_task
+        ``mechanism`` the task and the mechanism at its most loaded pose: the sample where the :meth:`critical` joint
+        carries its largest |τ| (N·m or N). The task is the one sized (:attr:`given`), its file's text shown as it
+        was read unless ``task`` names that file (the inputs show it then); a sizing without one reads ``task`` (a
+        :class:`~mechatron.dynamics.task.Task` or a file; default the mechanism's default task)."""
         from ..kinematics.drawing import configuration_figure
         from ..kinematics.loops import assemble
         from ..report.html import Chart, Code, Method, Report, Section, Table, Text
@@ -315,8 +320,7 @@ class SizingResult(Result):
                 "the best feasible drives" if j.feasible else "the closest drives and the checks they fail",
                 f"alternatives {j.joint}"), Chart(j.plot())]))
         if mechanism is not None:
-            given, task = task, task if isinstance(task, Task) else default_task(mechanism) if task is None else \
-                read_task(task, mechanism)
+            given, task = task, self._task(mechanism, task)
             if task.name != self.task:
                 raise InputError(f"the report of a sizing for the task '{self.task}' needs that task, not "
                                  f"'{task.name}'")
@@ -334,9 +338,19 @@ class SizingResult(Result):
             frame = mechanism.tool_frame if mechanism.tool_frame in mechanism.frame_names else None
             sections += [Section("Task", [Text(f"{task.name} ({task.source}): payload {task.payload:g} kg"), Table(
                 pd.DataFrame(trajectory.as_dict()["coordinates"]), f"{trajectory.duration:.4g} s as given (SI)",
-                "task")] + ([Code(Path(task.source).read_text(encoding="utf-8"))]
-                            if given is None and Path(task.source).is_file() else [])),
+                "task")] + ([Code(task.text)] if given is None and task.text else [])),
                 Section("Most loaded pose", [Text(where), Chart(configuration_figure(
                     mechanism, q, frame=frame, title=f"{mechanism.name} at t = {trajectory.t[k]:.4g} s"))])]
         return Report(lines[0], sections, lines[-1])
 
+    def _task(self, mechanism: Mechanism, task: Task | str | Path | None) -> Task:
+        """The task of the report: ``task`` when it is a Task; the one sized when ``task`` is ``None`` or names the
+        file it was read from; else ``task`` read for ``mechanism`` (``None``: its default task)."""
+        from ..dynamics.task import Task, default_task, read_task
+
+        if isinstance(task, Task):
+            return task
+        kept = self.given
+        if kept is not None and (task is None or (kept.source and Path(task).resolve() == Path(kept.source).resolve())):
+            return kept
+        return default_task(mechanism) if task is None else read_task(task, mechanism)

@@ -85,7 +85,8 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
 
     Returns:
         A :class:`SizingResult`; ``result.feasible`` is false when some joint has no feasible drive (its closest
-        candidates are reported) or the choice did not settle.
+        candidates are reported) or the choice did not settle. It keeps the task it sized (``result.given``) for
+        its report.
     """
     from ..dynamics.motion import Trajectory
     from ..dynamics.task import Task, default_task, read_task
@@ -102,8 +103,10 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     catalogs = {kind: read_catalog(value, kind) if value is not None and not isinstance(value, pd.DataFrame)
                 else value for kind, value in (("motors", motors), ("gearboxes", gearboxes), ("linear", linear),
                                                ("cylinders", cylinders))}
-    return size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=objective,
-                          inertia_ratio_max=inertia_ratio_max, loads=[*as_loads(task.loads), *as_loads(loads)],
-                          task=task.name, direct=direct, pressure=pressure, chain_efficiency=chain_efficiency,
-                          single_pass=single_pass, max_iterations=max_iterations, progress=progress,
-                          limits=limits)
+    result = size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=objective,
+                            inertia_ratio_max=inertia_ratio_max, loads=[*as_loads(task.loads), *as_loads(loads)],
+                            task=task.name, direct=direct, pressure=pressure, chain_efficiency=chain_efficiency,
+                            single_pass=single_pass, max_iterations=max_iterations, progress=progress,
+                            limits=limits)
+    result.given = task
+    return result

@@ -59,7 +59,8 @@ from .motion import (
 @dataclass
 class Task:
     """A task ready for analysis: the mechanism with the payload attached (kg), the trajectory, external loads
-    (constant :class:`~mechatron.model.Load` s)."""
+    (constant :class:`~mechatron.model.Load` s); ``source`` the file it was read from and ``text`` that file's text
+    as read (a TOML task; reports show it as the task was, whatever the file holds later)."""
 
     name: str
     mechanism: Mechanism
@@ -67,6 +68,7 @@ class Task:
     loads: list[Load] = field(default_factory=list)
     payload: float = 0.0
     source: str = ""
+    text: str = ""
 
     @property
     def duration(self) -> float:
@@ -197,6 +199,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     if path.suffix.lower() == ".csv":
         return Task(path.stem, mech, read_trajectory(path, mech), source=str(path))
     reader = FieldReader(read_toml(path), file=path)
+    text = path.read_text(encoding="utf-8")
     name = reader.string("name", path.stem)
     reader.string("description", "")
     names, angular = _coordinates(mech)
@@ -223,7 +226,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
         csv = Path(reader.string("trajectory"))
         trajectory = read_trajectory(csv if csv.is_absolute() else path.parent / csv, mech)
         reader.finish()
-        return Task(name, loaded, trajectory, loads, payload, str(path))
+        return Task(name, loaded, trajectory, loads, payload, str(path), text)
     points = _waypoints(reader, angular)
     if points is None:
         raise reader.error("waypoints", "missing the motion: give waypoints, waypoints_deg or trajectory")
@@ -240,7 +243,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     if mech.closures:
         trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names,
                                 angular=[bool(x) for x in angular])
-    return Task(name, loaded, trajectory, loads, payload, str(path))
+    return Task(name, loaded, trajectory, loads, payload, str(path), text)
 
 
 def task_file(mech: Mechanism) -> Path | None:
