@@ -25,7 +25,7 @@ besides (:data:`DRIVER`, called through ``ctypes``, one call per chunk of sample
 solutions (or along the velocity maps where the input step changed), ``step`` until the residual is below the
 tolerance plus the polishing step, accepted only if it moved less than half the change from the previous solution,
 then ``analyse`` at the solution —, writing the coordinates and the analysis straight into the rows of the sweep's
-table (:meth:`LoopKernel.continuation`); a sample it does not accept is left to the caller. Without CasADi's map, its
+table (:meth:`LoopKernel.run`); a sample it does not accept is left to the caller. Without CasADi's map, its
 argument buffers and Python between the two passes, a sample costs its two or three evaluations of the expressions.
 Without a working compiler, or with ``MECHATRON_COMPILE=0``, the same functions run in CasADi's virtual machine and
 there is no driver. Mechanisms with joints or closures that have no symbolic form get no kernel (:func:`loop_kernel`
@@ -60,17 +60,24 @@ FIRST_STEPS = 50
 #: Samples per call of a mapped function, and per chunk of the sweep's batched solve with a kernel (its working
 #: storage is ~100 B a sample).
 CHUNK = 16384
+#: The C compiler's options (portable code: the cache folder may be shared by machines of one architecture).
+FLAGS = ("-O3", "-fno-math-errno", "-ffp-contract=off", "-shared", "-fPIC")
 #: Environment variables: the cache folder, and 0 to run the kernels in CasADi's virtual machine.
 CACHE_VARIABLE, COMPILE_VARIABLE = "MECHATRON_CACHE", "MECHATRON_COMPILE"
 #: A solution the driver accepts moved from its guess by at most this fraction of the change it predicted, plus
 #: :data:`SLACK` (m or rad): as :meth:`mechatron.kinematics.sweep._Continuation._compiled_newton`.
 ACCEPT, SLACK = 0.5, 1e-9
 
-#: The driver, in C, appended to the generated ``step`` and ``analyse`` (see the module docstring). Sizes and
-#: indices are filled in per mechanism; the table is (rows, n) row-major: T[r, k] at ``table[r * n + k]``.
+#: Samples the driver analyses together: each operation of ``analyse`` over this many lanes (:func:`blocked`), its
+#: results written into the table in runs of as many.
+LANES = 8
+#: The driver, in C, appended to the generated ``step`` and ``analyse`` (see the module docstring). Sizes, indices
+#: and the blocked ``analyse`` are filled in per mechanism; the table is (rows, n) row-major: T[r, k] at
+#: ``table[r * n + k]``; motion (3, n, nq) holds q, q̇ and q̈ sample by sample.
 DRIVER = r"""
 /* mechatron: the continuation over samples by the generated mechatron_step and mechatron_analyse */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #define M_NQ %(nq)d
 #define M_NA %(na)d
@@ -82,6 +89,8 @@ DRIVER = r"""
 #define M_TOL %(tolerance)r
 #define M_ACCEPT %(accept)r
 #define M_SLACK %(slack)r
+#define M_L %(lanes)d
+#define M_WORK %(work)d
 typedef long long m_int;
 static const int M_ACT[M_NA] = {%(act)s};
 static const int M_DEP[M_ND] = {%(dep)s};
@@ -91,6 +100,15 @@ typedef struct {
   casadi_int iw[%(sz_iw)d + 1];
   casadi_real w[%(sz_w)d + 1];
 } m_work;
+
+/* mechatron_analyse over M_L lanes: q (M_NQ, M_L), r and a (M_NA, M_L) to out (M_NOUT, M_L); w: M_WORK doubles;
+   compiled for the vector units there are (chosen when the library is loaded; -ffp-contract=off: the same numbers) */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__GLIBC__)
+#define M_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define M_CLONES
+#endif
+M_CLONES %(block)s
 
 /* One Newton step at q: the dependent coordinates after it (next), the maps S_d at q; returns max |Phi(q)|. */
 static double m_step(m_work* s, const double* q, double* next, double* maps) {
@@ -103,39 +121,74 @@ static double m_step(m_work* s, const double* q, double* next, double* maps) {
   return out[M_ND];
 }
 
-/* Newton's method on q in place, as LoopSolver.newton with polish: a step while max |Phi| >= M_TOL, one more at the
-   first iterate below it; 1 if that happened within `steps` evaluations (maps: S_d at that iterate). With
-   `decreasing`, also 0 as soon as a step does not decrease max |Phi| (where LoopSolver.newton would halve it). */
-static int m_newton(m_work* s, double* q, double* maps, int steps, int decreasing) {
-  double next[M_ND], last = INFINITY;
-  for (int i = 0; i < steps; ++i) {
+/* Newton's method on q in place, as LoopSolver.newton with polish from a close guess: a step while max |Phi| >= M_TOL,
+   one more at the first iterate below it; 1 if that happened within M_STEPS evaluations (maps: S_d there). */
+static int m_newton(m_work* s, double* q, double* maps) {
+  double next[M_ND];
+  for (int i = 0; i < M_STEPS; ++i) {
     double error = m_step(s, q, next, maps);
-    if (!isfinite(error) || (decreasing && !(error < last))) return 0;
+    if (!isfinite(error)) return 0;
     for (int d = 0; d < M_ND; ++d) q[M_DEP[d]] = next[d];
     if (error < M_TOL) return 1;
-    last = error;
   }
   return 0;
 }
 
-/* The analysis at q (rates r, accelerations a) written with q into the table's rows (-1: not kept) and into
-   motion (3, n, M_NQ): q, its rates and accelerations sample by sample. */
-static void m_analyse(m_work* s, const double* q, const double* r, const double* a, double* table, double* motion,
-                      m_int n, m_int k, const m_int* rows) {
-  double out[M_NOUT];
-  s->arg[0] = q;
-  s->arg[1] = r;
-  s->arg[2] = a;
-  s->res[0] = out;
-  mechatron_analyse(s->arg, s->res, s->iw, s->w, 0);
-  for (int i = 0; i < M_NQ; ++i) {
-    if (rows[i] >= 0) table[rows[i] * n + k] = q[i];
-    motion[k * M_NQ + i] = q[i];
-    motion[(n + k) * M_NQ + i] = out[i];
-    motion[(2 * n + k) * M_NQ + i] = out[M_NQ + i];
+/* LoopSolver.newton with polish from a far guess, on q in place: up to M_FIRST steps, each halved while it does not
+   decrease max |Phi| (down to 1/1024), the polishing step below M_TOL; 1 if it converged. */
+static int m_far(m_work* s, double* q, double* maps) {
+  double next[M_ND], step[M_ND], trial[M_NQ];
+  double error = m_step(s, q, next, maps);
+  for (int i = 0; i < M_FIRST; ++i) {
+    if (error < M_TOL) {
+      if (error > 0.0)
+        for (int d = 0; d < M_ND; ++d) q[M_DEP[d]] = next[d];
+      return 1;
+    }
+    double t = 1.0, reached;
+    for (int d = 0; d < M_ND; ++d) step[d] = next[d] - q[M_DEP[d]];
+    while (1) {
+      memcpy(trial, q, sizeof(double) * M_NQ);
+      for (int d = 0; d < M_ND; ++d) trial[M_DEP[d]] += t * step[d];
+      reached = m_step(s, trial, next, maps);
+      if (reached < error || t < 1e-3) break;
+      t /= 2;
+    }
+    memcpy(q, trial, sizeof(double) * M_NQ);
+    error = reached;
   }
-  for (int j = 0; j < M_NOUT; ++j)
-    if (rows[M_NQ + j] >= 0) table[rows[M_NQ + j] * n + k] = out[j];
+  return error < M_TOL;
+}
+
+/* The analysis of `count` (<= M_L) samples, k0 + l or index[l] (index not NULL), at their q in motion: q, q' and q''
+   into motion, q and the outputs into the table's rows (-1: not kept). */
+static void m_analyse(const m_int* index, m_int k0, int count, m_int n, const double* R, const double* A,
+                      double* table, double* motion, const m_int* rows, double* w) {
+  double q[M_NQ * M_L], r[M_NA * M_L], a[M_NA * M_L], out[M_NOUT * M_L];
+  m_int at[M_L];
+  for (int l = 0; l < M_L; ++l) {
+    m_int k = at[l] = index ? index[l < count ? l : count - 1] : k0 + (l < count ? l : count - 1);
+    for (int i = 0; i < M_NQ; ++i) q[i * M_L + l] = motion[k * M_NQ + i];
+    for (int b = 0; b < M_NA; ++b) {
+      r[b * M_L + l] = R[k * M_NA + b];
+      a[b * M_L + l] = A[k * M_NA + b];
+    }
+  }
+  m_block(q, r, a, out, w);
+  for (int l = 0; l < count; ++l)
+    for (int i = 0; i < M_NQ; ++i) {
+      motion[(n + at[l]) * M_NQ + i] = out[i * M_L + l];
+      motion[(2 * n + at[l]) * M_NQ + i] = out[(M_NQ + i) * M_L + l];
+    }
+  for (int j = 0; j < M_NQ + M_NOUT; ++j) {
+    if (rows[j] < 0) continue;
+    double* row = table + rows[j] * n;
+    const double* value = j < M_NQ ? q + j * M_L : out + (j - M_NQ) * M_L;
+    if (!index && count == M_L)
+      memcpy(row + k0, value, sizeof(double) * M_L);
+    else
+      for (int l = 0; l < count; ++l) row[at[l]] = value[l];
+  }
 }
 
 /* The guess of sample k from the last m solutions (history, oldest first): the polynomial through them one step on
@@ -168,65 +221,175 @@ static double m_guess(const double* history, m_int m, const double* maps, const 
   return change;
 }
 
+/* The position of sample k into q: 1 if solved (see mechatron_continue), history and state updated. */
+static int m_position(m_work* s, m_int k, const double* U, const unsigned char* same, const double* begin,
+                      const double* reach, double* history, m_int* state, double* maps, double* q) {
+  double trial[M_NQ], fresh[M_ND * M_NA + 1], next[M_ND + 1], limit = INFINITY;
+  m_int m = state[0];
+  if (m > 1 && !same[k]) {
+    memmove(history, history + (m - 1) * M_NQ, sizeof(double) * M_NQ);
+    m = state[0] = 1;
+  }
+  if (m == 1 && !state[1]) {
+    m_step(s, history, next, maps);
+    state[1] = 1;
+  }
+  if (m) {
+    double change = m_guess(history, m, maps, U + k * M_NA, reach, trial);
+    if (change < 0.0) return 0;
+    limit = M_ACCEPT * change + M_SLACK;
+  } else {
+    memcpy(trial, begin, sizeof(double) * M_NQ);
+  }
+  for (int a = 0; a < M_NA; ++a) trial[M_ACT[a]] = U[k * M_NA + a];
+  memcpy(q, trial, sizeof(double) * M_NQ);
+  if (!(m ? m_newton(s, q, fresh) : m_far(s, q, fresh))) return 0;
+  for (int i = 0; i < M_NQ; ++i)
+    if (!(fabs(q[i] - trial[i]) <= limit)) return 0;
+  if (m == 4) {
+    memmove(history, history + M_NQ, sizeof(double) * 3 * M_NQ);
+    m = 3;
+  }
+  memcpy(history + m * M_NQ, q, sizeof(double) * M_NQ);
+  state[0] = m + 1;
+  memcpy(maps, fresh, sizeof(double) * M_ND * M_NA);
+  state[1] = 1;
+  return 1;
+}
+
 /* Samples start ... stop-1 by continuation; returns the first one not solved here (stop when all were): an invalid
    input, no convergence, or a solution farther from its guess than allowed (with no solution before, Newton's
-   method from `begin` (M_NQ), as LoopSolver.newton while its full steps decrease the residual). state: the number
-   of solutions in history (0 to 4) and whether maps belong to the last one; both updated. */
+   method from `begin` (M_NQ) as LoopSolver.newton). state: the number of solutions in history (0 to 4) and whether
+   maps belong to the last one; both updated. The solved samples are analysed M_L at a time. */
 m_int mechatron_continue(m_int start, m_int stop, m_int n, const double* U, const double* R, const double* A,
                          const unsigned char* same, const unsigned char* valid, const double* begin,
                          const double* reach, double* history, m_int* state, double* maps, double* table,
                          double* motion, const m_int* rows) {
   m_work s;
-  double trial[M_NQ], q[M_NQ], fresh[M_ND * M_NA + 1], next[M_ND + 1];
-  for (m_int k = start; k < stop; ++k) {
-    m_int m = state[0];
-    double limit = INFINITY;
-    if (!valid[k]) return k;
-    if (m > 1 && !same[k]) {
-      memmove(history, history + (m - 1) * M_NQ, sizeof(double) * M_NQ);
-      m = state[0] = 1;
+  double* w = malloc(sizeof(double) * M_WORK);
+  m_int k = start, first = start;
+  if (!w) return start;
+  for (; k < stop; ++k) {
+    if (!valid[k] || !m_position(&s, k, U, same, begin, reach, history, state, maps, motion + k * M_NQ)) break;
+    if (k + 1 - first == M_L) {
+      m_analyse(NULL, first, M_L, n, R, A, table, motion, rows, w);
+      first = k + 1;
     }
-    if (m == 1 && !state[1]) {
-      m_step(&s, history, next, maps);
-      state[1] = 1;
-    }
-    if (m) {
-      double change = m_guess(history, m, maps, U + k * M_NA, reach, trial);
-      if (change < 0.0) return k;
-      limit = M_ACCEPT * change + M_SLACK;
-    } else {
-      memcpy(trial, begin, sizeof(double) * M_NQ);
-    }
-    for (int a = 0; a < M_NA; ++a) trial[M_ACT[a]] = U[k * M_NA + a];
-    memcpy(q, trial, sizeof(double) * M_NQ);
-    if (!m_newton(&s, q, fresh, m ? M_STEPS : M_FIRST, m == 0)) return k;
-    for (int i = 0; i < M_NQ; ++i)
-      if (!(fabs(q[i] - trial[i]) <= limit)) return k;
-    if (m == 4) {
-      memmove(history, history + M_NQ, sizeof(double) * 3 * M_NQ);
-      m = 3;
-    }
-    memcpy(history + m * M_NQ, q, sizeof(double) * M_NQ);
-    state[0] = m + 1;
-    memcpy(maps, fresh, sizeof(double) * M_ND * M_NA);
-    state[1] = 1;
-    m_analyse(&s, q, R + k * M_NA, A + k * M_NA, table, motion, n, k, rows);
   }
-  return stop;
+  if (k > first) m_analyse(NULL, first, (int)(k - first), n, R, A, table, motion, rows, w);
+  free(w);
+  return k;
 }
 
 /* The analysis of the samples index[0 ... count-1] at their coordinates in motion. */
 void mechatron_analyse_rows(m_int count, const m_int* index, m_int n, const double* R, const double* A,
                             double* table, double* motion, const m_int* rows) {
-  m_work s;
-  double q[M_NQ];
-  for (m_int c = 0; c < count; ++c) {
-    m_int k = index[c];
-    memcpy(q, motion + k * M_NQ, sizeof(double) * M_NQ);
-    m_analyse(&s, q, R + k * M_NA, A + k * M_NA, table, motion, n, k, rows);
-  }
+  double* w = malloc(sizeof(double) * M_WORK);
+  if (!w) return;
+  for (m_int c = 0; c < count; c += M_L)
+    m_analyse(index + c, 0, (int)(count - c < M_L ? count - c : M_L), n, R, A, table, motion, rows, w);
+  free(w);
 }
 """
+#: ``analyse`` over lanes where an operation has no lane-wise form here: one sample after the other.
+SCALAR_BLOCK = r"""static void m_block(const double* q, const double* r, const double* a, double* out, double* w) {
+  const casadi_real* arg[%(sz_arg)d];
+  casadi_real* res[%(sz_res)d];
+  casadi_int iw[%(sz_iw)d + 1];
+  double qs[M_NQ], rs[M_NA], as[M_NA], o[M_NOUT];
+  for (int l = 0; l < M_L; ++l) {
+    for (int i = 0; i < M_NQ; ++i) qs[i] = q[i * M_L + l];
+    for (int b = 0; b < M_NA; ++b) {
+      rs[b] = r[b * M_L + l];
+      as[b] = a[b * M_L + l];
+    }
+    arg[0] = qs;
+    arg[1] = rs;
+    arg[2] = as;
+    res[0] = o;
+    mechatron_analyse(arg, res, iw, w, 0);
+    for (int j = 0; j < M_NOUT; ++j) out[j * M_L + l] = o[j];
+  }
+}"""
+
+
+def _lane_operations() -> dict[int, str]:
+    """C of CasADi's scalar operations on lane l of the work (``{0}``, ``{1}`` the arguments), as its code
+    generator writes them (``fmin`` and ``fmax`` as their comparisons, which vectorize: the other argument where
+    one is NaN)."""
+    import casadi as ca
+
+    return {ca.OP_ASSIGN: "{0}", ca.OP_ADD: "{0}+{1}", ca.OP_SUB: "{0}-{1}", ca.OP_MUL: "{0}*{1}",
+            ca.OP_DIV: "{0}/{1}", ca.OP_NEG: "-{0}", ca.OP_SQ: "{0}*{0}", ca.OP_TWICE: "2.*{0}",
+            ca.OP_INV: "1./{0}", ca.OP_SQRT: "sqrt({0})", ca.OP_SIN: "sin({0})", ca.OP_COS: "cos({0})",
+            ca.OP_TAN: "tan({0})", ca.OP_ASIN: "asin({0})", ca.OP_ACOS: "acos({0})", ca.OP_ATAN: "atan({0})",
+            ca.OP_EXP: "exp({0})", ca.OP_LOG: "log({0})", ca.OP_FABS: "fabs({0})", ca.OP_FLOOR: "floor({0})",
+            ca.OP_CEIL: "ceil({0})", ca.OP_FMIN: "({0}<{1} || {1}!={1}) ? {0} : {1}",
+            ca.OP_FMAX: "({0}>{1} || {1}!={1}) ? {0} : {1}",
+            ca.OP_ATAN2: "atan2({0},{1})", ca.OP_POW: "pow({0},{1})", ca.OP_CONSTPOW: "pow({0},{1})",
+            ca.OP_FMOD: "fmod({0},{1})", ca.OP_COPYSIGN: "copysign({0},{1})", ca.OP_HYPOT: "hypot({0},{1})",
+            ca.OP_LT: "{0}<{1}", ca.OP_LE: "{0}<={1}", ca.OP_EQ: "{0}=={1}", ca.OP_NE: "{0}!={1}",
+            ca.OP_NOT: "!{0}", ca.OP_AND: "{0}&&{1}", ca.OP_OR: "{0}||{1}", ca.OP_IF_ELSE_ZERO: "{0}?{1}:0."}
+
+
+def blocked(function) -> str | None:
+    """C of the SX ``function`` (arguments q, rates, accelerations; one output) over :data:`LANES` samples at once,
+    ``m_block`` of :data:`DRIVER`: each of its operations, in its order, as a loop over the lanes (which the
+    compiler turns into vector instructions), every operation as CasADi's code generator writes it, so that each
+    lane gives the numbers of the scalar function; a sine and a cosine of one value are taken together (one
+    ``sincos``, :func:`_trigonometric_pairs`). None where an operation has no form here."""
+    import casadi as ca
+
+    operations, pairs = _lane_operations(), _trigonometric_pairs(function)
+    lines = ["static void m_block(const double* restrict in0, const double* restrict in1, "
+             "const double* restrict in2, double* restrict out, double* restrict w) {"]
+    lines += [f"  double t{j}[M_L];" for j in sorted(set(pairs.values()))]
+    for k in range(function.n_instructions()):
+        op, args, result = function.instruction_id(k), function.instruction_input(k), function.instruction_output(k)
+        target = f"w[{result[0]} * M_L + l]"
+        if op == ca.OP_INPUT:
+            value, target = f"in{args[0]}[{args[1]} * M_L + l]", f"w[{result[0]} * M_L + l]"
+        elif op == ca.OP_OUTPUT:
+            value, target = f"w[{args[0]} * M_L + l]", f"out[{result[1]} * M_L + l]"
+        elif op == ca.OP_CONST:
+            value = repr(float(function.instruction_constant(k)))
+            if not np.isfinite(float(value)):
+                return None
+        elif k in pairs and pairs[k] < k:  # the second of a pair: taken with the first
+            value = f"t{pairs[k]}[l]"
+        elif k in pairs:  # the first of a pair: both, into the work and t{k}
+            x = f"w[{args[0]} * M_L + l]"
+            first, second = ("sin", "cos") if op == ca.OP_SIN else ("cos", "sin")
+            lines.append(f"  for (int l = 0; l < M_L; ++l) {{ double x = {x}; {target} = {first}(x); "
+                         f"t{k}[l] = {second}(x); }}")
+            continue
+        elif op in operations:
+            value = operations[op].format(*(f"w[{i} * M_L + l]" for i in args))
+        else:
+            return None
+        lines.append(f"  for (int l = 0; l < M_L; ++l) {target} = {value};")
+    return "\n".join([*lines, "}"])
+
+
+def _trigonometric_pairs(function) -> dict[int, int]:
+    """The sines and cosines of one value in ``function``'s instructions: instruction → the first instruction of its
+    pair (itself for the first), where the value's work slot is not written between the two."""
+    import casadi as ca
+
+    pairs: dict[int, int] = {}
+    waiting: dict[int, tuple[int, int]] = {}  # work slot → (first instruction, its operation)
+    for k in range(function.n_instructions()):
+        op, args, result = function.instruction_id(k), function.instruction_input(k), function.instruction_output(k)
+        if op in (ca.OP_SIN, ca.OP_COS):
+            first = waiting.get(args[0])
+            if first is not None and first[1] != op:
+                pairs[first[0]], pairs[k] = first[0], first[0]
+                del waiting[args[0]]
+            elif first is None:
+                waiting[args[0]] = (k, op)
+        if op != ca.OP_OUTPUT:
+            waiting = {slot: first for slot, first in waiting.items() if slot != result[0]}
+    return pairs
 
 
 def cache_folder() -> Path:
@@ -258,12 +421,13 @@ def library(functions: list, extra: str = "") -> Path | None:
             generator.generate(work + os.sep)
             text = source.read_bytes() + extra.encode()
             source.write_bytes(text)
-            path = folder / f"{name}_{hashlib.sha256(text).hexdigest()[:20]}.so"
+            digest = hashlib.sha256(text + " ".join(FLAGS).encode()).hexdigest()[:20]
+            path = folder / f"{name}_{digest}.so"
             if not path.exists():
                 partial = Path(work) / path.name
                 compiler = os.environ.get("CC", "cc")
-                subprocess.run([compiler, "-O2", "-shared", "-fPIC", "-o", str(partial), str(source), "-lm"],
-                               check=True, capture_output=True, timeout=300)
+                subprocess.run([compiler, *FLAGS, "-o", str(partial), str(source), "-lm"], check=True,
+                               capture_output=True, timeout=300)
                 os.replace(partial, path)  # whole or not at all: concurrent runs may race, both write the same
         return path
     except (OSError, subprocess.SubprocessError, RuntimeError):
@@ -290,18 +454,13 @@ def external(function, path: Path | None):
         return function
 
 
-def _pointer(array: np.ndarray) -> int:
-    """The address of ``array``'s data (for ``ctypes``)."""
-    return array.ctypes.data
-
-
 class LoopKernel:
     """The compiled ``newton``, ``analyse`` and ``step`` of a loop solver's closures, see the module docstring,
     reporting the columns of a sweep's table: of the frames ``points`` the position (x, y and, when ``spatial``, z;
     m), velocity and its size (m/s), acceleration and its size (m/s²); of the frames ``links`` the angle about z in
     (−π, π], its rate and acceleration (rad, rad/s, rad/s²); of the frames ``others`` x and y (m). :meth:`newton` and
-    :meth:`analyse` take and return NumPy arrays of N samples; :meth:`continuation` runs the driver (where
-    :attr:`driven`) over samples into a table."""
+    :meth:`analyse` take and return NumPy arrays of N samples; :meth:`run` runs the driver (where :attr:`driven`)
+    over samples into a table."""
 
     def __init__(self, solver: LoopSolver, points: list[str], links: list[str], others: list[str] = (),
                  spatial: bool = False) -> None:
@@ -397,16 +556,17 @@ class LoopKernel:
         return ca.Function("mechatron_analyse", [q, rates, accelerations], [outputs]), names
 
     def _driver_source(self, analyse, step) -> str:
-        """:data:`DRIVER` with this kernel's sizes and indices."""
+        """:data:`DRIVER` with this kernel's sizes and indices and ``analyse`` over lanes (:func:`blocked`, else
+        :data:`SCALAR_BLOCK`)."""
         def size(name: str) -> int:
             return max(getattr(f, name)() for f in (analyse, step))
 
+        sizes = {"sz_arg": size("sz_arg"), "sz_res": size("sz_res"), "sz_iw": size("sz_iw"), "sz_w": size("sz_w")}
         return DRIVER % {"nq": self.nq, "na": self.na, "nd": self.nd, "nout": analyse.size1_out(0), "steps": STEPS,
-                         "first": FIRST_STEPS,
-                         "tolerance": TOLERANCE, "accept": ACCEPT, "slack": SLACK,
+                         "first": FIRST_STEPS, "tolerance": TOLERANCE, "accept": ACCEPT, "slack": SLACK,
+                         "lanes": LANES, "work": max(analyse.sz_w() * LANES, sizes["sz_w"] + 1),
                          "act": ", ".join(map(str, self.act)), "dep": ", ".join(map(str, self.dep)),
-                         "sz_arg": size("sz_arg"), "sz_res": size("sz_res"), "sz_iw": size("sz_iw"),
-                         "sz_w": size("sz_w")}
+                         "block": blocked(analyse) or SCALAR_BLOCK % sizes, **sizes}
 
     @staticmethod
     def _load_driver(path: Path):
@@ -424,37 +584,16 @@ class LoopKernel:
 
     @property
     def driven(self) -> bool:
-        """Whether the compiled driver is there (:meth:`continuation`, :meth:`analyse_rows`)."""
+        """Whether the compiled driver is there (:meth:`run`)."""
         return self._driver is not None
 
     def outputs(self) -> int:
         """The number of ``analyse``'s outputs per sample: q̇, q̈, max |J_d⁻¹| and the frame columns."""
         return 2 * self.nq + 1 + len(self.names)
 
-    def continuation(self, start: int, stop: int, arrays: dict[str, np.ndarray]) -> int:
-        """The driver's continuation over the samples ``start`` … ``stop − 1`` (see :data:`DRIVER`): ``arrays``
-        holds the inputs ``U``, rates ``R`` and accelerations ``A`` (N, n_act; C-ordered floats), ``same`` and
-        ``valid`` (N, uint8: the input step equals the previous one; the input is in range), ``begin`` (nq: where
-        Newton's method starts without a solution before), ``reach`` (n_act: the longest input steps guessed along
-        the velocity maps, m or rad), ``history`` (4, nq: the last solutions, oldest first),
-        ``state`` (2, int64: how many, whether ``maps`` (n_dep · n_act) are the last one's), ``table`` (rows, N),
-        ``motion`` (3, N, nq: q, q̇, q̈ of every sample) and ``rows`` (nq + :meth:`outputs`, int64: the table row of
-        each q_i and each output, −1 for none). Returns the first sample not solved (``stop`` when all were)."""
-        x = arrays
-        return self._driver.mechatron_continue(
-            start, stop, len(x["U"]), _pointer(x["U"]), _pointer(x["R"]), _pointer(x["A"]), _pointer(x["same"]),
-            _pointer(x["valid"]), _pointer(x["begin"]), _pointer(x["reach"]), _pointer(x["history"]),
-            _pointer(x["state"]),
-            _pointer(x["maps"]), _pointer(x["table"]), _pointer(x["motion"]), _pointer(x["rows"]))
-
-    def analyse_rows(self, index: np.ndarray, arrays: dict[str, np.ndarray]) -> None:
-        """``analyse`` of the samples ``index`` (int64) at their coordinates in ``arrays["motion"][0]``, written
-        into the table and ``motion`` (the ``arrays`` of :meth:`continuation`)."""
-        index = np.ascontiguousarray(index, dtype=np.int64)
-        x = arrays
-        self._driver.mechatron_analyse_rows(len(index), _pointer(index), x["table"].shape[1], _pointer(x["R"]),
-                                            _pointer(x["A"]), _pointer(x["table"]), _pointer(x["motion"]),
-                                            _pointer(x["rows"]))
+    def run(self, arrays: dict[str, np.ndarray]) -> DriverRun:
+        """The driver over the samples of ``arrays`` (see :class:`DriverRun`)."""
+        return DriverRun(self, arrays)
 
     def _map(self, function, n: int):
         """``function`` mapped over n samples, with its argument buffer and evaluation (kept per size)."""
@@ -501,6 +640,52 @@ class LoopKernel:
         first = 2 * nq + 1
         return out[:, :nq], out[:, nq:2 * nq], out[:, 2 * nq], {name: out[:, first + j]
                                                                  for j, name in enumerate(self.names)}
+
+
+class DriverRun:
+    """The compiled driver of a :class:`LoopKernel` over the N samples of ``arrays``, checked once (the C code
+    trusts their shapes) and their addresses taken once: the inputs ``U``, rates ``R`` and accelerations ``A``
+    (N, n_act), ``same`` and ``valid`` (N, uint8: the input step equals the previous one; the input is in range),
+    ``begin`` (nq: where Newton's method starts without a solution before), ``reach`` (n_act: the longest input
+    steps guessed along the velocity maps, m or rad), ``history`` (4, nq: the last solutions, oldest first),
+    ``state`` (2, int64: how many, whether ``maps`` (n_dep · n_act) are the last one's), ``table`` (rows, N),
+    ``motion`` (3, N, nq: q, q̇, q̈ of every sample) and ``rows`` (nq + :meth:`LoopKernel.outputs`, int64: the table
+    row of each q_i and each output, −1 for none); floats are float64; all C-ordered."""
+
+    ORDER = ("U", "R", "A", "same", "valid", "begin", "reach", "history", "state", "maps", "table", "motion", "rows")
+
+    def __init__(self, kernel: LoopKernel, arrays: dict[str, np.ndarray]) -> None:
+        n, nq, na, nd = len(arrays["U"]), kernel.nq, kernel.na, kernel.nd
+        shapes = {"U": (n, na), "R": (n, na), "A": (n, na), "same": (n,), "valid": (n,), "begin": (nq,),
+                  "reach": (na,), "history": (4, nq), "state": (2,), "maps": (nd * na,),
+                  "table": (arrays["table"].shape[0], n), "motion": (3, n, nq), "rows": (nq + kernel.outputs(),)}
+        types = {"same": np.uint8, "valid": np.uint8, "state": np.int64, "rows": np.int64}
+        for key, shape in shapes.items():
+            x = arrays[key]
+            if x.shape != shape or x.dtype != types.get(key, np.float64) or not x.flags.c_contiguous:
+                raise ValueError(f"the driver's {key}: {x.dtype} {x.shape}, not {shape} C-ordered")
+        if not arrays["rows"].max(initial=-1) < arrays["table"].shape[0]:
+            raise ValueError("the driver's rows reach beyond its table")
+        self.kernel, self.arrays, self.n = kernel, arrays, n
+        self.addresses = [arrays[key].ctypes.data for key in self.ORDER]
+
+    def continuation(self, start: int, stop: int) -> int:
+        """The driver's continuation over the samples ``start`` … ``stop − 1`` (see :data:`DRIVER`): positions,
+        their analysis into the table and ``motion``; returns the first sample not solved (``stop`` when all
+        were)."""
+        if not 0 <= start <= stop <= self.n:
+            raise ValueError(f"samples {start} … {stop} of {self.n}")
+        return self.kernel._driver.mechatron_continue(start, stop, self.n, *self.addresses)
+
+    def analyse_rows(self, index: np.ndarray) -> None:
+        """``analyse`` of the samples ``index`` at their coordinates in ``motion[0]``, written into the table and
+        ``motion``."""
+        index = np.ascontiguousarray(index, dtype=np.int64)
+        if len(index) and not (index.min() >= 0 and index.max() < self.n):
+            raise ValueError("samples out of range")
+        x = self.addresses
+        self.kernel._driver.mechatron_analyse_rows(len(index), index.ctypes.data, self.n, x[1], x[2], x[10], x[11],
+                                                   x[12])
 
 
 def loop_kernel(solver: LoopSolver, points: list[str], links: list[str], others: list[str], spatial: bool

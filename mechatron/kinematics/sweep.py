@@ -374,10 +374,13 @@ def position_bytes(mech: Mechanism) -> tuple[float, float]:
     (0.2 nq + 0.03 nq²) MB, and twice the table's row of 8-byte columns per position — sample, inputs, q, q̇ and q̈ of
     every joint, 8 columns per point (11 in a spatial loop), 3 per link (all of the mechanism's, an upper bound),
     one per measure (measured from 400 to 50,000 positions of every shipped closed loop: tests/test_bounded.py)."""
-    spatial = any(not getattr(c, "planar", True) for c in mech.closures)
-    columns = (1 + len(mech.actuated) + 3 * mech.nv + (11 if spatial else 8) * len(mech.points)
-               + 3 * len(mech.link_names) + len(mech.measures))
-    return (0.2 * mech.nq + 0.03 * mech.nq**2) * 1e6, 16.0 * columns
+    def build() -> tuple[float, float]:
+        spatial = any(not getattr(c, "planar", True) for c in mech.closures)
+        columns = (1 + len(mech.actuated) + 3 * mech.nv + (11 if spatial else 8) * len(mech.points)
+                   + 3 * len(mech.link_names) + len(mech.measures))
+        return (0.2 * mech.nq + 0.03 * mech.nq**2) * 1e6, 16.0 * columns
+
+    return mech.cached("position_bytes", build)
 
 
 def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1,
@@ -803,18 +806,19 @@ def _driven(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray
     samples it leaves by the sequential continuation (:func:`_drive`), analysed after; then the singular positions
     dropped, the measures and the unwrapped link angles (:func:`_finish_columns`)."""
     mech, n = solver.mech, len(U)
-    layout = _layout(mech, kernel, names, measures)
+    layout = _layout(solver, kernel, names, measures)
     valid = np.ones(n, dtype=np.uint8)
     valid[list(failures)] = 0
     arrays = {"U": np.ascontiguousarray(U), "R": np.ascontiguousarray(R), "A": np.ascontiguousarray(A),
               "same": _same_steps(U).astype(np.uint8), "valid": valid, "begin": q.copy(),
-              "reach": np.ascontiguousarray(solver.max_step, dtype=float),
+              "reach": layout.reach,
               "history": np.zeros((4, kernel.nq)), "state": np.zeros(2, dtype=np.int64),
               "maps": np.zeros(kernel.nd * kernel.na), "table": np.empty((len(layout.where), n)),
               "motion": np.empty((3, n, kernel.nq)), "rows": layout.rows}
-    ok, solved = _drive(solver, kernel, arrays, failures, progress)
+    run = kernel.run(arrays)
+    ok, solved = _drive(solver, run, failures, progress)
     if len(solved):
-        kernel.analyse_rows(solved, arrays)
+        run.analyse_rows(solved)
     table, motion = arrays["table"], arrays["motion"]
     table[:len(names)] = U.T
     good = np.flatnonzero(ok)
@@ -835,11 +839,12 @@ class _Layout:
     every joint; the kernel's frame columns but the measures' other points; the measures), then max |J_d⁻¹| and
     the other points' positions. ``columns`` (pandas Index) names the table's columns, ``sample`` first; ``rows``
     the block row of each q_i and each output of the kernel (the driver's ``rows``); ``where`` the row of every
-    column by name."""
+    column by name; ``reach`` the solver's :attr:`~mechatron.kinematics.loops.LoopSolver.max_step`."""
 
     columns: Any
     rows: np.ndarray
     where: dict[str, int]
+    reach: np.ndarray
 
     def frame(self, table: np.ndarray, good: np.ndarray) -> pd.DataFrame:
         """The table: the samples ``good`` and the block's first rows as they are (one float block, no copy)."""
@@ -857,9 +862,11 @@ class _Layout:
                                             index=pd.RangeIndex(len(good)), columns=self.columns)
 
 
-def _layout(mech: Mechanism, kernel: LoopKernel, names: list[str], measures: list[Measure]) -> _Layout:
+def _layout(solver: LoopSolver, kernel: LoopKernel, names: list[str], measures: list[Measure]) -> _Layout:
     """The :class:`_Layout` of a driven sweep of ``kernel`` with these inputs and measures (kept in the
     mechanism's cache)."""
+    mech = solver.mech
+
     def build() -> _Layout:
         import pandas as pd
 
@@ -872,26 +879,28 @@ def _layout(mech: Mechanism, kernel: LoopKernel, names: list[str], measures: lis
         where = {name: row for row, name in enumerate([*columns, _RATIO, *others])}
         joints = na + 3 * np.arange(nq)
         rows = np.concatenate([joints, joints + 1, joints + 2, [where[_RATIO]], [where[c] for c in kernel.names]])
-        return _Layout(pd.Index(["sample", *columns]), rows.astype(np.int64), where)
+        return _Layout(pd.Index(["sample", *columns]), rows.astype(np.int64), where,
+                       np.ascontiguousarray(solver.max_step, dtype=float))
 
     return mech.cached(("sweep_layout", id(kernel), tuple(names), tuple(m.name for m in measures)), build)
 
 
-def _drive(solver: LoopSolver, kernel: LoopKernel, arrays: dict[str, np.ndarray], failures: dict[int, str],
-           progress: ProgressCallback | None) -> tuple[np.ndarray, np.ndarray]:
-    """The positions of all samples into ``arrays["table"]`` and ``arrays["motion"]``: the driver's continuation
-    chunk by chunk (:meth:`LoopKernel.continuation`), each sample it leaves solved by the sequential continuation
-    from the same history (:meth:`_Continuation.solve`, which records the failures), and the driver on from there.
-    Returns which samples were solved and those solved here (not yet analysed)."""
+def _drive(solver: LoopSolver, run: compiled.DriverRun, failures: dict[int, str], progress: ProgressCallback | None
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """The positions of all samples into the run's table and motion: the driver's continuation chunk by chunk
+    (:meth:`compiled.DriverRun.continuation`), each sample it leaves solved by the sequential continuation from the
+    same history (:meth:`_Continuation.solve`, which records the failures), and the driver on from there. Returns
+    which samples were solved and those solved here (not yet analysed)."""
+    arrays = run.arrays
     U, table, rows, history, state, same, begin = (arrays[key] for key in ("U", "table", "rows", "history",
                                                                             "state", "same", "begin"))
-    n, joints = len(U), rows[:kernel.nq]
+    n, joints = len(U), rows[:len(begin)]
     ok, solved = np.zeros(n, dtype=bool), []
     continuation = _Continuation(solver, U, begin.copy(), failures)
     k = 0
     for part in batch.chunks(n, compiled.CHUNK):
         while k < part.stop:
-            stop = kernel.continuation(k, part.stop, arrays)
+            stop = run.continuation(k, part.stop)
             ok[k:stop] = True
             m = int(state[0])
             continuation.history = [history[i].copy() for i in range(m)]
