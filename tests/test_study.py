@@ -152,6 +152,14 @@ def test_the_rows_kept_are_those_of_the_part_file(tmp_path, l1):
     assert_frame_equal(kept, _read_part(path))
 
 
+def test_default_chunk_gives_each_worker_about_16_chunks():
+    # n/32 serially and on 2 workers (part files to resume from), n/(16 w) on more, 1 to 64 designs
+    from mechatron.studies.runner import default_chunk
+
+    assert [default_chunk(320, w) for w in (1, 2, 4, 8, 16)] == [10, 10, 5, 3, 2]
+    assert default_chunk(1000, 16) == 4 and default_chunk(10, 1) == 1 and default_chunk(10**6, 2) == 64
+
+
 def test_a_stopped_study_resumes_to_the_same_table(tmp_path):
     spec = spec_file(tmp_path, designs='method = "lhs"\nsamples = 10')
     whole = run(spec, tmp_path / "whole", chunk_size=2)
