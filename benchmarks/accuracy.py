@@ -14,7 +14,11 @@ the six-bar bucket linkage (two closed loops) with errors on its 4 parameters an
 4. The serial evaluator against a hand-tuned NumPy standard-DH chain (what a competent user writes: the tool point
    carried back through Rz(θ+q) Tz(d) Tx(a) Rx(α) of the 24 perturbed DH values and 6 joint errors, one cos/sin
    pair per angle, over all samples at once) on the same draws (goal: at most 1.5x per sample), and the whole
-   Monte Carlo (draws, evaluation, streamed statistics) against drawing the same errors and running that chain.
+   Monte Carlo (``run_study``: draws, evaluation, streamed statistics) against the same work in NumPy
+   (:func:`lean_monte_carlo`: the same draws chunk by chunk, that chain, and the study's statistics — per axis
+   |mean| + k·std, the mean, spread, largest value and quantiles of |Δr|, the co-moments of the errors and Δr merged
+   chunk by chunk and each error's variance share from them, the samples kept for the charts), timed in turns
+   (timing.interleaved) and checked to give the study's numbers.
 5. The closed-loop Monte Carlo (bucket) against the serial one (PUMA) per sample (goal: at most 5x), and its
    evaluator's planar path (placements as complex numbers) against its spatial path (3x3 rotations) on the same draws.
 6. The peak resident memory of a 1e8-sample PUMA study, run in a subprocess (goal: under 1 GB; the statistics are
@@ -26,6 +30,7 @@ the six-bar bucket linkage (two closed loops) with errors on its 4 parameters an
 from __future__ import annotations
 
 import argparse
+import math
 import resource
 import subprocess
 import sys
@@ -33,12 +38,13 @@ import time
 
 import numpy as np
 import pinocchio as pin
-from timing import best_time
+from timing import best_time, interleaved
 
 import mechatron
 from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop, PerturbedLoops
 from mechatron.accuracy.sources import ErrorSource
-from mechatron.accuracy.study import draw_errors, run_study
+from mechatron.accuracy.streaming import EXACT_SAMPLES
+from mechatron.accuracy.study import CHUNK, draw_errors, run_study
 from mechatron.kinematics.loops import assemble
 
 
@@ -175,11 +181,10 @@ def dh_point(table: np.ndarray, q: np.ndarray, dl: np.ndarray, dq: np.ndarray) -
 
 def dh_chain(puma: mechatron.Mechanism, errors: list[ErrorSource], q: np.ndarray, samples: int, repeats: int,
              serial: float) -> None:
-    """The serial evaluator and the whole Monte Carlo against the NumPy DH chain, per sample, on the same draws."""
-    values = puma.parameter_values()
+    """The serial evaluator against the NumPy DH chain per sample on the same draws, and the whole Monte Carlo
+    against :func:`lean_monte_carlo` (``serial``: the study's time per sample measured alone, printed beside)."""
+    table = dh_table(puma, errors)
     names = [s.name for s in errors if s.kind == "parameter"]
-    assert names == [f"{c}{i}" for i in range(1, 7) for c in ("a", "alpha", "d", "theta")]
-    table = np.array([[values[f"{c}{i}"] for c in ("a", "alpha", "d", "theta")] for i in range(1, 7)])
     chunk = 32768
     draws = draw_errors(errors, chunk, np.random.default_rng(2), 3.0)
     dl, dq = draws[:, : len(names)], draws[:, len(names):]
@@ -187,12 +192,81 @@ def dh_chain(puma: mechatron.Mechanism, errors: list[ErrorSource], q: np.ndarray
     assert np.allclose(chain.positions(q, dl, dq), dh_point(table, q, dl, dq), atol=1e-14, rtol=0)
     t_chain = best_time(lambda: chain.positions(q, dl, dq), 3 * repeats) / chunk
     t_dh = best_time(lambda: dh_point(table, q, dl, dq), 3 * repeats) / chunk
-    t_draw = best_time(lambda: draw_errors(errors, chunk, np.random.default_rng(2), 3.0), 3 * repeats) / chunk
     print(f"{'serial evaluator, per sample (PUMA, 30 errors)':<44}{t_chain * 1e6:>7.2f} µs   ratio "
           f"{t_chain / t_dh:.2f} vs a NumPy DH chain ({t_dh * 1e6:.2f} µs; agree to 1e-14 m)   goal <= 1.5: "
           f"{'ok' if t_chain <= 1.5 * t_dh else 'SLOWER'}")
-    print(f"{'  whole Monte Carlo, per sample':<44}{serial * 1e6:>7.2f} µs   ratio {serial / (t_dh + t_draw):.2f} "
-          f"vs drawing the errors and the DH chain ({(t_dh + t_draw) * 1e6:.2f} µs)")
+    study = run_study(puma, errors, q, methods=["mc"], samples=samples)
+    lean = lean_monte_carlo(errors, table, q, samples, 3.0)
+    histogram = samples > EXACT_SAMPLES  # the study's quantiles from its histogram: within its bound, not equal
+    agree = max(abs(float(study.poses[column].iloc[0]) - value) / max(abs(value), 1e-300)
+                for column, value in lean.items()
+                if column in study.poses and not (histogram and column[:2] in ("dr", "p5", "p9")))
+    shares = np.abs(study.contributions.set_index("source").loc[[e.name for e in errors], "mc_share"].to_numpy()
+                    - lean["shares"]).max()
+    assert agree < 1e-9 and shares < 1e-6, (agree, shares)
+    times = interleaved({"study": lambda: run_study(puma, errors, q, methods=["mc"], samples=samples),
+                         "lean": lambda: lean_monte_carlo(errors, table, q, samples, 3.0)}, samples, repeats)
+    print(f"{'  whole Monte Carlo, per sample':<44}{times['study'] * 1e6:>7.2f} µs   ratio "
+          f"{times['study'] / times['lean']:.2f} vs the same draws, DH chain and statistics in NumPy "
+          f"({times['lean'] * 1e6:.2f} µs, in turns; same numbers to {agree:.0e}, shares to {shares:.0e} %; "
+          f"the study alone before: {serial * 1e6:.2f} µs)")
+
+
+def dh_table(puma: mechatron.Mechanism, errors: list[ErrorSource]) -> np.ndarray:
+    """The PUMA's standard-DH table (6, 4) of a, α, d, θ (m, rad), in the order of the parameter errors."""
+    values = puma.parameter_values()
+    names = [s.name for s in errors if s.kind == "parameter"]
+    assert names == [f"{c}{i}" for i in range(1, 7) for c in ("a", "alpha", "d", "theta")]
+    return np.array([[values[f"{c}{i}"] for c in ("a", "alpha", "d", "theta")] for i in range(1, 7)])
+
+
+def lean_monte_carlo(errors: list[ErrorSource], table: np.ndarray, q: np.ndarray, samples: int, k: float,
+                     seed: int = 0) -> dict[str, object]:
+    """What ``run_study(methods=["mc"])`` computes at one pose, in NumPy: ``samples`` draws of the errors in the
+    study's chunks (:data:`~mechatron.accuracy.study.CHUNK`, one generator seeded with ``seed``: the study's
+    samples), the tool point by :func:`dh_point`, Δr from the nominal point with the samples that are not finite
+    left out, and the study's statistics: per axis |mean| + k·std (m), the mean, spread (ddof 1), largest value and
+    quantiles of |Δr| at the coverage erf(k/√2), 50, 95 and 99 % (``numpy.quantile`` of all |Δr|, kept), the
+    co-moments of [errors, Δr, |Δr|] (centred per chunk, merged by Chan's update; their products in blocks of 128
+    rows, single-threaded as the study's) and each error's share (%) of the variance of Δr by least squares on
+    them, and the first million Δr kept for the charts. Returns the study's column names with their values, and
+    ``shares``."""
+    rng = np.random.default_rng(seed)
+    n_e = len(errors)
+    nominal = dh_point(table, q, np.zeros((1, 4 * len(table))), np.zeros((1, len(table))))[0]
+    count, mean, comoment = 0, np.zeros(n_e + 4), np.zeros((n_e + 4, n_e + 4))
+    r_all, kept = np.empty(samples), np.empty((min(samples, 10**6), 3))
+    for start in range(0, samples, CHUNK):
+        e = draw_errors(errors, min(CHUNK, samples - start), rng, k)
+        delta = dh_point(table, q, e[:, :4 * len(table)], e[:, 4 * len(table):]) - nominal
+        good = np.isfinite(delta).all(axis=1)
+        e, delta = (e, delta) if good.all() else (e[good], delta[good])
+        r = np.sqrt((delta**2).sum(axis=1))
+        r_all[count:count + len(r)] = r
+        take = max(0, min(len(delta), len(kept) - count))
+        kept[count:count + take] = delta[:take]
+        x = np.concatenate([e, delta, r[:, None]], axis=1)
+        chunk_mean = x.mean(axis=0)
+        centred = x - chunk_mean
+        pad = -len(centred) % 128
+        blocks = np.concatenate([centred, np.zeros((pad, n_e + 4))]).reshape(-1, 128, n_e + 4)
+        step, total = chunk_mean - mean, count + len(x)
+        comoment += np.matmul(blocks.transpose(0, 2, 1), blocks).sum(axis=0) + np.outer(step, step) * (
+            count * len(x) / total)
+        mean, count = mean + step * (len(x) / total), total
+    std = np.sqrt(np.diag(comoment) / (count - 1))
+    dx, dy, dz = np.abs(mean[n_e:n_e + 3]) + k * std[n_e:n_e + 3]
+    coverage = math.erf(k / math.sqrt(2))
+    dr, p50, p95, p99 = np.quantile(r_all[:count], [coverage, 0.5, 0.95, 0.99])
+    ee, ed = comoment[:n_e, :n_e], comoment[:n_e, n_e:n_e + 3]
+    scale = np.sqrt(np.diag(ee))
+    beta = np.linalg.lstsq(ee / np.outer(scale, scale), ed / scale[:, None], rcond=None)[0] / scale[:, None]
+    spread = np.sqrt(np.diag(ee) / count)
+    shares = 100 * ((beta * spread[:, None]) ** 2).sum(axis=1) / (np.trace(comoment[n_e:n_e + 3, n_e:n_e + 3])
+                                                                   / count)
+    return {"dx_mc": dx, "dy_mc": dy, "dz_mc": dz, "dr_mc": dr, "mean_dr_mc": mean[-1], "std_dr_mc": std[-1],
+            "p50_dr_mc": p50, "p95_dr_mc": p95, "p99_dr_mc": p99, "max_dr_mc": r_all[:count].max(),
+            "failed_mc": samples - count, "shares": shares, "kept": kept}
 
 
 def peak_child(samples: int) -> None:
