@@ -1,6 +1,6 @@
-r"""Closed-loop position, velocity and acceleration analysis compiled to machine code with CasADi, mapped over samples.
+r"""Closed-loop position, velocity and acceleration analysis compiled to machine code with CasADi, run over samples.
 
-The loop equations Φ(q) = 0 of a mechanism (:mod:`mechatron.model.symbolic`) and their exact derivatives become two
+The loop equations Φ(q) = 0 of a mechanism (:mod:`mechatron.model.symbolic`) and their exact derivatives become three
 CasADi functions of one sample:
 
 - ``newton``: from a guess q⁽⁰⁾ (its actuated entries the inputs), up to :data:`STEPS` Newton steps on the
@@ -8,26 +8,33 @@ CasADi functions of one sample:
   with ``polish``, a step while max |Φ| ≥ :data:`~mechatron.kinematics.loops.TOLERANCE`, one more at the first
   iterate below it and none after (``if_else`` keeps the rest); outputs q, whether it converged and the dependent
   velocity maps S_d = −J_d⁻¹ J_a at the iterate of the polishing step;
+- ``step``: one of those steps, with max |Φ(q)| and S_d at q;
 - ``analyse``: at an assembled q with actuated rates q̇_a and accelerations q̈_a: q̇ = S q̇_a, q̈_d = −J_d⁻¹
   (J_a q̈_a + J̇ q̇) ([Egorov, 4.2–4.16]), max |J_d⁻¹| (the singularity measure of
   :data:`~mechatron.kinematics.loops.SINGULAR_RATIO`), and of every reported frame its origin p, its angle about z,
   the velocity ṗ = J_p q̇, the angular velocity ω_z = (Ṙ Rᵀ)₁₀, the classical acceleration p̈ = J_p q̈ + J̇_p q̇ and
   the angular acceleration α_z = ω̇_z (J̇ q̇ as the second directional derivative of the expressions along q̇).
 
-- ``step``: one Newton step of one sample, its residual's size max |Φ(q)| and the maps S_d at q.
-
 They are generated as C (``casadi.CodeGenerator``), compiled once with the system's C compiler (``cc``, or the one
-in ``CC``) into shared libraries kept in a cache folder (``MECHATRON_CACHE``, else ``$XDG_CACHE_HOME/mechatron`` or
-``~/.cache/mechatron``) under the hash of their source, and evaluated over chunks of samples by ``Function.map``
-(:meth:`LoopKernel.newton`, :meth:`LoopKernel.analyse`). The ``analyse`` library carries ``step`` and a driver in C
-besides (:data:`DRIVER`, called through ``ctypes``, one call per chunk of samples): the sequential continuation of
-:class:`mechatron.kinematics.sweep._Continuation` over the samples — each sample's guess extrapolated from the last
-solutions (or along the velocity maps where the input step changed), ``step`` until the residual is below the
-tolerance plus the polishing step, accepted only if it moved less than half the change from the previous solution,
-then ``analyse`` at the solution —, writing the coordinates and the analysis straight into the rows of the sweep's
-table (:meth:`LoopKernel.run`); a sample it does not accept is left to the caller. Without CasADi's map, its
-argument buffers and Python between the two passes, a sample costs its two or three evaluations of the expressions.
-Without a working compiler, or with ``MECHATRON_COMPILE=0``, the same functions run in CasADi's virtual machine and
+in ``CC``; :data:`FLAGS`) into shared libraries kept in a cache folder (``MECHATRON_CACHE``, else
+``$XDG_CACHE_HOME/mechatron`` or ``~/.cache/mechatron``) under the hash of their source and options, and evaluated
+over chunks of samples by ``Function.map`` (:meth:`LoopKernel.newton`, :meth:`LoopKernel.analyse`).
+
+The sweep's fast path is a driver in C compiled with ``step`` and ``analyse`` into their library (:data:`DRIVER`,
+called through ``ctypes`` once per chunk of samples, :class:`DriverRun`): the sequential continuation of
+:class:`mechatron.kinematics.sweep._Continuation` over the samples — each sample's guess the polynomial through the
+last solutions one input step on (or, where the step changed, along the velocity maps for steps up to the solver's
+continuation step), ``step`` until the residual is below the tolerance plus the polishing step, accepted only if
+the solution moved less than half the predicted change (the first sample: Newton's method with halved steps, as
+:meth:`~mechatron.kinematics.loops.LoopSolver.newton`) —, then ``analyse`` of every :data:`LANES` solutions at once
+(:func:`blocked`: each operation over the lanes, which the compiler vectorizes, with the numbers of the scalar
+function), written straight into the rows of the sweep's table. A sample it does not accept is left to the caller.
+There is no CasADi map with its argument buffers, no second pass and no copy into the table: a sample costs one or
+two ``step``\ s and its share of ``analyse``, a few hundred floating-point operations and two or three sine-cosine
+pairs (the CSE of CasADi leaves little: a canonical ordering of commutative operations would remove ~8 %; compiler
+options matter only for the lanes).
+
+Without a working compiler, or with ``MECHATRON_COMPILE=0``, the functions run in CasADi's virtual machine and
 there is no driver. Mechanisms with joints or closures that have no symbolic form get no kernel (:func:`loop_kernel`
 returns None) and the NumPy path of :mod:`mechatron.kinematics.batch` is used.
 """
@@ -57,8 +64,8 @@ STEPS = 4
 #: The most Newton steps of the driver's first sample (no solution before it: from the sweep's start), as
 #: :meth:`~mechatron.kinematics.loops.LoopSolver.newton`'s iterations.
 FIRST_STEPS = 50
-#: Samples per call of a mapped function, and per chunk of the sweep's batched solve with a kernel (its working
-#: storage is ~100 B a sample).
+#: Samples per call of a mapped function, per chunk of the sweep's batched solve with a kernel (its working
+#: storage is ~100 B a sample) and per call of the driver (the sweep's progress is reported between them).
 CHUNK = 16384
 #: The C compiler's options (portable code: the cache folder may be shared by machines of one architecture).
 FLAGS = ("-O3", "-fno-math-errno", "-ffp-contract=off", "-shared", "-fPIC")

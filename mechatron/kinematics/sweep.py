@@ -2,7 +2,10 @@
 kept by continuation from sample to sample.
 
 The sequential continuation assembles each sample by Newton's method from the polynomial through the last (up to
-four) solutions extrapolated one input step further. For many samples the same branch is found batched
+four) solutions extrapolated one input step further. From :data:`COMPILED_MIN` samples on, where the mechanism has
+a symbolic form, that continuation runs compiled (:mod:`mechatron.kinematics.compiled`: a driver in C over the
+samples, the analysis of each solution written straight into the table's block; the samples it does not accept go
+through the Python continuation). Otherwise, for many samples the same branch is found batched
 (:mod:`mechatron.kinematics.batch`): a few anchor samples by that continuation, all others by Newton's method on all
 samples at once from guesses interpolated between the anchors, each checked against its neighbour and the doubtful
 ones solved again by the continuation. Velocities and accelerations of all samples follow at once, with the frames
@@ -496,7 +499,8 @@ BATCHED = True
 #: Fewer samples than this are solved sequentially.
 BATCH_MIN = 16
 #: From this many samples on, the compiled kernels (:mod:`mechatron.kinematics.compiled`) solve and analyse the
-#: samples where the mechanism has a symbolic form (building one costs ~0.03 s, compiling it once ~0.5 s).
+#: samples where the mechanism has a symbolic form (building one costs ~0.03 s, compiling it once ~0.5 s): by their
+#: driver, else (no compiler: CasADi's virtual machine) batched.
 COMPILED_MIN = 2048
 
 
