@@ -129,15 +129,58 @@ class DriveLimits:
         if not (math.isfinite(self.screw_life) and self.screw_life > 0):
             raise InputError(f"screw_life must be a finite number of seconds > 0, got {self.screw_life!r}")
 
-    def stop_torques(self, motors: pd.DataFrame) -> NDArray[np.float64]:
-        """The torque (N·m) each motor gives in an emergency stop: min(limit, T_peak), T_peak without a limit."""
-        peak = motors["peak_torque"].to_numpy(dtype=float)
+    def stop_torques(self, motors: MotorArrays) -> NDArray[np.float64]:
+        """The torque (N·m) each motor gives in an emergency stop: min(limit, T_peak), T_peak without a limit (a
+        current limit: k_t · current, T_peak for a motor without k_t)."""
         if self.stop_torque is not None:
-            return np.minimum(peak, self.stop_torque)
-        if self.stop_current is not None and "torque_constant" in motors:
-            kt = motors["torque_constant"].to_numpy(dtype=float)
-            return np.where(np.isfinite(kt), np.minimum(peak, kt * self.stop_current), peak)
-        return peak
+            return np.minimum(motors.peak, self.stop_torque)
+        if self.stop_current is not None:
+            return np.where(np.isfinite(motors.kt), np.minimum(motors.peak, motors.kt * self.stop_current), motors.peak)
+        return motors.peak
+
+    def supply(self, motors: MotorArrays) -> NDArray[np.float64]:
+        """The supply voltage (V) of each motor's voltage-limit check: :attr:`voltage` for the motors with k_t and
+        R, else the catalog's (NaN where it does not apply)."""
+        if self.voltage is None:
+            return motors.voltage
+        return np.where(np.isfinite(motors.kt) & np.isfinite(motors.resistance), self.voltage, math.nan)
+
+
+@dataclass(frozen=True)
+class MotorArrays:
+    """The columns of a motor catalog the checks read, as arrays (SI; :func:`read_catalog
+    <mechatron.drives.catalogs.read_catalog>`), read once for a whole sizing: ``key``; rotor inertia J_m (kg·m²);
+    rated and peak torque (N·m); rated and top speed (rad/s); torque constant k_t (N·m/A), winding resistance R (Ω)
+    and supply voltage U (V), NaN where the catalog lacks them; mass (kg) and price, 0 where missing."""
+
+    key: NDArray[np.str_]
+    rotor: NDArray[np.float64]
+    rated: NDArray[np.float64]
+    peak: NDArray[np.float64]
+    rated_speed: NDArray[np.float64]
+    top_speed: NDArray[np.float64]
+    kt: NDArray[np.float64]
+    resistance: NDArray[np.float64]
+    voltage: NDArray[np.float64]
+    mass: NDArray[np.float64]
+    price: NDArray[np.float64]
+
+    @classmethod
+    def of(cls, motors: pd.DataFrame | MotorArrays) -> MotorArrays:
+        """The arrays of a motor catalog (a DataFrame), or ``motors`` if it is already one."""
+        if isinstance(motors, MotorArrays):
+            return motors
+
+        def known(name: str) -> NDArray[np.float64]:
+            return motors[name].to_numpy(dtype=float, na_value=0.0) if name in motors else np.zeros(len(motors))
+
+        kt, resistance, voltage = electrical_data(motors)
+        return cls(motors["key"].to_numpy(dtype=str), *(motors[name].to_numpy(dtype=float) for name in (
+            "rotor_inertia", "rated_torque", "peak_torque", "rated_speed", "max_speed")), kt, resistance, voltage,
+            known("mass"), known("price"))
+
+    def __len__(self) -> int:
+        return len(self.key)
 
 
 def failure(name: str, factor: float) -> str:
@@ -202,17 +245,17 @@ class PairChecks:
     floating-point operations whatever the pairs asked for, so a pair's checks do not depend on its company.
     """
 
-    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
-                 limits: DriveLimits | None = None):
+    def __init__(self, duty: JointDuty, motors: pd.DataFrame | MotorArrays, conv: Converters,
+                 inertia_ratio_max: float = 10.0, limits: DriveLimits | None = None):
         limits = limits or DriveLimits()
+        motors = MotorArrays.of(motors)
         weights = duty.time_weights()
         u, eta, Jc = conv.ratio[:, None], conv.efficiency[:, None], conv.inertia[:, None]
         self._duty, self._u, self._eta, self._Jc = duty, u, eta, Jc
         self.conv, self.shape = conv, (len(motors), len(conv))
-        self.rotor = motors["rotor_inertia"].to_numpy()
-        self.rated, self.peak = motors["rated_torque"].to_numpy(), motors["peak_torque"].to_numpy()
-        self.rated_speed, self.top_speed = motors["rated_speed"].to_numpy(), motors["max_speed"].to_numpy()
-        kt, resistance, voltage = electrical_data(motors, limits.voltage)
+        self.rotor, self.rated, self.peak = motors.rotor, motors.rated, motors.peak
+        self.rated_speed, self.top_speed = motors.rated_speed, motors.top_speed
+        kt, resistance, voltage = motors.kt, motors.resistance, limits.supply(motors)
         checked = np.isfinite(voltage)  # motors with the voltage data
         # u = back_emf |n| + drop |T_m| (V): k_e = k_t, drop = R / k_t
         self.back_emf, self.drop = np.where(checked, kt, 0.0), np.where(checked, resistance / kt, 0.0)

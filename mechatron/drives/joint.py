@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..report.result import json_ready
-from .checks import ALL_CHECKS, Check, DriveLimits, PairChecks, _load_factor, failures, motor_side
+from .checks import ALL_CHECKS, Check, DriveLimits, MotorArrays, PairChecks, _load_factor, failures, motor_side
 from .converters import Converters, converters_for
 from .duty import JointDuty
 from .motor import continuous_torque, peak_torque_limit
@@ -205,7 +205,8 @@ class JointSizing(DriveSizing):
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
                linear: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
                direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0,
-               limits: DriveLimits | None = None, converters: Converters | None = None) -> JointSizing:
+               limits: DriveLimits | None = None, converters: Converters | None = None,
+               motor_arrays: MotorArrays | None = None) -> JointSizing:
     """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
 
     The pairs are screened by exact bounds and checked sample by sample in the order of the objective until the
@@ -229,6 +230,7 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
         converters: The converters to try, when already built (:func:`~mechatron.drives.converters.converters_for`
             of this duty, the catalogs, ``direct`` and ``chain_efficiency``).
+        motor_arrays: ``motors`` as arrays, when already read (:class:`~mechatron.drives.checks.MotorArrays`).
     """
     if objective not in OBJECTIVES:
         raise InputError(f"unknown objective {objective!r}; expected one of: {', '.join(OBJECTIVES)}")
@@ -237,15 +239,14 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     if len(motors) == 0:
         raise InputError("the motor catalog is empty")
     conv = converters or converters_for(duty, gearboxes, linear, direct, chain_efficiency)
+    arrays = motor_arrays or MotorArrays.of(motors)
     scale = 1.0
     if objective == "time":
-        scale = time_scale or fastest_scale(motor_passes(duty, motors, conv, inertia_ratio_max, limits))
+        scale = time_scale or fastest_scale(motor_passes(duty, arrays, conv, inertia_ratio_max, limits))
         scale = scale if math.isfinite(scale) else 1.0
         duty = duty.scaled(scale)
-    checks = PairChecks(duty, motors, conv, inertia_ratio_max, limits)
-    motor_mass = motors["mass"].fillna(0).to_numpy() if "mass" in motors else np.zeros(len(motors))
-    motor_price = motors["price"].fillna(0).to_numpy() if "price" in motors else np.zeros(len(motors))
-    table = _Table(motors, conv, (motor_mass, conv.mass), (motor_price, conv.price))
+    checks = PairChecks(duty, arrays, conv, inertia_ratio_max, limits)
+    table = _Table(arrays.key, conv, (arrays.mass, conv.mass), (arrays.price, conv.price))
     alternatives = Alternatives(checks, table, objective)
     if objective == "margin":
         first = alternatives.best()
@@ -258,9 +259,9 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     if feasible:
         m, c = int(first[0][0]), int(first[1][0])
     else:
-        m = int(np.flatnonzero(motors["key"].to_numpy() == closest["motor"].iloc[0])[0])
+        m = int(np.flatnonzero(arrays.key == closest["motor"].iloc[0])[0])
         c = int(np.flatnonzero(conv.key == closest["converter"].iloc[0])[0])
-    return JointSizing(duty.name, duty.kind, objective, feasible, str(motors["key"].iloc[m]), str(conv.key[c]),
+    return JointSizing(duty.name, duty.kind, objective, feasible, str(arrays.key[m]), str(conv.key[c]),
                        str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c), closest, duty,
                        motors.iloc[m].to_dict(), {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__},
                        scale, alternatives)
@@ -268,10 +269,10 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
 
 @dataclass(frozen=True)
 class _Table:
-    """What a report says of a motor × converter pair: names, ratio, mass (kg), price, margin, failed checks; mass
-    and price as (per motor, per converter) arrays, the pair's the sum."""
+    """What a report says of a motor × converter pair: names, ratio, mass (kg), price, margin, failed checks; the
+    motors' keys, mass and price as (per motor, per converter) arrays, the pair's the sum."""
 
-    motors: pd.DataFrame
+    motors: np.ndarray
     conv: Converters
     mass: tuple[np.ndarray, np.ndarray]
     price: tuple[np.ndarray, np.ndarray]
@@ -280,7 +281,7 @@ class _Table:
         """The pairs (m[i], c[i]): motor, converter, kind, ratio, mass, price, smallest_margin (1 − the worst load
         factor, exact) and, with ``failed``, worst_load_factor and the checks they fail (``name ×load factor``)."""
         factors = _load_factor(*checks.table(m, c)).reshape(len(m), len(ALL_CHECKS))
-        out = pd.DataFrame({"motor": self.motors["key"].to_numpy()[m], "converter": self.conv.key[c],
+        out = pd.DataFrame({"motor": self.motors[m], "converter": self.conv.key[c],
                             "kind": self.conv.kind[c], "ratio": self.conv.ratio[c],
                             "mass": self.mass[0][m] + self.mass[1][c], "price": self.price[0][m] + self.price[1][c],
                             "smallest_margin": 1 - factors.max(axis=1, initial=0.0)})

@@ -15,7 +15,7 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 
-from .checks import PASS_TOLERANCE, DriveLimits, PairChecks
+from .checks import PASS_TOLERANCE, DriveLimits, MotorArrays, PairChecks
 from .converters import Converters
 from .duty import JointDuty
 
@@ -220,11 +220,12 @@ def smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) 
     return best[order, 0].astype(int), best[order, 1].astype(int)
 
 
-def motor_passes(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float,
+def motor_passes(duty: JointDuty, motors: pd.DataFrame | MotorArrays, conv: Converters, inertia_ratio_max: float,
                   limits: DriveLimits | None = None) -> Callable[[float], bool]:
     """passes(k): whether some pair passes every check with the task replayed k times slower, a block of motors at
     a time (the pair that passed last is tried first)."""
     last: list[tuple[int, int]] = []
+    motors = MotorArrays.of(motors)
 
     def passes(k: float) -> bool:
         checks = PairChecks(duty.scaled(k), motors, conv, inertia_ratio_max, limits)

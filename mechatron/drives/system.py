@@ -18,7 +18,7 @@ from ..errors import InputError
 from ..io.values import number
 from ..model.loads import Loads
 from ..model.mechanism import Cylinder, Mechanism
-from .checks import DriveLimits
+from .checks import DriveLimits, MotorArrays
 from .converters import Converters, converters_for
 from .duty import DriveMount, JointDuty, drive_carrier, joint_duties, mount_drives
 from .joint import size_joint
@@ -145,6 +145,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     gearboxes = gearboxes if gearboxes is not None or "revolute" not in kinds else default_catalog("gearboxes")
     linear = linear if linear is not None or "prismatic" not in kinds else default_catalog("linear")
     cylinders = cylinders if cylinders is not None or "cylinder" not in kinds else default_catalog("cylinders")
+    motor_arrays = MotorArrays.of(motors) if motors is not None else None
     names = list(bare)
     order = distal_first(mech, names)
     carriers = {n: drive_carrier(mech, n) for n in names if bare[n].kind != "cylinder"}
@@ -171,7 +172,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
             return size_cylinder(duty, spec, cylinders, pressure=pressure, objective=objective, length=length)
         return size_joint(duty, motors, gearboxes, linear, objective=objective, inertia_ratio_max=inertia_ratio_max,
                           direct=direct, time_scale=scale, chain_efficiency=chain_efficiency, limits=limits,
-                          converters=converters(duty))
+                          converters=converters(duty), motor_arrays=motor_arrays)
 
     built: dict[tuple, Converters] = {}
 
@@ -192,7 +193,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
             fastest[key] = fastest_scale(
                 _cylinder_passes(d, mech.cylinders[d.name], cylinders, pressure, lengths[d.name])
                 if d.kind == "cylinder" else
-                motor_passes(d, motors, converters(d), inertia_ratio_max, limits))
+                motor_passes(d, motor_arrays, converters(d), inertia_ratio_max, limits))
         return fastest[key]
 
     def pace(duties: dict[str, JointDuty]) -> float | None:
