@@ -27,12 +27,12 @@ last solutions one input step on (or, where the step changed, along the velocity
 continuation step), ``step`` until the residual is below the tolerance plus the polishing step, accepted only if
 the solution moved less than half the predicted change (the first sample: Newton's method with halved steps, as
 :meth:`~mechatron.kinematics.loops.LoopSolver.newton`) —, then ``analyse`` of every :data:`LANES` solutions at once
-(:func:`blocked`: each operation over the lanes, which the compiler vectorizes, with the numbers of the scalar
-function), written straight into the rows of the sweep's table. A sample it does not accept is left to the caller.
-There is no CasADi map with its argument buffers, no second pass and no copy into the table: a sample costs one or
-two ``step``\ s and its share of ``analyse``, a few hundred floating-point operations and two or three sine-cosine
-pairs (the CSE of CasADi leaves little: a canonical ordering of commutative operations would remove ~8 %; compiler
-options matter only for the lanes).
+(:func:`blocked`: each operation on a vector of samples, with the numbers of the scalar function), written straight
+into the rows of the sweep's table. A sample it does not accept is left to the caller. There is no CasADi map with
+its argument buffers (about 0.1 µs a call of a mapped function), no second pass and no copy into the table: a
+sample costs one or two ``step``\ s and its share of ``analyse``, a few hundred floating-point operations and two or
+three sine-cosine pairs (the CSE of CasADi leaves little: a canonical ordering of commutative operations would
+remove ~8 %; compiler options matter by ~10 %, the vector lanes by ~20 %).
 
 Without a working compiler, or with ``MECHATRON_COMPILE=0``, the functions run in CasADi's virtual machine and
 there is no driver. Mechanisms with joints or closures that have no symbolic form get no kernel (:func:`loop_kernel`
@@ -75,9 +75,12 @@ CACHE_VARIABLE, COMPILE_VARIABLE = "MECHATRON_CACHE", "MECHATRON_COMPILE"
 #: :data:`SLACK` (m or rad): as :meth:`mechatron.kinematics.sweep._Continuation._compiled_newton`.
 ACCEPT, SLACK = 0.5, 1e-9
 
-#: Samples the driver analyses together: each operation of ``analyse`` over this many lanes (:func:`blocked`), its
-#: results written into the table in runs of as many.
-LANES = 8
+#: Samples the driver analyses together: each operation of ``analyse`` on a vector of this many lanes
+#: (:func:`blocked`), its results written into the table in runs of as many; compiled for AVX2 and AVX-512 besides
+#: (chosen when the library is loaded) where ``analyse`` has at most :data:`CLONED` operations, else on two lanes
+#: and for the baseline instruction set only (the compiler's time grows faster than the code: 3 s for the delta's
+#: 5,800 operations on two lanes, 25 s on eight with the clones).
+LANES, CLONED = 8, 1000
 #: The driver, in C, appended to the generated ``step`` and ``analyse`` (see the module docstring). Sizes, indices
 #: and the blocked ``analyse`` are filled in per mechanism; the table is (rows, n) row-major: T[r, k] at
 #: ``table[r * n + k]``; motion (3, n, nq) holds q, q̇ and q̈ sample by sample.
@@ -109,13 +112,20 @@ typedef struct {
 } m_work;
 
 /* mechatron_analyse over M_L lanes: q (M_NQ, M_L), r and a (M_NA, M_L) to out (M_NOUT, M_L); w: M_WORK doubles;
-   compiled for the vector units there are (chosen when the library is loaded; -ffp-contract=off: the same numbers) */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__GLIBC__)
+   with vector types where the compiler has them (GCC's extension), cloned for the vector units there are (chosen
+   when the library is loaded; -ffp-contract=off: the same numbers as the scalar function) */
+#if %(cloned)d && defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__GLIBC__)
 #define M_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #else
 #define M_CLONES
 #endif
+#if defined(__GNUC__) && %(vector)d
+typedef double m_v __attribute__((vector_size(sizeof(double) * M_L)));
+#define M_SPLAT(c) ((m_v){0} + (c))
 M_CLONES %(block)s
+#else
+%(scalar)s
+#endif
 
 /* One Newton step at q: the dependent coordinates after it (next), the maps S_d at q; returns max |Phi(q)|. */
 static double m_step(m_work* s, const double* q, double* next, double* maps) {
@@ -321,9 +331,8 @@ SCALAR_BLOCK = r"""static void m_block(const double* q, const double* r, const d
 
 
 def _lane_operations() -> dict[int, str]:
-    """C of CasADi's scalar operations on lane l of the work (``{0}``, ``{1}`` the arguments), as its code
-    generator writes them (``fmin`` and ``fmax`` as their comparisons, which vectorize: the other argument where
-    one is NaN)."""
+    """C of CasADi's scalar operations on one lane (``{0}``, ``{1}`` the arguments), as its code generator writes
+    them (``fmin`` and ``fmax`` as comparisons: the other argument where one is NaN)."""
     import casadi as ca
 
     return {ca.OP_ASSIGN: "{0}", ca.OP_ADD: "{0}+{1}", ca.OP_SUB: "{0}-{1}", ca.OP_MUL: "{0}*{1}",
@@ -340,41 +349,51 @@ def _lane_operations() -> dict[int, str]:
 
 
 def blocked(function) -> str | None:
-    """C of the SX ``function`` (arguments q, rates, accelerations; one output) over :data:`LANES` samples at once,
-    ``m_block`` of :data:`DRIVER`: each of its operations, in its order, as a loop over the lanes (which the
-    compiler turns into vector instructions), every operation as CasADi's code generator writes it, so that each
-    lane gives the numbers of the scalar function; a sine and a cosine of one value are taken together (one
-    ``sincos``, :func:`_trigonometric_pairs`). None where an operation has no form here."""
+    """C of the SX ``function`` (arguments q, rates, accelerations; one output) on vectors of ``M_L`` samples,
+    ``m_block`` of :data:`DRIVER`: each of its operations, in its order, on local variables of GCC's vector type
+    ``m_v`` (one per slot of CasADi's work: the compiler keeps them as it keeps the scalar code's), the arithmetic
+    as vector operations, the others lane by lane, every operation as CasADi's code generator writes it, so that
+    each lane gives the numbers of the scalar function; a sine and a cosine of one value are taken together (one
+    ``sincos``, :func:`_trigonometric_pairs`). None where an operation or a constant has no form here."""
     import casadi as ca
 
+    arithmetic = {ca.OP_ASSIGN: "{0}", ca.OP_ADD: "{0}+{1}", ca.OP_SUB: "{0}-{1}", ca.OP_MUL: "{0}*{1}",
+                  ca.OP_DIV: "{0}/{1}", ca.OP_NEG: "-{0}", ca.OP_SQ: "{0}*{0}", ca.OP_TWICE: "2.*{0}",
+                  ca.OP_INV: "1./{0}"}
     operations, pairs = _lane_operations(), _trigonometric_pairs(function)
+    first = function.sz_w()
+    second = {k: f"w{first + j}" for j, k in enumerate(sorted(set(pairs.values())))}  # each pair's other value
+    variables = [f"w{i}" for i in range(first)] + list(second.values())
     lines = ["static void m_block(const double* restrict in0, const double* restrict in1, "
-             "const double* restrict in2, double* restrict out, double* restrict w) {"]
-    lines += [f"  double t{j}[M_L];" for j in sorted(set(pairs.values()))]
+             "const double* restrict in2, double* restrict out, double* restrict w) {",
+             f"  m_v {', '.join(variables)};", "  double x0[M_L], x1[M_L], y0[M_L], y1[M_L];", "  (void)w;"]
     for k in range(function.n_instructions()):
         op, args, result = function.instruction_id(k), function.instruction_input(k), function.instruction_output(k)
-        target = f"w[{result[0]} * M_L + l]"
         if op == ca.OP_INPUT:
-            value, target = f"in{args[0]}[{args[1]} * M_L + l]", f"w[{result[0]} * M_L + l]"
+            lines.append(f"  memcpy(&w{result[0]}, in{args[0]} + {args[1]} * M_L, sizeof(m_v));")
         elif op == ca.OP_OUTPUT:
-            value, target = f"w[{args[0]} * M_L + l]", f"out[{result[1]} * M_L + l]"
+            lines.append(f"  memcpy(out + {result[1]} * M_L, &w{args[0]}, sizeof(m_v));")
         elif op == ca.OP_CONST:
-            value = repr(float(function.instruction_constant(k)))
-            if not np.isfinite(float(value)):
+            value = float(function.instruction_constant(k))
+            if not np.isfinite(value):
                 return None
+            lines.append(f"  w{result[0]} = M_SPLAT({value!r});")
         elif k in pairs and pairs[k] < k:  # the second of a pair: taken with the first
-            value = f"t{pairs[k]}[l]"
-        elif k in pairs:  # the first of a pair: both, into the work and t{k}
-            x = f"w[{args[0]} * M_L + l]"
-            first, second = ("sin", "cos") if op == ca.OP_SIN else ("cos", "sin")
-            lines.append(f"  for (int l = 0; l < M_L; ++l) {{ double x = {x}; {target} = {first}(x); "
-                         f"t{k}[l] = {second}(x); }}")
-            continue
+            lines.append(f"  w{result[0]} = {second[pairs[k]]};")
+        elif k in pairs:  # the first of a pair: both
+            names = ("sin", "cos") if op == ca.OP_SIN else ("cos", "sin")
+            lines.append(f"  memcpy(x0, &w{args[0]}, sizeof(m_v)); for (int l = 0; l < M_L; ++l) "
+                         f"{{ y0[l] = {names[0]}(x0[l]); y1[l] = {names[1]}(x0[l]); }} "
+                         f"memcpy(&w{result[0]}, y0, sizeof(m_v)); memcpy(&{second[k]}, y1, sizeof(m_v));")
+        elif op in arithmetic:
+            lines.append(f"  w{result[0]} = {arithmetic[op].format(*(f'w{i}' for i in args))};")
         elif op in operations:
-            value = operations[op].format(*(f"w[{i} * M_L + l]" for i in args))
+            loads = " ".join(f"memcpy(x{j}, &w{i}, sizeof(m_v));" for j, i in enumerate(args))
+            value = operations[op].format(*(f"x{j}[l]" for j in range(len(args))))
+            lines.append(f"  {loads} for (int l = 0; l < M_L; ++l) y0[l] = {value}; "
+                         f"memcpy(&w{result[0]}, y0, sizeof(m_v));")
         else:
             return None
-        lines.append(f"  for (int l = 0; l < M_L; ++l) {target} = {value};")
     return "\n".join([*lines, "}"])
 
 
@@ -563,17 +582,20 @@ class LoopKernel:
         return ca.Function("mechatron_analyse", [q, rates, accelerations], [outputs]), names
 
     def _driver_source(self, analyse, step) -> str:
-        """:data:`DRIVER` with this kernel's sizes and indices and ``analyse`` over lanes (:func:`blocked`, else
-        :data:`SCALAR_BLOCK`)."""
+        """:data:`DRIVER` with this kernel's sizes and indices and ``analyse`` on vectors of lanes (:func:`blocked`;
+        :data:`LANES` and cloned up to :data:`CLONED` operations, else two lanes; :data:`SCALAR_BLOCK` where it has
+        no vector form)."""
         def size(name: str) -> int:
             return max(getattr(f, name)() for f in (analyse, step))
 
         sizes = {"sz_arg": size("sz_arg"), "sz_res": size("sz_res"), "sz_iw": size("sz_iw"), "sz_w": size("sz_w")}
+        cloned = analyse.n_instructions() <= CLONED
+        block = blocked(analyse)
         return DRIVER % {"nq": self.nq, "na": self.na, "nd": self.nd, "nout": analyse.size1_out(0), "steps": STEPS,
                          "first": FIRST_STEPS, "tolerance": TOLERANCE, "accept": ACCEPT, "slack": SLACK,
-                         "lanes": LANES, "work": max(analyse.sz_w() * LANES, sizes["sz_w"] + 1),
-                         "act": ", ".join(map(str, self.act)), "dep": ", ".join(map(str, self.dep)),
-                         "block": blocked(analyse) or SCALAR_BLOCK % sizes, **sizes}
+                         "lanes": LANES if cloned else 2, "work": sizes["sz_w"] + 1, "cloned": int(cloned),
+                         "vector": int(block is not None), "block": block or "", "scalar": SCALAR_BLOCK % sizes,
+                         "act": ", ".join(map(str, self.act)), "dep": ", ".join(map(str, self.dep)), **sizes}
 
     @staticmethod
     def _load_driver(path: Path):
