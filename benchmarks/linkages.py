@@ -36,8 +36,8 @@ import numpy as np
 from timing import interleaved
 
 import mechatron
-from mechatron.kinematics.sweep import default_inputs as sweep_inputs
-from mechatron.kinematics.sweep import sweep
+from mechatron.kinematics.sweeps import default_inputs as sweep_inputs
+from mechatron.kinematics.sweeps import sweep
 from mechatron.machines.bucket import BucketLinkage, synthesize
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # the validation folder of the clone

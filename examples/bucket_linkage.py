@@ -15,7 +15,7 @@ import math
 
 import mechatron
 from mechatron.io.output import save_figure
-from mechatron.kinematics.sweep import sweep
+from mechatron.kinematics.sweeps import sweep
 from mechatron.machines import bucket
 from mechatron.model.linkage import build_linkage
 

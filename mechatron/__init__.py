@@ -24,7 +24,7 @@ _EXPORTS = {
     "load": ".library", "available_robots": ".library",
     "Mechanism": ".model", "Parameter": ".model", "Load": ".model",
     "frame_placement": ".kinematics.frames", "frame_jacobian": ".kinematics.frames",
-    "assemble": ".kinematics.loops", "sweep": ".kinematics.sweep",
+    "assemble": ".kinematics.loops", "sweep": ".kinematics.sweeps",
     "inverse_dynamics": ".dynamics.tree", "forward_dynamics": ".dynamics.tree",
     "simulate": ".dynamics.constrained", "move": ".dynamics.motion",
     "size": ".drives.sizing", "tolerance_study": ".accuracy.study", "analyse_structure": ".structure.analysis",

@@ -18,7 +18,7 @@ import mechatron
 from mechatron.kinematics import batch
 from mechatron.kinematics.loops import loop_solver
 
-sweep_module = importlib.import_module("mechatron.kinematics.sweep")
+sweep_module = importlib.import_module("mechatron.kinematics.sweeps")
 CLOSED_LOOPS = ["crank_slider", "six_bar_bucket", "front_shovel", "grab", "seven_bar", "scotch_yoke", "slotted_link",
                 "delta"]
 

@@ -121,7 +121,7 @@ def test_monte_carlo_estimate_bounds_the_measured_peak(puma):
 
 
 def test_sweep_estimate_bounds_the_measured_peak():
-    from mechatron.kinematics.sweep import position_bytes, sweep
+    from mechatron.kinematics.sweeps import position_bytes, sweep
 
     for name in ("crank_slider", "six_bar_bucket", "grab", "delta", "front_shovel"):
         mech = load(name)

@@ -19,7 +19,7 @@ import pytest
 import mechatron
 from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble
-from mechatron.kinematics.sweep import sweep
+from mechatron.kinematics.sweeps import sweep
 from mechatron.machines import bucket as bk
 from mechatron.model.linkage import build_linkage
 from validation.bucket import analytic_analysis

@@ -219,8 +219,8 @@ def test_jacobian_outputs_are_the_result(capsys, tmp_path, drawn):
 
 def test_linkage_outputs_are_the_result(capsys, tmp_path, drawn):
     from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity
-    from mechatron.kinematics.plans import plans
-    from mechatron.kinematics.sweep import sweep
+    from mechatron.kinematics.sweeps import sweep
+    from mechatron.kinematics.vector_plans import plans
 
     mech = mechatron.load("six_bar_bucket")
     same_outputs(capsys, tmp_path, drawn, ["linkage", "six_bar_bucket", "--samples", "40"],

@@ -21,7 +21,7 @@ from mechatron.dynamics import constrained as cd
 from mechatron.dynamics import reduced as rd
 from mechatron.dynamics.kinetostatics import kinetostatics
 from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity, loop_solver
-from mechatron.kinematics.sweep import sweep
+from mechatron.kinematics.sweeps import sweep
 
 SLIDER_LOAD = [("C@slider", [1000.0, 0.0, 0.0])]
 

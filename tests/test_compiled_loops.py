@@ -14,7 +14,7 @@ import mechatron
 from mechatron.kinematics import compiled
 from mechatron.kinematics.loops import LoopSolver
 
-sweep_module = importlib.import_module("mechatron.kinematics.sweep")
+sweep_module = importlib.import_module("mechatron.kinematics.sweeps")
 WITH_KERNELS = ["crank_slider", "six_bar_bucket", "front_shovel", "seven_bar", "scotch_yoke", "slotted_link", "delta"]
 
 

@@ -429,7 +429,7 @@ def test_api_study_poses(arm, value):
 def test_api_counts(arm, value):
     from mechatron.accuracy.sources import workspace_grid
     from mechatron.dynamics.reduced import reduced_table
-    from mechatron.kinematics.sweep import sweep
+    from mechatron.kinematics.sweeps import sweep
     from mechatron.machines.excavator import excavator_report
 
     slider = mechatron.load("crank_slider")

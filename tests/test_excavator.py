@@ -196,7 +196,7 @@ def test_working_range_matches_special_positions(mech):
 
 
 def test_transmission_checks_in_sweep(mech):
-    from mechatron.kinematics.sweep import sweep
+    from mechatron.kinematics.sweeps import sweep
 
     result = sweep(mech, samples=60)
     checks = {c["name"]: c for c in result.check_measures()}

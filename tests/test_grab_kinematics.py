@@ -16,7 +16,7 @@ import pytest
 import mechatron
 from mechatron.kinematics.frames import frame_placement
 from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity
-from mechatron.kinematics.sweep import sweep
+from mechatron.kinematics.sweeps import sweep
 from mechatron.machines.grab import GrabGeometry, grab_spec
 from mechatron.model.linkage import build_linkage
 

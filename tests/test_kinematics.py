@@ -140,7 +140,8 @@ def test_every_kinematics_name_resolves_with_units_in_its_docstring():
     import inspect
 
     kinematics = importlib.import_module("mechatron.kinematics")
-    importlib.import_module("mechatron.kinematics.sweep")  # the module of the same name does not hide the function
+    importlib.import_module("mechatron.kinematics.sweeps")  # importing the modules does not hide the functions
+    importlib.import_module("mechatron.kinematics.vector_plans")
     assert inspect.isfunction(kinematics.sweep) and inspect.isfunction(kinematics.plans)
     for name in kinematics.__all__:
         value = getattr(kinematics, name)

@@ -28,7 +28,7 @@ from mechatron.kinematics.frames import (
     point_velocity,
 )
 from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity, loop_solver
-from mechatron.kinematics.sweep import sweep
+from mechatron.kinematics.sweeps import sweep
 from mechatron.kinematics.transfer import transfer_functions
 from mechatron.model.planar import GROUND, PlanarBuilder
 
@@ -279,7 +279,7 @@ def test_sweep_velocity_and_acceleration_columns_agree_with_single_calls():
 
 
 def test_plans_and_sweep_plots(tmp_path):
-    from mechatron.kinematics.plans import plans
+    from mechatron.kinematics.vector_plans import plans
 
     mech = mechatron.load("crank_slider")
     q = assemble(mech, {"q1": 0.5})

@@ -14,7 +14,6 @@ from protocol import check_result
 import mechatron
 from mechatron.kinematics.frames import frame_position, frame_rotation
 from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity
-from mechatron.kinematics.plans import Plans, plans
 from mechatron.kinematics.summary import (
     FramePose,
     JacobianSummary,
@@ -23,7 +22,8 @@ from mechatron.kinematics.summary import (
     jacobian_summary,
     mechanism_summary,
 )
-from mechatron.kinematics.sweep import SweepResult, sweep
+from mechatron.kinematics.sweeps import SweepResult, sweep
+from mechatron.kinematics.vector_plans import Plans, plans
 
 URDF = Path(__file__).parent / "data" / "continuous_prismatic_arm.urdf"
 

@@ -89,7 +89,7 @@ def test_two_input_velocity_against_finite_differences(mech):
 
 
 def test_sweep_both_cylinders(mech):
-    from mechatron.kinematics.sweep import sweep
+    from mechatron.kinematics.sweeps import sweep
 
     result = sweep(mech, samples=101)
     assert len(result.failures) == 0

@@ -42,7 +42,7 @@ def test_front_shovel_forces_and_transmission_angles():
     # differences of V over assembled positions; transmission angles from the points' positions.
     from mechatron.dynamics.tree import potential_energy
     from mechatron.kinematics.loops import assemble
-    from mechatron.kinematics.sweep import default_inputs, sweep
+    from mechatron.kinematics.sweeps import default_inputs, sweep
 
     mech = mechatron.load("front_shovel")
     out = analysis("linkage").outputs(mech, {"samples": 5}, seed=0)

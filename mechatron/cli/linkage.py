@@ -13,8 +13,8 @@ from .values import Number
 
 def cmd_linkage(args: argparse.Namespace) -> int:
     from ..kinematics.loops import assemble, joint_acceleration, joint_velocity
-    from ..kinematics.plans import plans
-    from ..kinematics.sweep import sweep
+    from ..kinematics.sweeps import sweep
+    from ..kinematics.vector_plans import plans
     from ..report.progress import progress_bar
 
     mech = _load(args)

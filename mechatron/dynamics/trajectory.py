@@ -1,7 +1,7 @@
 """Closed-loop mechanisms along a motion of their inputs: the full joint states and the actuator forces.
 
 The trajectory gives the actuated coordinates (cylinder lengths, crank angles) with their rates and accelerations;
-position, velocity and acceleration analysis of the loops (:func:`mechatron.kinematics.sweep.sweep`) give every
+position, velocity and acceleration analysis of the loops (:func:`mechatron.kinematics.sweeps.sweep`) give every
 joint's state, and the constrained inverse dynamics (:func:`mechatron.dynamics.constrained.inverse`) the forces.
 """
 
@@ -28,7 +28,7 @@ def closed_loop_states(mech: Mechanism, trajectory: Trajectory) -> tuple[Array, 
     """(Q, V, A): the full joint states (N, nq/nv; rad, m and their rates) of a closed-loop mechanism along a
     trajectory of its actuated coordinates (assembly, velocity and acceleration analysis of the loops); an error
     if the motion leaves the reachable range."""
-    from ..kinematics.sweep import sweep  # pandas: only when a trajectory is analysed
+    from ..kinematics.sweeps import sweep  # pandas: only when a trajectory is analysed
 
     inputs = {name: trajectory.coordinates[:, i] for i, name in enumerate(mech.actuated)}
     rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}

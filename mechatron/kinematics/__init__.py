@@ -18,8 +18,8 @@ _EXPORTS = {
     **dict.fromkeys(["TransferFunctions", "transfer_functions", "point_state", "link_angle"], ".transfer"),
     **dict.fromkeys(["point_positions", "line_angle", "lever_arm", "distance", "transmission_angles", "lever_arms",
                      "distances", "measure_values"], ".geometry"),
-    **dict.fromkeys(["SweepResult", "sweep", "default_inputs"], ".sweep"),
-    **dict.fromkeys(["Plans", "plans"], ".plans"),
+    **dict.fromkeys(["SweepResult", "sweep", "default_inputs"], ".sweeps"),
+    **dict.fromkeys(["Plans", "plans"], ".vector_plans"),
     **dict.fromkeys(["MechanismSummary", "mechanism_summary", "FramePose", "frame_pose", "JacobianSummary",
                      "jacobian_summary"], ".summary"),
     **dict.fromkeys(["draw_mechanism", "draw_positions", "draw_stick_figure", "draw_plan", "configuration_figure",
@@ -28,9 +28,3 @@ _EXPORTS = {
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)
 __all__ = sorted(_EXPORTS)
-
-# ``sweep`` and ``plans`` are both a module and the function it defines: imported here, so that
-# ``mechatron.kinematics.sweep`` is always the function (importing the module would otherwise bind its name in this
-# package to the module). Both are light: no pandas or matplotlib until a result is tabulated or drawn.
-from .plans import plans  # noqa: E402, F401
-from .sweep import sweep  # noqa: E402, F401

@@ -2,7 +2,7 @@ r"""Position analysis of many samples at once: Newton's method batched over samp
 a few samples solved by continuation, checked sample by sample.
 
 A sweep asks for the assembly of N samples of the inputs on one assembly branch. The sequential continuation
-(:func:`mechatron.kinematics.sweep.sweep`) solves one sample after the other; here
+(:func:`mechatron.kinematics.sweeps.sweep`) solves one sample after the other; here
 
 1. ``anchors`` — every m-th sample, m chosen so that the anchors' input step is at most :data:`ANCHOR_STEPS`
    continuation steps (:attr:`~mechatron.kinematics.loops.LoopSolver.max_step`) — are solved by that continuation

@@ -22,7 +22,7 @@ over chunks of samples by ``Function.map`` (:meth:`LoopKernel.newton`, :meth:`Lo
 
 The sweep's fast path is a driver in C compiled with ``step`` and ``analyse`` into their library (:data:`DRIVER`,
 called through ``ctypes`` once per chunk of samples, :class:`DriverRun`): the sequential continuation of
-:class:`mechatron.kinematics.sweep._Continuation` over the samples — each sample's guess the polynomial through the
+:class:`mechatron.kinematics.sweeps._Continuation` over the samples — each sample's guess the polynomial through the
 last solutions one input step on (or, where the step changed, along the velocity maps for steps up to the solver's
 continuation step), ``step`` until the residual is below the tolerance plus the polishing step, accepted only if
 the solution moved less than half the predicted change (the first sample: Newton's method with halved steps, as
@@ -72,7 +72,7 @@ FLAGS = ("-O3", "-fno-math-errno", "-ffp-contract=off", "-shared", "-fPIC")
 #: Environment variables: the cache folder, and 0 to run the kernels in CasADi's virtual machine.
 CACHE_VARIABLE, COMPILE_VARIABLE = "MECHATRON_CACHE", "MECHATRON_COMPILE"
 #: A solution the driver accepts moved from its guess by at most this fraction of the change it predicted, plus
-#: :data:`SLACK` (m or rad): as :meth:`mechatron.kinematics.sweep._Continuation._compiled_newton`.
+#: :data:`SLACK` (m or rad): as :meth:`mechatron.kinematics.sweeps._Continuation._compiled_newton`.
 ACCEPT, SLACK = 0.5, 1e-9
 
 #: Samples the driver analyses together: each operation of ``analyse`` on a vector of this many lanes

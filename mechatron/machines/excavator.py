@@ -502,7 +502,7 @@ def working_range(mech: Mechanism, samples: int = 41, progress: Callable[[int, i
     """Sweep all three cylinder strokes: each face of the stroke box on a ``samples`` × ``samples`` grid (a
     serpentine path, so that every sample continues from its neighbour) and every edge as an arc. Tip positions in
     m; ``progress(done, total)`` is called after each of the runs."""
-    from ..kinematics.sweep import sweep
+    from ..kinematics.sweeps import sweep
 
     names = list(mech.cylinders)
     strokes = {n: np.linspace(*mech.cylinders[n].stroke, samples) for n in names}
@@ -787,7 +787,7 @@ def excavator_report(design: FrontShovelDesign | None = None, samples: int = 31,
         pressure: relief pressure of the working circuits (Pa) for the tool forces.
         progress: called with (done, total) while the working range is swept.
     """
-    from ..kinematics.sweep import sweep
+    from ..kinematics.sweeps import sweep
 
     tooth = np.asarray(tooth_force, dtype=float).reshape(-1)
     if tooth.shape != (2,) or not np.all(np.isfinite(tooth)):
@@ -800,7 +800,7 @@ def excavator_report(design: FrontShovelDesign | None = None, samples: int = 31,
     specs = cylinders or DEFAULT_CYLINDERS
     shovel = synthesize(design)
     mech = build_linkage(shovel_spec(shovel))
-    from ..kinematics.sweep import positions_budget
+    from ..kinematics.sweeps import positions_budget
 
     positions_budget(mech, samples, "samples", per_position=6 * samples + 1)  # 6 faces of samples² and a sweep
     deg = 1 / DEG

@@ -34,7 +34,7 @@ MODULES = {
 #: Analysis name → the modules its ``outputs`` imports on first use: the workers of an embedded cluster start with
 #: them imported (:func:`worker_modules`), so that no worker's first chunk pays for them.
 IMPORTS = {
-    "linkage": ("mechatron.kinematics.sweep", "mechatron.machines.excavator", "mechatron.dynamics.trajectory"),
+    "linkage": ("mechatron.kinematics.sweeps", "mechatron.machines.excavator", "mechatron.dynamics.trajectory"),
     "dynamics": ("mechatron.dynamics.motion", "mechatron.dynamics.task", "mechatron.dynamics.tree"),
     "sizing": ("mechatron.drives.sizing", "mechatron.dynamics.task"),
     "accuracy": ("mechatron.accuracy.study", "mechatron.accuracy.sources"),

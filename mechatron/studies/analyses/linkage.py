@@ -1,6 +1,6 @@
 """The ``linkage`` analysis of a study: a closed-loop mechanism swept over the strokes of its inputs.
 
-The sweep (:func:`mechatron.kinematics.sweep.sweep`, ``samples`` positions, every input from its lower to its upper
+The sweep (:func:`mechatron.kinematics.sweeps.sweep`, ``samples`` positions, every input from its lower to its upper
 limit together, a full turn of an unlimited crank) gives the path of a point (the mechanism's tool point, or
 ``point``): its reach (largest x), height (largest y), depth (largest −y) and its travels along x and y (m), and
 along z for a spatial loop. With
@@ -123,7 +123,7 @@ def input_files(mech, options: dict[str, Any]) -> list:
 def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
     """The outputs of one design (m, deg, N, Pa; see the module docstring). ``seed`` is not used (no random
     draw)."""
-    from ...kinematics.sweep import sweep
+    from ...kinematics.sweeps import sweep
 
     opts = _options(mech, options)
     point = opts["point"]
