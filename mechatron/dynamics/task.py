@@ -238,12 +238,39 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     dt = reader.number("dt", 0.005, positive=True)
     limits = {k: _per_axis(reader, k, angular) for k in ("vmax", "amax", "jmax")}
     reader.finish()
-    trajectory = cycle(None if mech.closures else mech, points, dwell=dwell, profile=profile, dt=dt,
-                       dt_name=f"{path}: field 'dt'", **limits)
+    trajectory = _remembered_cycle(None if mech.closures else mech, points, dwell=dwell, profile=profile, dt=dt,
+                                   dt_name=f"{path}: field 'dt'", **limits)
     if mech.closures:
         trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names,
                                 angular=[bool(x) for x in angular])
     return Task(name, loaded, trajectory, loads, payload, str(path), text)
+
+
+#: The cycles made last (:func:`_remembered_cycle`), newest last.
+_CYCLES: dict[tuple, Trajectory] = {}
+_CYCLES_KEPT = 8
+
+
+def _remembered_cycle(mech: Mechanism | None, points: list, **options) -> Trajectory:
+    """:func:`~mechatron.dynamics.motion.cycle`, made once for the last few (mechanism, waypoints, options): a study
+    sizes thousands of designs of one robot on one task, and the trajectory depends only on the joints' kinds,
+    names, neutral configuration and velocity limits (the defaults of ``vmax``), not on the lengths and masses that
+    vary. The arrays of a remembered trajectory are read-only: tasks share them."""
+    signature = None if mech is None else (
+        tuple(coordinate_names(mech)), tuple(j.shortname() for j in mech.model.joints[1:]),
+        np.asarray(mech.model.velocityLimit, dtype=float).tobytes(), np.asarray(mech.neutral(), float).tobytes())
+    key = (signature, np.asarray(points, dtype=float).tobytes(), len(points),
+           *((k, v if v is None or isinstance(v, (str, float, int)) else np.asarray(v, float).tobytes())
+             for k, v in sorted(options.items())))
+    trajectory = _CYCLES.pop(key, None)
+    if trajectory is None:
+        trajectory = cycle(mech, points, **options)
+        for array in (trajectory.t, trajectory.q, trajectory.v, trajectory.a, trajectory.coordinates):
+            array.setflags(write=False)
+    _CYCLES[key] = trajectory
+    while len(_CYCLES) > _CYCLES_KEPT:
+        _CYCLES.pop(next(iter(_CYCLES)))
+    return trajectory
 
 
 def task_file(mech: Mechanism) -> Path | None:
