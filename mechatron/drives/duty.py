@@ -76,14 +76,21 @@ class JointDuty:
                        torque=dynamic / k**2 + self.static_torque)
 
     def time_weights(self) -> NDArray[np.float64]:
-        """Trapezoidal-rule weights w_i with Σ w_i f_i / duration = the time mean of f (one sample: weight 1)."""
-        if len(self.t) < 2:
-            return np.ones(1)
-        step = np.diff(self.t)
-        w = np.zeros(len(self.t))
-        w[1:] += step / 2
-        w[:-1] += step / 2
-        return w / self.duration
+        """Trapezoidal-rule weights w_i with Σ w_i f_i / duration = the time mean of f (one sample: weight 1); made
+        once per duty (read-only)."""
+        w = self.__dict__.get("_time_weights")
+        if w is None:
+            if len(self.t) < 2:
+                w = np.ones(1)
+            else:
+                step = np.diff(self.t)
+                w = np.zeros(len(self.t))
+                w[1:] += step / 2
+                w[:-1] += step / 2
+                w /= self.duration
+            w.setflags(write=False)
+            self.__dict__["_time_weights"] = w  # a frozen dataclass: its fields, not this cache, are fixed
+        return w
 
     def strong_samples(self, count: int = 4, among: NDArray[np.intp] | None = None) -> NDArray[np.intp]:
         """Indices of samples likely to decide the peak motor torque whatever the drive: the ``count`` largest of

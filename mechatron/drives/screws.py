@@ -99,6 +99,9 @@ def screw_checks(duty: JointDuty, conv: Converters, life: float = SCREW_LIFE
     ``life`` is the required nominal life (s) of a screw running the task over and over."""
     count = len(conv)
     values, limits = np.zeros((count, len(SCREW_CHECKS))), np.full((count, len(SCREW_CHECKS)), math.inf)
+    if not any(np.isfinite(x).any() for x in (conv.dynamic_load, conv.root_diameter, conv.permitted_force,
+                                              conv.max_length)):
+        return values, limits  # no screw or rack among the converters (gearboxes): no check applies
     force = float(np.abs(duty.torque).max())
     top_speed = np.abs(duty.speed).max() * conv.ratio
     # life: L10 ≥ L_req ⟺ F_m ≤ C (10⁶ / L_req)^(1/3)

@@ -121,36 +121,87 @@ def _in_order(m: np.ndarray, c: np.ndarray, primary: tuple[np.ndarray, np.ndarra
     return m[order], c[order]
 
 
+#: Pairs of an order's first slices kept for the next joints and sizings with the same catalogs (:class:`_Order`).
+KEPT_PAIRS = 1 << 16
+#: Orders kept (:func:`_order_of`): one per objective and kind of converter of the catalogs sized with last.
+KEPT_ORDERS = 8
+
+
+class _Order:
+    """All motor × converter pairs in the order of the score primary[0][m] + primary[1][c], then of
+    tie[0][m] + tie[1][c], then of the catalogs (m, then c), slice by slice: slice k holds the pairs whose score
+    lies in the k-th interval (about :data:`FIRST_SLICE` pairs, then twice as many, … up to :data:`CHUNK`), sorted.
+    The order depends on the catalogs alone, not on the duty: the first slices (up to :data:`KEPT_PAIRS` pairs) are
+    kept for every joint and every design sized with these catalogs (:func:`_order_of`); later ones are made again
+    when asked for, so the memory stays with a slice."""
+
+    def __init__(self, primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray]):
+        self.primary, self.tie = primary, tie
+        self.top = float(primary[0].max() + primary[1].max())
+        self._starts: list[tuple[float, int]] = [(-math.inf, FIRST_SLICE)]  # (low, size) of each slice
+        self._kept: list[tuple[np.ndarray, np.ndarray]] = []
+        self._pairs = 0
+
+    def slice(self, k: int) -> tuple[np.ndarray, np.ndarray] | None:
+        """The k-th slice (m, c), ``None`` past the last; slice k − 1 must have been asked for before."""
+        if k < len(self._kept):
+            return self._kept[k]
+        low, size = self._starts[k]
+        if not low < self.top:
+            return None
+        high = _threshold(*self.primary, low, size)
+        pairs = _in_order(*_pairs_between(*self.primary, low, high), self.primary, self.tie)
+        if k == len(self._starts) - 1:
+            self._starts.append((high, min(2 * size, CHUNK)))
+        if k == len(self._kept) and self._pairs + len(pairs[0]) <= KEPT_PAIRS:
+            self._kept.append(pairs)
+            self._pairs += len(pairs[0])
+        return pairs
+
+
+_ORDERS: dict[tuple, _Order] = {}
+
+
+def _order_of(primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray]) -> _Order:
+    """The :class:`_Order` of these scores, made once for the last :data:`KEPT_ORDERS` different ones (the scores
+    are per motor and per converter: their bytes are the key)."""
+    key = tuple((x.dtype.str, x.shape, x.tobytes()) for x in (*primary, *tie))
+    order = _ORDERS.pop(key, None) or _Order(primary, tie)
+    _ORDERS[key] = order
+    while len(_ORDERS) > KEPT_ORDERS:
+        _ORDERS.pop(next(iter(_ORDERS)))
+    return order
+
+
 def first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray],
                     count: int, before: int = 2) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The first ``count`` feasible pairs in the order of the score primary[0][m] + primary[1][c], then of
     tie[0][m] + tie[1][c], then of the catalogs (m, then c), and the ``before`` pairs just before the first of them,
     nearest first (all fail a check): (m, c) of the feasible ones and (m, c) of those before.
 
-    The pairs are taken in slices of the order, each the pairs whose score lies in the next interval (an interval
-    with about :data:`FIRST_SLICE` pairs, then twice as many, … up to :data:`CHUNK`), so that the memory stays with
-    the slice and the work with the pairs before the ``count``-th feasible one. In a slice the pairs that pass the
-    screening (:meth:`PairChecks.screen`) are sorted and checked in order; the pairs before the first feasible one
-    are found among all the pairs of its slice (and of the slice before)."""
+    The pairs are taken in the slices of their order (:class:`_Order`), so that the memory stays with the slice
+    and the work with the pairs before the ``count``-th feasible one. In a slice the pairs that pass the screening
+    (:meth:`PairChecks.screen`) are checked in order, a few at a time and then more (:func:`_growing`); the pairs
+    before the first feasible one are those before it in its slice (and the slice before)."""
+    order = _order_of(primary, tie)
     found_m, found_c = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)]
-    low, size, top = -math.inf, FIRST_SLICE, float(primary[0].max() + primary[1].max())
     previous = (np.zeros(0, dtype=int), np.zeros(0, dtype=int))
     prior: tuple[np.ndarray, np.ndarray] | None = None
-    while low < top and sum(len(x) for x in found_m) < count:
-        high = _threshold(*primary, low, size)
-        m, c = _pairs_between(*primary, low, high)
-        alive = checks.screen(m, c)
-        ms, cs = _in_order(m[alive], c[alive], primary, tie)
-        for part in _growing(len(ms)):
-            m_part, c_part = ms[part], cs[part]
-            ok = np.flatnonzero(feasible_pairs(checks, m_part, c_part, screened=True))
+    k, found = 0, 0
+    while found < count and (pairs := order.slice(k)) is not None:
+        m, c = pairs
+        alive = np.flatnonzero(checks.screen(m, c))
+        for part in _growing(len(alive)):
+            index = alive[part]
+            ok = index[feasible_pairs(checks, m[index], c[index], screened=True)]
             if prior is None and len(ok):
-                prior = _just_before((m, c), previous, (m_part[ok[0]], c_part[ok[0]]), primary, tie, before)
-            found_m.append(m_part[ok])
-            found_c.append(c_part[ok])
-            if sum(len(x) for x in found_m) >= count:
+                prior = _just_before(pairs, previous, int(ok[0]), before)
+            found_m.append(m[ok])
+            found_c.append(c[ok])
+            found += len(ok)
+            if found >= count:
                 break
-        previous, low, size = (m, c), high, min(2 * size, CHUNK)
+        previous, k = pairs, k + 1
     m, c = np.concatenate(found_m)[:count], np.concatenate(found_c)[:count]
     return m, c, *(prior if prior is not None else (m[:0], c[:0]))
 
@@ -166,21 +217,13 @@ def _growing(n: int, first: int = 8) -> list[slice]:
     return out
 
 
-def _just_before(pairs: tuple[np.ndarray, np.ndarray], previous: tuple[np.ndarray, np.ndarray],
-                 pair: tuple[int, int], primary: tuple[np.ndarray, np.ndarray], tie: tuple[np.ndarray, np.ndarray],
+def _just_before(pairs: tuple[np.ndarray, np.ndarray], previous: tuple[np.ndarray, np.ndarray], position: int,
                  count: int) -> tuple[np.ndarray, np.ndarray]:
-    """The ``count`` pairs just before ``pair`` in the order of :func:`_in_order`, nearest first, among ``pairs``
-    (its slice, catalog order) and, when these are too few, ``previous`` (the slice before)."""
-    m, c = pairs
-    size = len(primary[1])
-    score, tied = primary[0][m] + primary[1][c], tie[0][m] + tie[1][c]
-    f_score, f_tied = primary[0][pair[0]] + primary[1][pair[1]], tie[0][pair[0]] + tie[1][pair[1]]
-    earlier = (score < f_score) | ((score == f_score) & ((tied < f_tied) | ((tied == f_tied) & (
-        m * size + c < pair[0] * size + pair[1]))))
-    m, c = _in_order(m[earlier], c[earlier], primary, tie)
+    """The ``count`` pairs just before the one at ``position`` of ``pairs`` (a slice, in order), nearest first,
+    with those at the end of ``previous`` (the slice before) when its slice has too few."""
+    m, c = pairs[0][:position], pairs[1][:position]
     if len(m) < count:
-        pm, pc = _in_order(*previous, primary, tie)
-        m, c = np.concatenate([pm, m]), np.concatenate([pc, c])
+        m, c = np.concatenate([previous[0], m]), np.concatenate([previous[1], c])
     return m[::-1][:count], c[::-1][:count]
 
 
