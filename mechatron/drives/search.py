@@ -123,6 +123,9 @@ def _in_order(m: np.ndarray, c: np.ndarray, primary: tuple[np.ndarray, np.ndarra
 
 #: Pairs of an order's first slices kept for the next joints and sizings with the same catalogs (:class:`_Order`).
 KEPT_PAIRS = 1 << 16
+#: Pairs of a slice screened at first (:func:`first_in_order`; then twice as many, …): the lightest pairs that
+#: pass the screening mostly pass every check, so the first feasible pair is usually among the first screened.
+SCREENED_FIRST = 256
 #: Orders kept (:func:`_order_of`): one per objective and kind of converter of the catalogs sized with last.
 KEPT_ORDERS = 8
 
@@ -181,8 +184,9 @@ def first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], t
 
     The pairs are taken in the slices of their order (:class:`_Order`), so that the memory stays with the slice
     and the work with the pairs before the ``count``-th feasible one. In a slice the pairs that pass the screening
-    (:meth:`PairChecks.screen`) are checked in order, a few at a time and then more (:func:`_growing`); the pairs
-    before the first feasible one are those before it in its slice (and the slice before)."""
+    (:meth:`PairChecks.screen`, a block at a time: :data:`SCREENED_FIRST` pairs, then twice as many, …) are checked
+    in order, ``count`` (at most 8) at a time and then more (:func:`_growing`); the pairs before the first feasible
+    one are those before it in its slice (and the slice before)."""
     order = _order_of(primary, tie)
     found_m, found_c = [np.zeros(0, dtype=int)], [np.zeros(0, dtype=int)]
     previous = (np.zeros(0, dtype=int), np.zeros(0, dtype=int))
@@ -190,15 +194,18 @@ def first_in_order(checks: PairChecks, primary: tuple[np.ndarray, np.ndarray], t
     k, found = 0, 0
     while found < count and (pairs := order.slice(k)) is not None:
         m, c = pairs
-        alive = np.flatnonzero(checks.screen(m, c))
-        for part in _growing(len(alive)):
-            index = alive[part]
-            ok = index[feasible_pairs(checks, m[index], c[index], screened=True)]
-            if prior is None and len(ok):
-                prior = _just_before(pairs, previous, int(ok[0]), before)
-            found_m.append(m[ok])
-            found_c.append(c[ok])
-            found += len(ok)
+        for block in _growing(len(m), SCREENED_FIRST):
+            alive = block.start + np.flatnonzero(checks.screen(m[block], c[block]))
+            for part in _growing(len(alive), min(count, 8)):
+                index = alive[part]
+                ok = index[feasible_pairs(checks, m[index], c[index], screened=True)]
+                if prior is None and len(ok):
+                    prior = _just_before(pairs, previous, int(ok[0]), before)
+                found_m.append(m[ok])
+                found_c.append(c[ok])
+                found += len(ok)
+                if found >= count:
+                    break
             if found >= count:
                 break
         previous, k = pairs, k + 1
