@@ -9,6 +9,7 @@ static part (gravity, external loads) unchanged; the dwells between moves keep t
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -38,7 +39,9 @@ class JointDuty:
         t: sample times (s).
         speed, acceleration: joint speed (rad/s or m/s) and acceleration (rad/s² or m/s²).
         torque: joint torque or force without drive inertia (N·m or N).
-        static_torque: its part that does not depend on speed or acceleration (gravity, external loads).
+        static_torque: its part that does not depend on speed or acceleration (gravity, external loads); given
+            as an array or as a function that makes it (called once, when first read: only the ``time``
+            objective and reports need it).
         load_inertia: the largest load inertia the joint sees, the diagonal of the mass matrix (kg·m² or kg).
         stroke: range of the joint's position in the task (rad or m).
         moving: (N − 1,) which intervals between samples belong to a move (the others are dwells, which keep
@@ -51,10 +54,23 @@ class JointDuty:
     speed: NDArray[np.float64]
     acceleration: NDArray[np.float64]
     torque: NDArray[np.float64]
-    static_torque: NDArray[np.float64]
+    static_source: NDArray[np.float64] | Callable[[], NDArray[np.float64]]
     load_inertia: float
     stroke: float = 0.0
     moving: NDArray[np.bool_] | None = None
+
+    @property
+    def static_torque(self) -> NDArray[np.float64]:
+        """The static part of the torque (N·m or N), made when first read."""
+        value = self.static_source
+        if callable(value):
+            value = value()
+            object.__setattr__(self, "static_source", value)  # a frozen dataclass: made once, then kept
+        return value
+
+    def __getstate__(self) -> dict:
+        """A pickled duty holds its static torque, made if need be (a function does not pickle)."""
+        return {**self.__dict__, "static_source": self.static_torque}
 
     @property
     def duration(self) -> float:
@@ -230,7 +246,8 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         raise InputError("a sizing task needs at least two samples at increasing times")
     V, A = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (trajectory.v, trajectory.a))
     if mech.closures:
-        Q, tau, static, inertia = _closed_loop(bare, kinematics or mech, trajectory, loads)
+        Q, tau, holding, inertia = _closed_loop(bare, kinematics or mech, trajectory, loads)
+        static = _Columns(holding)
         names = list(mech.actuated)
         kinds = ["cylinder" if n in mech.cylinders else mech.joint_kind(n) for n in names]
         positions = np.asarray(trajectory.q, dtype=float)
@@ -248,16 +265,33 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         if Q.shape[1] != mech.nq:  # the trajectory was given in joint coordinates only
             Q = mech.configuration(positions)
         tau = inverse_dynamics(bare, Q, V, A, loads)
-        static = inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads)
+        static = _Columns(lambda: inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads))
         step = max(1, len(Q) // 200)
         inertia = np.max(np.diagonal(mass_matrix(bare, Q[::step]), axis1=1, axis2=2), axis=0)
         names = mech.joint_names
         kinds = [mech.joint_kind(n) for n in names]
         columns = [mech.model.joints[mech.joint_id(n)].idx_v for n in names]
     moving = moving_intervals(trajectory)
-    return [JointDuty(name, kind, t, V[:, j], A[:, j], tau[:, j], static[:, j], float(inertia[j]),
+    return [JointDuty(name, kind, t, V[:, j], A[:, j], tau[:, j], static.column(j), float(inertia[j]),
                       float(np.ptp(positions[:, j])), moving)
             for name, kind, j in zip(names, kinds, columns)]
+
+
+class _Columns:
+    """The columns of an (N, n) array made by ``make`` when the first is read (:attr:`JointDuty.static_torque`)."""
+
+    def __init__(self, make: Callable[[], NDArray[np.float64]] | NDArray[np.float64]):
+        self._make, self._array = make, None
+
+    def column(self, j: int) -> Callable[[], NDArray[np.float64]] | NDArray[np.float64]:
+        if not callable(self._make):
+            return self._make[:, j]
+        return lambda: self._made()[:, j]
+
+    def _made(self) -> NDArray[np.float64]:
+        if self._array is None:
+            self._array = self._make()
+        return self._array
 
 
 def _closed_loop(mech: Mechanism, kinematics: Mechanism, trajectory: Trajectory, loads: Loads

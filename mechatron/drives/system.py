@@ -157,8 +157,9 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     def size_one(duty: JointDuty, scale: float | None) -> DriveSizing:
         """The sizing of one coordinate, once per duty and pace: a pass repeats the duties of the coordinates
         whose load did not change (the same arrays give the same choice)."""
+        static = duty.static_torque if objective == "time" else None  # read (made) only where it is used
         key = (duty.name, scale, duty.load_inertia, duty.stroke, *(None if x is None else x.tobytes() for x in (
-            duty.t, duty.speed, duty.acceleration, duty.torque, duty.static_torque, duty.moving)))
+            duty.t, duty.speed, duty.acceleration, duty.torque, static, duty.moving)))
         if key not in sized:
             sized[key] = size_fresh(duty, scale)
         return sized[key]
