@@ -1,31 +1,43 @@
-"""A design study on Dask: PUMA 560 geometries (a2, a3, d4 each ± 10 %, a Latin hypercube) sized with the robot's own
-task and the shipped catalogs (``[analyses.sizing]``), run serially and on an embedded ``LocalCluster`` of two worker
-processes, side by side on the same designs.
+"""A design study on 1, 2, 4 … worker processes: PUMA 560 geometries (a2, a3, d4 each ± 10 %, a Latin hypercube)
+sized with the robot's own task and the shipped catalogs (``[analyses.sizing]``), each run the command a designer
+types, ``mechatron study SPEC --workers N``, in a fresh process: start-up included (Python, the imports, the spec,
+the embedded ``LocalCluster`` and its close, the part files and the tables). The baseline is the same study in one
+process (``--workers 1``, always run): speed-up S(N) = T(1) / T(N), parallel efficiency S(N) / N. Every run's
+table (``designs.parquet``) is checked identical to the serial one's.
 
-Printed: the time per design of both runs and their ratio (goal: two workers ≥ 1.6× faster than one process — on a
-machine with two idle cores), the identical tables (checked), the scheduler's overhead per task (empty tasks sent
-through the same cluster: what a chunk costs beyond its designs), and a projection for 10,000 designs on 1, 2 and
-100 workers from the measured time per design, the chunk size and the overhead per task:
-T(w) ≈ N·t / w + ⌈N / c⌉·o + start-up (t the time per design, c the designs per chunk, o the overhead per task; the
-scheduler hands out tasks one after the other). The baseline is what a designer would run otherwise: the same study
-in one process (``--workers 1``), which is the serial loop over ``size_mechanism`` that a script would write.
+Also printed: the serial study's fixed cost — the wall time of a study of one design less that design's time —
+and its time per design, t = (T(n) − T(1 design)) / (n − 1), which bound the speed-up: T(N) ≥ fixed + n·t / N.
+Counts above this machine's usable cores are left out (the study refuses them); ``--repeat R`` runs every count R
+times, interleaved, and keeps the fastest of each: on a shared machine other work only ever adds time, and a
+parallel run suffers more from it than the serial one (any busy core holds up the last chunk).
 
-    python benchmarks/study.py [--designs 10000] [--workers 2] [--chunk 8]
+    python benchmarks/study.py --designs 320 --workers 1 2 4 8 16 [--repeat 3] [--chunk N]
 
-The default is the issue's 10,000 designs: about 47 min in one process and 24 min on two workers on the project's
-two-core machine (0.28 s per sizing); ``--designs 2000`` takes a fifth of that and gives the same ratio. Measured
-(2026-11-23, idle machine): 2,000 designs, one process 559.9 s (280 ms per design), two workers 319.0 s, speed-up
-1.75x, tables identical, LocalCluster start-up 1.4 s, overhead 2.3 ms per task; a one-process run of all 10,000
-designs took 46.6 min while other work shared the machine (the projection from 2,000 says 46.7 min), and a
-two-worker run of all 10,000 designs 23.3 min on the idle machine (projected: 23.4 min). Before the
-workers were spawned without Dask's ``MALLOC_TRIM_THRESHOLD_`` (see ``mechatron.studies.cluster.WORKER_CONFIG``),
-a worker sized at 0.41-0.60 s per design against 0.32 s in a plain process, and the ratio was 1.0-1.5x.
+Measured (2026-11-27, this project's two-core machine, other work sharing it — load average 1–2.5):
+
+- before (``git show 9e48b9b``): a serial study spent ~3.5 s before its first design (SciPy's ``qmc`` import
+  1.1–1.9 s for the Latin hypercube, pandas, the mechanism loaded twice), the command 3.8–4.2 s for 20 crank-slider
+  designs of 8 ms; the 2-worker cluster took 2.6 s to start, 0.8 s more to its first chunk (every worker importing
+  pandas, Pinocchio and mechatron), whose first chunk took 1.2 s longer than the others, and 1.0 s to close.
+- after: the first design of a serial study starts 0.56 s after Python does (PUMA 0.70 s: pandas 0.3 s, the
+  library and Pinocchio 0.15 s), the 20-design crank-slider command takes 1.0 s; the cluster starts in 1.4 s
+  (its workers forked from a server that imported everything once), its first chunk 0.08 s after, and it closes
+  in 0.03 s.
+
+Measured with this script (2026-11-27, the same machine, 320 designs, ``--workers 1 2 --repeat 2``; two helpers'
+test runs sharing it): serial fixed cost 0.70 s, 25.3 ms per design; 2 workers 6.06 s against 8.80 s serial,
+speed-up 1.45x, efficiency 0.73 (on two cores the second worker shares its core with the scheduler and this
+process). A serial study of 10,000 designs ran in 255.5 s (4.3 min, peak memory 220 MB). No 16-core machine was
+lent to this task: the 1, 2, 4, 8 and 16 worker table is still to be measured there.
 """
 
 from __future__ import annotations
 
 import argparse
-import math
+import json
+import os
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -47,57 +59,85 @@ seed = 1
 """
 
 
-def timed_study(spec: Path, out: Path, workers: int, chunk: int) -> tuple[float, pd.DataFrame]:
-    """(seconds, designs table) of one run of the study."""
-    from mechatron.studies.runner import run_study
+def usable_cores() -> int:
+    """The cores this process may use (its CPU affinity), as the study counts them."""
+    from mechatron.io.budget import available_cores
 
+    return available_cores()
+
+
+def timed_study(spec: Path, out: Path, workers: int, chunk: int | None) -> float:
+    """Wall time (s) of ``mechatron study SPEC --out OUT --workers N --restart`` in a fresh process."""
+    command = [sys.executable, "-m", "mechatron", "study", str(spec), "--out", str(out), "--workers", str(workers),
+               "--restart"]
+    command += ["--chunk", str(chunk)] if chunk else []
     start = time.perf_counter()
-    result = run_study(spec, out, workers=workers, chunk_size=chunk)
-    return time.perf_counter() - start, result.to_frame()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL, env=os.environ.copy())
+    return time.perf_counter() - start
 
 
-def overhead_per_task(workers: int, tasks: int = 2000) -> tuple[float, float]:
-    """(start-up of a LocalCluster of ``workers`` processes, s; scheduler overhead per empty task, s)."""
-    from distributed import Client, LocalCluster, wait
+def study_file(folder: Path, name: str, designs: int) -> Path:
+    """The benchmark's study file of ``designs`` designs in ``folder``."""
+    path = folder / f"{name}.toml"
+    path.write_text(SPEC.format(designs=designs))
+    return path
 
-    start = time.perf_counter()
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
-        startup = time.perf_counter() - start
-        client.submit(abs, -1).result()  # warm
-        start = time.perf_counter()
-        wait(client.map(abs, range(-tasks, 0), pure=False))
-        return startup, (time.perf_counter() - start) / tasks
+
+def run_counts(folder: Path, designs: int, counts: list[int], repeat: int, chunk: int | None) -> dict[int, float]:
+    """Fastest wall time of the study per worker count (the counts interleaved, ``repeat`` rounds); every table
+    checked against the serial one."""
+    spec = study_file(folder, "study", designs)
+    times: dict[int, list[float]] = {n: [] for n in counts}
+    for _ in range(repeat):
+        for n in counts:
+            times[n].append(timed_study(spec, folder / f"w{n}", n, chunk))
+    serial = pd.read_parquet(folder / "w1" / "designs.parquet")
+    for n in counts:
+        pd.testing.assert_frame_equal(pd.read_parquet(folder / f"w{n}" / "designs.parquet"), serial)
+    return {n: min(t) for n, t in times.items()}
+
+
+def fixed_cost(folder: Path, repeat: int) -> float:
+    """Fastest wall time of a serial study of one design."""
+    spec = study_file(folder, "one", 1)
+    return min(timed_study(spec, folder / "one", 1, None) for _ in range(repeat))
+
+
+def chunk_of(folder: Path, n: int) -> int:
+    """The chunk size the study of ``n`` workers ran with (its study.json)."""
+    return int(json.loads((folder / f"w{n}" / "study.json").read_text())["chunk_size"])
+
+
+def report(folder: Path, designs: int, times: dict[int, float], one: float, left_out: list[int]) -> None:
+    """Print the serial study's fixed cost and time per design, then speed-up and efficiency per worker count."""
+    serial = pd.read_parquet(folder / "w1" / "designs.parquet")
+    per_design = (times[1] - one) / max(designs - 1, 1)
+    print(f"PUMA 560 sizing study, {designs} designs ({int((serial['status'] == 'ok').sum())} sized), "
+          f"`mechatron study` in a fresh process each, start-up included; tables identical to the serial one")
+    print(f"  serial: fixed cost {one - per_design:.2f} s (a one-design study less its design), "
+          f"{per_design * 1e3:.1f} ms per design")
+    print(f"  {'workers':>7}  {'chunk':>5}  {'time s':>8}  {'speed-up':>8}  {'efficiency':>10}")
+    for n, t in times.items():
+        print(f"  {n:>7}  {chunk_of(folder, n):>5}  {t:8.2f}  {times[1] / t:7.2f}x  {times[1] / t / n:10.2f}")
+    if left_out:
+        print(f"  left out (above the {usable_cores()} usable cores): {', '.join(map(str, left_out))}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--designs", type=int, default=10_000)
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--chunk", type=int, default=8, help="designs per task")
+    parser.add_argument("--designs", type=int, default=320)
+    parser.add_argument("--workers", type=int, nargs="+", default=[1, 2], help="worker counts (1 always runs)")
+    parser.add_argument("--repeat", type=int, default=1, help="runs of every count, interleaved (the fastest kept)")
+    parser.add_argument("--chunk", type=int, help="designs per chunk (default: the study's own choice)")
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as folder:
-        warm = Path(folder) / "warm.toml"
-        warm.write_text(SPEC.format(designs=4))
-        timed_study(warm, Path(folder) / "warm", 1, args.chunk)  # imports and catalogs read in this process
-        spec = Path(folder) / "study.toml"
-        spec.write_text(SPEC.format(designs=args.designs))
-        t_serial, serial = timed_study(spec, Path(folder) / "serial", 1, args.chunk)
-        t_dask, parallel = timed_study(spec, Path(folder) / "dask", args.workers, args.chunk)
-    pd.testing.assert_frame_equal(serial, parallel)
-    startup, overhead = overhead_per_task(args.workers)
-    per_design = t_serial / args.designs
-    ok = int((serial["status"] == "ok").sum())
-    print(f"PUMA 560 sizing study, {args.designs} designs ({ok} sized), chunks of {args.chunk}")
-    print(f"  one process:          {t_serial:8.2f} s   {per_design * 1e3:7.1f} ms per design")
-    print(f"  {args.workers} Dask workers:       {t_dask:8.2f} s   {t_dask / args.designs * 1e3:7.1f} ms per design"
-          f"   speed-up {t_serial / t_dask:.2f}x (goal >= 1.6x on two idle cores); tables identical")
-    print(f"  LocalCluster start-up {startup:.2f} s; scheduler overhead {overhead * 1e3:.2f} ms per task")
-    n = 10_000
-    tasks = math.ceil(n / args.chunk)
-    for workers in (1, 2, 100):
-        projected = n * per_design / workers + (tasks * overhead + startup if workers > 1 else 0.0)
-        print(f"  projection, {n:,} designs on {workers:>3} worker(s): {projected / 60:7.1f} min")
+    cores = usable_cores()
+    counts = sorted({1, *(n for n in args.workers if n <= cores)})
+    left_out = sorted(n for n in set(args.workers) if n > cores)
+    with tempfile.TemporaryDirectory() as name:
+        folder = Path(name)
+        one = fixed_cost(folder, args.repeat)
+        times = run_counts(folder, args.designs, counts, args.repeat, args.chunk)
+        report(folder, args.designs, times, one, left_out)
 
 
 if __name__ == "__main__":
