@@ -28,7 +28,7 @@ DOCS = ROOT / "docs"
 DATA = ROOT / "examples" / "data"
 EXAMPLE = re.compile(r"<!-- example: (?P<path>\S+) -->\n```(?P<lang>\w+)\n(?P<body>.*?)```", re.S)
 FORMAT_PAGES = ("robot_file.md", "urdf.md", "task_file.md", "trajectory_csv.md", "catalogs.md", "tolerances_csv.md",
-                "poses_csv.md", "structure_file.md", "front_shovel_design.md", "mechanism_file.md")
+                "poses_csv.md", "structure_file.md", "front_shovel_design.md", "mechanism_file.md", "design_file.md")
 DEG = math.pi / 180
 
 
@@ -126,6 +126,18 @@ def _design(path: Path):
     return read_design(str(path))
 
 
+def _design_file(path: Path):
+    """A design file, read beside the files it names (the example's mechanism file is copied next to it)."""
+    import shutil
+
+    from mechatron.studies.design_spec import read_design
+
+    folder = ROOT / "examples" / "design"
+    if path.parent != folder:
+        shutil.copy(folder / "my_crank.toml", path.parent / "my_crank.toml")
+    return read_design(path)
+
+
 #: The reader of every sample input and every file a page embeds, by its path from the top of the source tree.
 READERS: dict[str, Callable[[Path], object]] = {
     "robots/scara.toml": _robot_file,
@@ -149,6 +161,7 @@ READERS: dict[str, Callable[[Path], object]] = {
     "examples/data/tolerances_four_bar.csv": _tolerances(str(DATA / "four_bar.toml")),
     "examples/data/scissor_lift.toml": _mechanism,
     "examples/data/tolerances_scissor_lift.csv": _tolerances(str(DATA / "scissor_lift.toml")),
+    "examples/design/crank_reach.toml": _design_file,
 }
 SCRIPTS = {"make_samples.py"}
 

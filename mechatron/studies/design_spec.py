@@ -1,0 +1,246 @@
+r"""The design file (TOML, docs/design_file.md): optimal design of any mechanism over the study's vocabulary.
+
+A design problem is a mechanism (a shipped name or any file a user writes: robot file, URDF, planar or spatial
+mechanism file), **variables** (named parameters of the mechanism with bounds, or lists of values — also of an
+analysis option such as a catalog file, ``target = "ANALYSIS.OPTION"``), one or two **objectives** and
+**requirements** on the outputs of the study analyses of its ``[analyses.NAME]`` tables (docs/study_analyses.md)::
+
+    mechanism = "my_crank.toml"
+    [variables]
+    l1 = [0.08, 0.12]            # m (SI), or a table as a study parameter: { low_mm = 80, high_mm = 120 }
+    l2 = [0.35, 0.45]
+    [objective]
+    minimize = "reach_m"          # or maximize; two names (a list, or minimize and maximize): a Pareto front
+    [requirements]
+    x_travel_m = { min = 0.2 }    # bounds on any outputs
+    [analyses.linkage]
+    samples = 13
+
+:func:`read_design` reads it with the study file's own reader (:mod:`mechatron.studies.spec`: the mechanism loader,
+the analyses, the parameters, their path rule — paths relative to the file) and checks everything before any design
+is evaluated, one :class:`~mechatron.errors.InputError` naming the file and the field otherwise: a variable that is
+no parameter of the mechanism, inverted, equal or non-finite bounds, a start outside them, an objective or
+requirement that is no output of the chosen analyses (the outputs listed), a discrete choice naming a missing file
+(the analyses' own checks of every value), an evaluation budget beyond :data:`MAX_EVALUATIONS`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..io.schema import FieldReader
+from .spec import Parameter, Spec, _analyses, _check_analyses, _mechanism, _parameter, input_files, output_names
+
+#: Directions of an objective.
+GOALS = ("minimize", "maximize")
+#: The methods: ``auto`` picks ``ipopt`` (exact derivatives) where every objective and requirement has them and
+#: every variable is a range of the mechanism's geometry, else ``global`` (one objective) or ``nsga2`` (two).
+METHODS = ("auto", "ipopt", "global", "nsga2")
+#: The most evaluations of one problem: each is a design through the analyses (milliseconds to a second).
+MAX_EVALUATIONS = 1_000_000
+
+
+@dataclass(frozen=True)
+class Bound:
+    """A requirement on an output: ``low`` ≤ value ≤ ``high`` (either may be None)."""
+
+    name: str
+    low: float | None = None
+    high: float | None = None
+
+
+@dataclass(frozen=True)
+class DesignSpec:
+    """A checked design file: the study it evaluates designs with (mechanism, variables as its parameters,
+    analyses), the objectives (output, goal), the requirements, the start (SI) and the solver's settings."""
+
+    file: str
+    name: str
+    study: Spec
+    objectives: tuple[tuple[str, str], ...]
+    requirements: tuple[Bound, ...] = ()
+    start: dict[str, float] = field(default_factory=dict)
+    method: str = "auto"
+    evaluations: int = 400
+    population: int = 16
+    seed: int = 0
+    max_iterations: int = 100
+    tolerance: float = 1e-8
+    outputs: tuple[str, ...] = ()
+
+    @property
+    def variables(self) -> tuple[Parameter, ...]:
+        return self.study.parameters
+
+
+def is_design_file(data: dict) -> bool:
+    """Whether a parsed optimisation file is of the general form (it has ``[analyses.NAME]`` tables), not one of
+    the named templates (``[objective] type = ...``, docs/optimize_file.md)."""
+    return isinstance(data, dict) and "analyses" in data
+
+
+def read_design(path: str | Path) -> DesignSpec:
+    """Read and check a design file (the module docstring)."""
+    from ..io.toml import read_toml
+
+    path = Path(path)
+    reader = FieldReader(read_toml(path), file=path)
+    folder = path.resolve().parent
+    name = reader.string("name", path.stem)
+    reader.string("description", "")
+    mechanism, mech = _mechanism(reader, folder)
+    analyses = _analyses(reader, folder)
+    variables = _variables(reader, mech, analyses, folder)
+    study = Spec(str(path), mechanism, tuple(variables), method="lhs", samples=1, analyses=analyses)
+    _checked_analyses(study, mech)
+    outputs = tuple(output_names(study, mech))
+    objectives = _objectives(reader, outputs)
+    requirements = _requirements(reader, outputs)
+    start = _start(reader, variables)
+    solver = _solver(reader, len(objectives), len(variables))
+    reader.finish()
+    study = replace(study, files=tuple(input_files(study, mech)))
+    return DesignSpec(str(path), name, study, objectives, requirements, start, outputs=outputs, **solver)
+
+
+def _checked_analyses(study: Spec, mech: Any) -> None:
+    """The analyses' checks of every set of options the variables give them (:func:`~mechatron.studies.spec.
+    variants`), an error naming the variable (``variables.NAME``) where a value of one is refused."""
+    try:
+        _check_analyses(study, mech)
+    except InputError as exc:
+        field_name = exc.field or ""
+        if field_name.startswith("parameters."):
+            field_name = "variables." + field_name.removeprefix("parameters.").split(".values")[0]
+        for p in study.parameters:
+            if p.target and field_name == f"analyses.{p.target}":
+                field_name = f"variables.{p.name}"
+        raise InputError(exc.message, file=exc.file, field=field_name or None) from None
+
+
+def _variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path) -> list[Parameter]:
+    """``[variables]``: ``NAME = [lower, upper]`` (SI) or a table as a study's ``[parameters.NAME]``."""
+    table = reader.table("variables", None)
+    if table is None or not table.data:
+        raise reader.error("variables", "give at least one design variable: NAME = [lower, upper] (SI) with NAME a "
+                                        f"parameter of {mech.name} ({', '.join(mech.parameters)})")
+    out = []
+    for name in list(table.data):
+        if isinstance(table.data[name], dict):
+            sub = table.table(name)
+            out.append(_parameter(sub, name, mech.parameters, analyses, mech.name, folder))
+            sub.finish()
+            continue
+        if name not in mech.parameters:
+            raise table.error(name, f"unknown parameter of {mech.name}; its parameters: {', '.join(mech.parameters)}")
+        lower, upper = (float(v) for v in table.vector(name, 2))
+        if not lower < upper:
+            raise table.error(name, f"empty range [{lower:g}, {upper:g}]: the lower bound must be below the upper")
+        out.append(Parameter(name, lower, upper))
+    table.finish()
+    return out
+
+
+def _names(table: FieldReader, key: str) -> list[str]:
+    raw = table.raw(key)
+    names = [raw] if isinstance(raw, str) else raw
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
+        raise table.error(key, f"expected an output's name or a list of them, got {raw!r}")
+    return names
+
+
+def _known(table: FieldReader, key: str, name: str, outputs: tuple[str, ...]) -> None:
+    if name not in outputs:
+        raise table.error(key, f"unknown output {name!r}; the outputs of the analyses: {', '.join(outputs)}")
+
+
+def _objectives(reader: FieldReader, outputs: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
+    """``[objective]``: ``minimize`` and/or ``maximize``, each an output or a list; one or two in all."""
+    table = reader.table("objective", None)
+    if table is None:
+        raise reader.error("objective", "missing: give [objective] minimize = \"OUTPUT\" (or maximize)")
+    if table.has("type"):
+        raise table.error("type", "a design file with [analyses] states its objective as minimize = \"OUTPUT\" "
+                                  "or maximize = \"OUTPUT\"; type = ... is the named problems' form "
+                                  "(docs/optimize_file.md)")
+    out: list[tuple[str, str]] = []
+    for key in [k for k in table.data if k in GOALS]:
+        for name in _names(table, key):
+            _known(table, key, name, outputs)
+            if any(name == n for n, _ in out):
+                raise table.error(key, f"{name!r} is an objective twice")
+            out.append((name, key))
+    table.finish()
+    if not out:
+        raise reader.error("objective", "give minimize = \"OUTPUT\" or maximize = \"OUTPUT\"")
+    if len(out) > 2:
+        raise reader.error("objective", f"at most two objectives (a Pareto front), got {len(out)}")
+    return tuple(out)
+
+
+def _requirements(reader: FieldReader, outputs: tuple[str, ...]) -> tuple[Bound, ...]:
+    """``[requirements]``: ``OUTPUT = { min = a, max = b }`` (either or both)."""
+    table = reader.table("requirements", None)
+    if table is None:
+        return ()
+    out = []
+    for name in list(table.data):
+        _known(table, name, name, outputs)
+        if not isinstance(table.data[name], dict):
+            raise table.error(name, f"expected {{ min = ..., max = ... }}, got {table.data[name]!r}")
+        sub = table.table(name)
+        low, high = sub.number("min", None), sub.number("max", None)
+        sub.finish()
+        if low is None and high is None:
+            raise table.error(name, "give min, max or both")
+        if low is not None and high is not None and not low <= high:
+            raise table.error(name, f"min {low:g} is above max {high:g}")
+        out.append(Bound(name, low, high))
+    table.finish()
+    return tuple(out)
+
+
+def _start(reader: FieldReader, variables: list[Parameter]) -> dict[str, float]:
+    """``[start]``: a value (SI) per ranged variable, inside its bounds."""
+    table = reader.table("start", None)
+    if table is None:
+        return {}
+    ranges = {p.name: p for p in variables if p.values is None}
+    out = {}
+    for name in list(table.data):
+        if name not in ranges:
+            raise table.error(name, "not a ranged design variable (give it in [variables] as [lower, upper] first)")
+        value, p = table.number(name), ranges[name]
+        if not p.low <= value <= p.high:
+            raise table.error(name, f"{value:g} is outside the bounds [{p.low:g}, {p.high:g}]")
+        out[name] = value
+    table.finish()
+    return out
+
+
+def _solver(reader: FieldReader, objectives: int, variables: int) -> dict[str, Any]:
+    """``[solver]``: ``method``, ``evaluations``, ``population``, ``seed``, ``max_iterations``, ``tolerance``."""
+    table = reader.table("solver", FieldReader({}, file=reader.file, path="solver"))
+    method = table.string("method", "auto", choices=METHODS)
+    if method == "nsga2" and objectives != 2:
+        raise table.error("method", "nsga2 finds a Pareto front of two objectives; this file has one")
+    if method in ("ipopt", "global") and objectives != 1:
+        raise table.error("method", f"{method} minimises one objective; for two use nsga2 (or auto)")
+    population = table.whole("population", max(16, 4 * variables), minimum=5)
+    evaluations = table.whole("evaluations", max(400, 4 * population), minimum=1)
+    if evaluations > MAX_EVALUATIONS:
+        raise table.error("evaluations", f"{evaluations:,} evaluations; a problem has at most {MAX_EVALUATIONS:,}")
+    if population > evaluations:
+        raise table.error("population", f"{population} designs a generation exceed the {evaluations} evaluations")
+    out = {"method": method, "evaluations": evaluations, "population": population,
+           "seed": table.whole("seed", 0, minimum=0),
+           "max_iterations": table.whole("max_iterations", 100, minimum=1),
+           "tolerance": table.number("tolerance", 1e-8, positive=True)}
+    if not math.isfinite(out["tolerance"]):  # pragma: no cover - number() refuses it
+        raise table.error("tolerance", "must be finite")
+    table.finish()
+    return out
