@@ -20,9 +20,9 @@ import mechatron
 from mechatron.kinematics.geometry import point_positions
 from mechatron.kinematics.loops import assemble
 from mechatron.machines.bucket import synthesize
+from mechatron.studies.designs import sample_box
 from mechatron.studies.optimal_bucket import BucketProblem
 from mechatron.studies.optimal_shovel import ShovelProblem
-from mechatron.studies.optimal_solve import sample_box
 from mechatron.studies.optimize import optimize, read_spec
 from tests.protocol import check_result
 

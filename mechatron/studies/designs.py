@@ -53,6 +53,25 @@ def latin_hypercube(n: int, d: int, seed: int) -> np.ndarray:
     return (strata.T - offsets) / n
 
 
+def sample_box(lower: np.ndarray, upper: np.ndarray, points: int, method: str = "sobol", seed: int = 0
+               ) -> np.ndarray:
+    """``points`` designs in the box [lower, upper] (rows): scrambled Sobol points (``points`` a power of two: their
+    balance needs it; ``scipy.stats.qmc.Sobol`` seeded with ``seed``) or the Latin hypercube of
+    :func:`latin_hypercube` — the DOE of the named optimisation problems (docs/optimize_file.md)."""
+    d = len(lower)
+    if method == "sobol":
+        from scipy.stats import qmc
+
+        if points < 1 or points & (points - 1):
+            raise InputError(f"Sobol points need a power of 2 of them (their balance needs it), got {points}")
+        unit = qmc.Sobol(d, scramble=True, seed=seed).random_base2(points.bit_length() - 1)
+    elif method == "lhs":
+        unit = latin_hypercube(points, d, seed)
+    else:
+        raise InputError(f"unknown DOE method {method!r}; known: sobol, lhs")
+    return np.asarray(lower, dtype=float) + unit * (np.asarray(upper, dtype=float) - np.asarray(lower, dtype=float))
+
+
 def unit_points(spec: Spec) -> np.ndarray:
     """The designs of ``spec`` (grid, lhs or sobol) as points of the unit cube, (n, D)."""
     d = len(spec.parameters)

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from .designs import sample_box
 from .optimal_problem import OptimalDesignProblem, Requirement, Vector
 
 
@@ -86,23 +86,6 @@ class DesignOfExperiments:
 
 
 NDArrayBool = Any
-
-
-def sample_box(lower: Vector, upper: Vector, points: int, method: str = "sobol", seed: int = 0) -> Vector:
-    """``points`` designs in the box (rows), scrambled Sobol (``points`` a power of two: their balance needs it) or
-    Latin hypercube points from ``scipy.stats.qmc`` seeded with ``seed``."""
-    from scipy.stats import qmc
-
-    d = len(lower)
-    if method == "sobol":
-        if points < 1 or points & (points - 1):
-            raise InputError(f"Sobol points need a power of 2 of them (their balance needs it), got {points}")
-        unit = qmc.Sobol(d, scramble=True, seed=seed).random_base2(points.bit_length() - 1)
-    elif method == "lhs":
-        unit = qmc.LatinHypercube(d, seed=seed).random(points)
-    else:
-        raise InputError(f"unknown DOE method {method!r}; known: sobol, lhs")
-    return qmc.scale(unit, lower, upper)
 
 
 def design_of_experiments(problem: OptimalDesignProblem, points: int = 256, method: str = "sobol",

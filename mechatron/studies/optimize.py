@@ -59,14 +59,11 @@ class Spec:
 
 
 def _mechanism(reader: Any, folder: Path) -> Any:
-    from ..library import load
+    """The spec's mechanism, by the study files' loader and path rule (:func:`mechatron.studies.spec._mechanism`:
+    a file relative to the spec's folder, else a shipped name; loaded once per process and content)."""
+    from .spec import _mechanism as study_mechanism
 
-    name = reader.string("mechanism")
-    local = folder / name
-    try:
-        return load(local if local.is_file() else name)
-    except MechatronError as exc:
-        raise reader.error("mechanism", getattr(exc, "message", str(exc))) from None
+    return study_mechanism(reader, folder)[1]
 
 
 def _bounds(reader: Any, mech: Any, known: tuple[str, ...]) -> dict[str, tuple[float, float]]:
