@@ -191,7 +191,7 @@ def test_size_report_has_every_check_of_every_joint(tmp_path):
         assert [r.split(":")[0] for r in row["runner-up"].split(" | ")] == [r["candidate"] for r in joint["runner_up"]]
     totals = dict(page.table("totals").values)
     assert number(totals["drive_mass_kg"]) == pytest.approx(sum(j["drive_mass_kg"] for j in result["joints"]), rel=1e-5)
-    assert number(totals["energy_per_cycle_j"]) == pytest.approx(result["totals"]["energy_per_cycle_j"], rel=1e-5)
+    assert number(totals["energy_per_cycle_J"]) == pytest.approx(result["totals"]["energy_per_cycle_J"], rel=1e-5)
     assert len(page.table("iterations")) == len(result["iterations"])
     # one chart per joint and the arm at its most loaded pose; the inputs and the method
     assert len(page.images) == len(result["joints"]) + 2  # and the electrical power over the task

@@ -186,9 +186,9 @@ def test_the_supply_of_a_sized_machine():
     assert supply.to_frame().iloc[-1]["peak_flow"] == pytest.approx(joint.peak_flow, rel=1e-12)
     # the sizing's totals and JSON carry the pump: no motor, so the energy drawn is the pump's ∫ p Q dt
     pump, totals = supply.rows()[-1], result.totals()
-    assert totals["energy_per_cycle_j"] == pump["energy"] > 0
-    assert totals["peak_pump_power_w"] == pytest.approx(32e6 * joint.peak_flow, rel=1e-12)
-    assert totals["peak_bus_power_w"] is None and result.as_dict()["electrical"] is None
+    assert totals["energy_per_cycle_J"] == pump["energy"] > 0
+    assert totals["peak_pump_power_W"] == pytest.approx(32e6 * joint.peak_flow, rel=1e-12)
+    assert totals["peak_bus_power_W"] is None and result.as_dict()["electrical"] is None
     assert result.as_dict()["hydraulics"]["pump"]["energy"] == pump["energy"]
     assert "pump: peak flow" in str(result)
     with pytest.raises(InputError, match="no hydraulic cylinder"):

@@ -17,7 +17,7 @@ import mechatron
 from mechatron.drives.catalogs import read_catalog
 from mechatron.drives.sizing import size_mechanism
 from mechatron.dynamics.task import read_task
-from mechatron.errors import InputError, MechatronError
+from mechatron.errors import InputError, MechatronError, MechatronWarning
 from mechatron.kinematics.frames import frame_position
 from mechatron.kinematics.loops import assemble
 from mechatron.studies.analyses import analysis
@@ -62,8 +62,8 @@ def test_sizing_outputs_equal_the_sizing_called_directly(puma, scale):
     assert out["drive_cost"] == pytest.approx(sum(j.drive_price() for j in direct.joints), rel=1e-12)
     assert out["smallest_margin"] == pytest.approx(min(j.smallest_margin() for j in direct.joints), rel=1e-12)
     totals = direct.totals()
-    assert out["energy_J"] == pytest.approx(totals["energy_per_cycle_j"], rel=1e-9)
-    assert out["peak_power_W"] == pytest.approx(totals["peak_bus_power_w"], rel=1e-9)
+    assert out["energy_per_cycle_J"] == pytest.approx(totals["energy_per_cycle_J"], rel=1e-9)
+    assert out["peak_power_W"] == pytest.approx(totals["peak_bus_power_W"], rel=1e-9)
     assert out["cycle_time_s"] == pytest.approx(task.trajectory.t[-1] - task.trajectory.t[0], rel=1e-9)
 
 
@@ -83,7 +83,7 @@ def test_sizing_longer_upper_arm_loads_the_shoulder_by_the_weight_times_the_extr
                                rtol=1e-9, atol=1e-9)
     before, after = (sizing.summary(m, r) for m, r in zip((base, longer), results))
     assert after["drive_mass_kg"] >= before["drive_mass_kg"]
-    assert after["energy_J"] > before["energy_J"]
+    assert after["energy_per_cycle_J"] > before["energy_per_cycle_J"]
     assert after["peak_power_W"] > before["peak_power_W"]
 
 
@@ -117,7 +117,7 @@ def test_sizing_of_a_cylinder_mechanism(bucket):
     result = sizing.run(bucket, {"objective": "cost"})
     assert out["feasible"] is True
     assert out["drive_cost"] == pytest.approx(result.joints[0].ranking["price"].min(), rel=1e-12)
-    assert out["peak_power_W"] == pytest.approx(result.totals()["peak_pump_power_w"], rel=1e-12)
+    assert out["peak_power_W"] == pytest.approx(result.totals()["peak_pump_power_W"], rel=1e-12)
 
 
 @pytest.mark.parametrize("options, field", [
@@ -126,7 +126,7 @@ def test_sizing_of_a_cylinder_mechanism(bucket):
     ({"gearboxes": "no_such_catalog.csv"}, "gearboxes"),
     ({"task": "no_such_task.toml"}, "task"),
     ({"objective": "speed"}, "objective"),
-    ({"pressure_mpa": -1}, "pressure_mpa"),
+    ({"pressure_MPa": -1}, "pressure_MPa"),
     ({"max_iterations": 2.5}, "max_iterations"),
     ({"direct": "yes"}, "direct"),
     ({"stop_torque": 1.0, "stop_current": 2.0}, "stop_current"),
@@ -134,6 +134,15 @@ def test_sizing_of_a_cylinder_mechanism(bucket):
 def test_sizing_check_refuses_bad_options_naming_the_field(puma, options, field):
     with pytest.raises(InputError, match=rf"^\[analyses\.sizing\] {field}: "):
         sizing.check(puma, options)
+
+
+def test_sizing_reads_the_old_spelling_of_the_pressure_with_a_warning(puma):
+    # pressure_mpa was the option's spelling before the quantities' registry (mechatron.quantities.RENAMED)
+    with pytest.warns(MechatronWarning, match=r"^\[analyses\.sizing\] pressure_mpa: renamed pressure_MPa"):
+        old = sizing.arguments(puma, {"pressure_mpa": 20})
+    assert old["pressure"] == 20e6 == sizing.arguments(puma, {"pressure_MPa": 20})["pressure"]
+    with pytest.raises(InputError, match=r"^\[analyses\.sizing\] pressure_mpa: give pressure_MPa only"):
+        sizing.check(puma, {"pressure_mpa": 20, "pressure_MPa": 20})
 
 
 def test_sizing_check_refuses_a_bad_catalog_naming_file_row_and_field(puma, tmp_path):

@@ -349,13 +349,13 @@ def test_totals_against_a_hand_calculation():
                             direct=False)
     torque = 0.06 + 5 / 45
     totals = result.totals()
-    assert totals["drive_mass_kg"] == 2.5 and totals["cost"] == 350.0
-    assert totals["energy_per_cycle_j"] == pytest.approx(0.5 * torque * 100 * 0.2, rel=1e-3)
-    assert totals["peak_bus_power_w"] == pytest.approx(torque * 100, rel=1e-3)
-    assert totals["regenerated_energy_j"] == pytest.approx(1.5, rel=1e-3)
-    assert totals["braking_resistor_peak_w"] == pytest.approx(15.0, rel=1e-3)
-    assert totals["braking_resistor_continuous_w"] == pytest.approx(1.5 / 1.2, rel=1e-3)
-    assert totals["peak_pump_power_w"] is None and totals["peak_pump_flow_m3_s"] is None
+    assert totals["drive_mass_kg"] == 2.5 and totals["drive_cost"] == 350.0
+    assert totals["energy_per_cycle_J"] == pytest.approx(0.5 * torque * 100 * 0.2, rel=1e-3)
+    assert totals["peak_bus_power_W"] == pytest.approx(torque * 100, rel=1e-3)
+    assert totals["regenerated_energy_J"] == pytest.approx(1.5, rel=1e-3)
+    assert totals["braking_resistor_peak_W"] == pytest.approx(15.0, rel=1e-3)
+    assert totals["braking_resistor_continuous_W"] == pytest.approx(1.5 / 1.2, rel=1e-3)
+    assert totals["peak_pump_power_W"] is None and totals["peak_pump_flow_m3_s"] is None
     assert totals["cycle_time_s"] == pytest.approx(1.2, rel=1e-12)
     assert result.as_dict()["totals"] == pytest.approx(totals)
 
@@ -378,12 +378,12 @@ def test_size_json_explains_every_joint(capsys):
                                                "loads_the_mechanism": False}
     assert data["joints"][5]["mounted_on"]["body"] == "link5"
     assert data["totals"]["drive_mass_kg"] == pytest.approx(sum(masses), rel=1e-12)
-    assert set(data["totals"]) == {"drive_mass_kg", "cost", "energy_per_cycle_j", "peak_bus_power_w",
-                                   "regenerated_energy_j", "braking_resistor_peak_w", "braking_resistor_continuous_w",
-                                   "peak_pump_power_w", "peak_pump_flow_m3_s", "cycle_time_s"}
+    assert set(data["totals"]) == {"drive_mass_kg", "drive_cost", "energy_per_cycle_J", "peak_bus_power_W",
+                                   "regenerated_energy_J", "braking_resistor_peak_W", "braking_resistor_continuous_W",
+                                   "peak_pump_power_W", "peak_pump_flow_m3_s", "cycle_time_s"}
     bus = data["electrical"]["bus"]
-    assert data["totals"]["energy_per_cycle_j"] == bus["energy_drawn"] and data["hydraulics"] is None
-    assert data["totals"]["regenerated_energy_j"] == bus["energy_regenerated"]
+    assert data["totals"]["energy_per_cycle_J"] == bus["energy_drawn"] and data["hydraulics"] is None
+    assert data["totals"]["regenerated_energy_J"] == bus["energy_regenerated"]
 
 
 # ----------------------------------------------------------------------------------------- a closed loop

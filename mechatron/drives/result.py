@@ -125,16 +125,17 @@ class SizingResult(Result):
         return hydraulic_supply(self) if any(j.kind == "cylinder" for j in self.joints) else None
 
     def totals(self) -> dict:
-        """The sums over the drives (SI units; ``None`` where they do not apply or a catalog lacks the data):
+        """The sums over the drives (SI units; ``None`` where they do not apply or a catalog lacks the data), named
+        as in :mod:`mechatron.quantities`:
 
-        - drive_mass_kg and cost: the chosen drives' catalog masses and prices;
-        - energy_per_cycle_j: the energy drawn from the supplies per cycle, ∫ max(P_bus, 0) dt of the common DC
+        - drive_mass_kg and drive_cost: the chosen drives' catalog masses and prices;
+        - energy_per_cycle_J: the energy drawn from the supplies per cycle, ∫ max(P_bus, 0) dt of the common DC
           bus (P_bus = Σ (T_m n + R I²), :mod:`~mechatron.drives.electrical`) plus the pump's ∫ p Q dt
           (:mod:`~mechatron.drives.hydraulics`);
-        - peak_bus_power_w: max P_bus; regenerated_energy_j: ∫ max(−P_bus, 0) dt, the braking energy per cycle;
-          braking_resistor_peak_w and braking_resistor_continuous_w: max(−P_bus) and the regenerated energy over
+        - peak_bus_power_W: max P_bus; regenerated_energy_J: ∫ max(−P_bus, 0) dt, the braking energy per cycle;
+          braking_resistor_peak_W and braking_resistor_continuous_W: max(−P_bus) and the regenerated energy over
           the cycle time;
-        - peak_pump_power_w and peak_pump_flow_m3_s: max p Q and max Q;
+        - peak_pump_power_W and peak_pump_flow_m3_s: max p Q and max Q;
         - cycle_time_s: the task's duration as sized."""
         masses = [j.drive_mass() for j in self.joints]
         prices = [j.drive_price() for j in self.joints]
@@ -142,13 +143,13 @@ class SizingResult(Result):
         bus = balance.bus() if balance else None
         pump = supply.rows()[-1] if supply else None
         return {"drive_mass_kg": None if None in masses else float(sum(masses)),
-                "cost": None if None in prices else float(sum(prices)),
-                "energy_per_cycle_j": (bus["energy_drawn"] if bus else 0.0) + (pump["energy"] if pump else 0.0),
-                "peak_bus_power_w": bus["peak_power"] if bus else None,
-                "regenerated_energy_j": bus["energy_regenerated"] if bus else None,
-                "braking_resistor_peak_w": bus["peak_braking_power"] if bus else None,
-                "braking_resistor_continuous_w": bus["continuous_braking_power"] if bus else None,
-                "peak_pump_power_w": pump["peak_power"] if pump else None,
+                "drive_cost": None if None in prices else float(sum(prices)),
+                "energy_per_cycle_J": (bus["energy_drawn"] if bus else 0.0) + (pump["energy"] if pump else 0.0),
+                "peak_bus_power_W": bus["peak_power"] if bus else None,
+                "regenerated_energy_J": bus["energy_regenerated"] if bus else None,
+                "braking_resistor_peak_W": bus["peak_braking_power"] if bus else None,
+                "braking_resistor_continuous_W": bus["continuous_braking_power"] if bus else None,
+                "peak_pump_power_W": pump["peak_power"] if pump else None,
                 "peak_pump_flow_m3_s": pump["peak_flow"] if pump else None,
                 "cycle_time_s": self.duration}
 
@@ -158,16 +159,16 @@ class SizingResult(Result):
         def number(key: str, unit: str) -> str:
             return "unknown" if totals[key] is None else f"{totals[key]:.4g}{unit}"
 
-        lines = [f"totals: drive mass {number('drive_mass_kg', ' kg')}, cost {number('cost', '')}, energy drawn per "
-                 f"cycle {number('energy_per_cycle_j', ' J')}"]
-        if totals["peak_bus_power_w"] is not None:
-            lines.append(f"  common DC bus: peak {number('peak_bus_power_w', ' W')}; braking resistor peak "
-                         f"{number('braking_resistor_peak_w', ' W')}, continuous "
-                         f"{number('braking_resistor_continuous_w', ' W')} ({number('regenerated_energy_j', ' J')} "
+        lines = [f"totals: drive mass {number('drive_mass_kg', ' kg')}, cost {number('drive_cost', '')}, energy drawn "
+                 f"per cycle {number('energy_per_cycle_J', ' J')}"]
+        if totals["peak_bus_power_W"] is not None:
+            lines.append(f"  common DC bus: peak {number('peak_bus_power_W', ' W')}; braking resistor peak "
+                         f"{number('braking_resistor_peak_W', ' W')}, continuous "
+                         f"{number('braking_resistor_continuous_W', ' W')} ({number('regenerated_energy_J', ' J')} "
                          "regenerated per cycle; P = T·n + R·I²)")
-        if totals["peak_pump_power_w"] is not None:
+        if totals["peak_pump_power_W"] is not None:
             lines.append(f"  pump: peak flow {totals['peak_pump_flow_m3_s'] * 6e4:.4g} l/min, peak power "
-                         f"{number('peak_pump_power_w', ' W')} (P = p·Q)")
+                         f"{number('peak_pump_power_W', ' W')} (P = p·Q)")
         return lines
 
     def to_frame(self) -> pd.DataFrame:

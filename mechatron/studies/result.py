@@ -10,7 +10,6 @@ import numpy as np
 
 from ..errors import InputError
 from ..report.result import Result, frame_records
-from .sensitivity import unit_of
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -161,9 +160,30 @@ class StudyResult(Result):
         ok, front = self.ok, self.pareto()
         ax.scatter(ok[x], ok[y], s=12, color="0.6", label=f"ok designs ({len(ok)})")
         ax.plot(front[x], front[y], "o-", color="C3", label=f"Pareto front ({len(front)})")
-        style_axes(ax, f"{x} ({unit_of(x)}), {x_goal}d", f"{y} ({unit_of(y)}), {y_goal}d",
+        style_axes(ax, f"{self.axis_label(x)}, {x_goal}d", f"{self.axis_label(y)}, {y_goal}d",
                    f"{Path(self.spec.file).name}: {len(self.table)} designs", legend=True)
         return figure
+
+    def axis_label(self, column: str) -> str:
+        """The label of a plot axis for a column of the table: an output's is its quantity's
+        (:func:`mechatron.quantities.axis_label`: ``reach (m)``); a parameter's is its name with its unit, that of
+        the analysis option it targets or that of the mechanism's geometric parameter (m, rad)."""
+        from ..quantities import axis_label, is_quantity, unit
+
+        parameter = next((p for p in self.spec.parameters if p.name == column), None)
+        if parameter is None:
+            return axis_label(column) if is_quantity(column) else column
+        if parameter.target is not None:
+            option = parameter.target.partition(".")[2]
+            found = unit(option) if is_quantity(option) else "-"
+        else:
+            try:
+                from .spec import study_mechanism
+
+                found = study_mechanism(self.spec.mechanism).parameters[column].unit
+            except Exception:  # noqa: BLE001 - the mechanism's files gone since the study: the name alone
+                found = "-"
+        return column if found == "-" else f"{column} ({found})"
 
     def __str__(self) -> str:
         failed = self.table[self.table["status"] != "ok"]

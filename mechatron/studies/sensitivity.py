@@ -33,9 +33,6 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from .spec import Spec
 
-#: The unit of an output by the suffix of its name.
-UNITS = {"m": "m", "mm": "mm", "deg": "deg", "rad": "rad", "N": "N", "Nm": "N·m", "Pa": "Pa", "kg": "kg",
-         "s": "s", "W": "W"}
 #: Columns of a designs table that are not outputs.
 FIXED = ("design", "seed", "status", "reason")
 #: The columns of the indices table.
@@ -61,8 +58,11 @@ MIN_BLOCKS = 2
 
 
 def unit_of(column: str) -> str:
-    """The unit of a column from the suffix of its name (``reach_m`` → m), ``-`` if it has none."""
-    return UNITS.get(column.rsplit("_", 1)[-1], "-")
+    """The unit of an output column (:func:`mechatron.quantities.unit`: ``reach_m`` → m), ``-`` for a pure number
+    or a column that is no quantity of the registry."""
+    from ..quantities import is_quantity, unit
+
+    return unit(column) if is_quantity(column) else "-"
 
 
 def numeric_outputs(spec: Spec, table: pd.DataFrame) -> list[str]:

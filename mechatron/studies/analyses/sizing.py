@@ -5,12 +5,14 @@ Options (the spec's ``[analyses.sizing]`` table; every one optional, see ``docs/
 (a task TOML or trajectory CSV; default the mechanism's own ``robots/tasks/<name>.toml``, else the generic
 out-and-back task), the catalogs ``motors``, ``gearboxes``, ``linear``, ``cylinders`` (CSV; default the example
 catalogs of ``catalogs/``), ``objective`` (``mass``, ``cost``, ``margin``, ``time``), ``inertia_ratio``,
-``direct``, ``pressure_mpa``, ``chain_efficiency``, ``single_pass``, ``max_iterations``, ``stop_torque`` (N·m),
-``stop_current`` (A), ``voltage`` (V), ``screw_life_h`` (h) — the options of ``mechatron size``.
+``direct``, ``pressure_MPa``, ``chain_efficiency``, ``single_pass``, ``max_iterations``, ``stop_torque`` (N·m),
+``stop_current`` (A), ``voltage`` (V), ``screw_life_h`` (h) — the options of ``mechatron size``. The old
+spelling ``pressure_mpa`` is read for one more release, with a warning (:data:`mechatron.quantities.RENAMED`).
 
-Outputs (SI): ``feasible``; ``drive_mass_kg`` and ``drive_cost`` (Σ of the drives' catalog masses and prices);
-``smallest_margin`` (min over the drives' checks of 1 − value/limit); ``energy_J`` (energy drawn per cycle:
-∫ max(P_bus, 0) dt of the common DC bus plus the pump's ∫ p Q dt, :meth:`~mechatron.drives.sizing.SizingResult.totals`);
+Outputs (SI; :mod:`mechatron.quantities`): ``feasible``; ``drive_mass_kg`` and ``drive_cost`` (Σ of the drives'
+catalog masses and prices); ``smallest_margin`` (min over the drives' checks of 1 − value/limit);
+``energy_per_cycle_J`` (energy drawn per cycle: ∫ max(P_bus, 0) dt of the common DC bus plus the pump's ∫ p Q dt,
+:meth:`~mechatron.drives.sizing.SizingResult.totals`);
 ``peak_power_W`` (the bus's peak power plus the pump's peak power p·Q; each alone when the mechanism has only
 motors or only cylinders); ``cycle_time_s`` (the task's duration as sized: shorter than the task's with the
 ``time`` objective).
@@ -40,13 +42,14 @@ if TYPE_CHECKING:  # pragma: no cover
     from ...drives.sizing import SizingResult
     from ...model.mechanism import Mechanism
 
-OUTPUTS = ("feasible", "drive_mass_kg", "drive_cost", "smallest_margin", "energy_J", "peak_power_W", "cycle_time_s")
+OUTPUTS = ("feasible", "drive_mass_kg", "drive_cost", "smallest_margin", "energy_per_cycle_J", "peak_power_W",
+           "cycle_time_s")
 
 #: The catalog options: the kinds of :data:`mechatron.drives.catalogs.SCHEMAS`.
 CATALOGS = ("motors", "gearboxes", "linear", "cylinders")
 #: The numeric options: their defaults and bounds (those of ``mechatron size``).
 NUMBERS: dict[str, tuple[float | None, dict]] = {
-    "inertia_ratio": (10.0, dict(positive=True)), "pressure_mpa": (32.0, dict(positive=True, maximum=1e4, unit="MPa")),
+    "inertia_ratio": (10.0, dict(positive=True)), "pressure_MPa": (32.0, dict(positive=True, maximum=1e4, unit="MPa")),
     "chain_efficiency": (1.0, dict(minimum=0.01, maximum=1.0)),
     "max_iterations": (10, dict(integer=True, minimum=2, maximum=1000)),
     "stop_torque": (None, dict(positive=True, unit="N·m")), "stop_current": (None, dict(positive=True, unit="A")),
@@ -141,7 +144,9 @@ def arguments(mech: Mechanism, options: dict) -> dict:
     from ...drives.checks import SCREW_LIFE, DriveLimits
     from ...drives.sizing import OBJECTIVES
     from ...dynamics.task import default_task, read_task
+    from ...quantities import renamed
 
+    options = renamed(options, "[analyses.sizing]")
     field_names("sizing", options, OPTIONS)
     if not coordinates(mech):
         raise InputError(f"[analyses.sizing] {mech.name} has no actuated joint to size a drive for")
@@ -162,7 +167,7 @@ def arguments(mech: Mechanism, options: dict) -> dict:
         raise field_error("sizing", "task", str(exc)) from None
     return dict(task=task, **catalogs(options), objective=objective,
                 inertia_ratio_max=values["inertia_ratio"], direct=field_flag("sizing", options, "direct", True),
-                pressure=values["pressure_mpa"] * 1e6, chain_efficiency=values["chain_efficiency"],
+                pressure=values["pressure_MPa"] * 1e6, chain_efficiency=values["chain_efficiency"],
                 single_pass=field_flag("sizing", options, "single_pass", False),
                 max_iterations=values["max_iterations"],
                 limits=DriveLimits(values["stop_torque"], values["stop_current"], screw_life, values["voltage"]))
@@ -218,8 +223,8 @@ def summary(mech: Mechanism, result: SizingResult) -> dict[str, float | bool]:
     totals = result.totals()
     out = {"feasible": bool(result.feasible), "drive_mass_kg": sum(m for m, _ in drives),
            "drive_cost": sum(p for _, p in drives), "smallest_margin": min(margins),
-           "energy_J": totals["energy_per_cycle_j"],
-           "peak_power_W": (totals["peak_bus_power_w"] or 0.0) + (totals["peak_pump_power_w"] or 0.0),
+           "energy_per_cycle_J": totals["energy_per_cycle_J"],
+           "peak_power_W": (totals["peak_bus_power_W"] or 0.0) + (totals["peak_pump_power_W"] or 0.0),
            "cycle_time_s": totals["cycle_time_s"]}
     for key, value in out.items():
         if not math.isfinite(value):
