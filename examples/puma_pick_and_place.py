@@ -63,7 +63,7 @@ def main() -> None:
         other = result if objective == args.objective else mechatron.size(puma, task, motors=motors,
                                                                           gearboxes=gearboxes, objective=objective)
         totals = other.totals()
-        mass, price = totals["drive_mass_kg"], totals["cost"]
+        mass, price = totals["drive_mass_kg"], totals["drive_cost"]
         pace = f", cycle {other.duration:.2f} s" if objective == "time" else ""
         print(f"  {objective:<7} {mass:6.2f} kg {price:7.0f} EUR{pace}: "
               + "; ".join(f"{j.joint} {j.motor}+{j.converter}" for j in other.joints))
