@@ -568,9 +568,27 @@ def write_designs(spec: DesignSpec, designs: pd.DataFrame, folder: str | Path) -
         values = {n: float(row[n]) for n in geometry}
         header = f"design {k} of {spec.name}: " + ", ".join(f"{n} = {v:.9g}" for n, v in values.items())
         if linkage is not None:
-            text = linkage_toml(parameter_spec(linkage, values), header)
+            text = linkage_toml(_assembled(parameter_spec(linkage, values)), header)
             paths.append(write_text(folder / f"design-{k:03d}.toml", text))
         else:
             text = to_urdf(mech.with_parameters(values)).replace("?>", f"?>\n<!-- {header} -->", 1)
             paths.append(write_text(folder / f"design-{k:03d}.urdf", text))
     return paths
+
+
+def _assembled(linkage: Any) -> Any:
+    """A linkage spec drawn where its loops close: its drawn points moved to their places in the mechanism built
+    from it (a design's lengths and pins change the drawing's other points), so that the file written reads back
+    within its tolerance."""
+    import pinocchio as pin
+
+    from ..model.linkage import build_linkage
+
+    mech = build_linkage(linkage, check_tolerance=False)
+    pin.framesForwardKinematics(mech.model, mech.data, np.asarray(mech.reference_q, dtype=float))
+    drawn = linkage.drawing()
+    moved = {}
+    for name, at in drawn.items():
+        if mech.model.existFrame(name):
+            moved[name] = mech.data.oMf[mech.model.getFrameId(name)].translation[:len(at)].copy()
+    return linkage.with_positions(moved)
