@@ -226,3 +226,19 @@ def test_the_study_chart_labels_its_axes_by_the_registry(tmp_path):
     result = StudyResult(spec, pd.DataFrame({"design": [0], "status": ["ok"]}))
     assert result.axis_label("x_travel_m") == "x travel (m)"
     assert result.axis_label(spec.parameters[0].name) == f"{spec.parameters[0].name} (m)"
+
+
+def test_a_parameter_that_targets_an_option_is_labelled_with_the_options_unit(tmp_path):
+    import pandas as pd
+
+    from mechatron.studies.result import StudyResult
+    from mechatron.studies.spec import read_spec
+
+    path = tmp_path / "arm.toml"
+    path.write_text('mechanism = "planar_2r"\n[parameters.acceleration]\ntarget = "dynamics.amax"\n'
+                    'values = [2.0, 5.0]\n[designs]\nmethod = "grid"\n'
+                    '[analyses.dynamics]\nstart = [0.0, 0.0]\nend = [1.0, 0.0]\n')
+    result = StudyResult(read_spec(path), pd.DataFrame({"design": [0], "status": ["ok"]}))
+    assert result.axis_label("acceleration") == "acceleration (rad/s² or m/s²)"
+    assert result.axis_label("q1_peak_Nm") == "q1 peak (N·m)"
+    assert result.axis_label("design") == "design"

@@ -167,13 +167,17 @@ class StudyResult(Result):
     def axis_label(self, column: str) -> str:
         """The label of a plot axis for a column of the table: an output's is its quantity's
         (:func:`mechatron.quantities.axis_label`: ``reach (m)``); a parameter's is its name with its unit, that of
-        the analysis option it targets or that of the mechanism's geometric parameter (m, rad)."""
+        the analysis option it targets or that of the mechanism's geometric parameter (m, rad); another column's is
+        its name with the unit its name ends with, if any."""
         from ..quantities import axis_label, is_quantity, unit
+        from .sensitivity import unit_of
 
         parameter = next((p for p in self.spec.parameters if p.name == column), None)
-        if parameter is None:
-            return axis_label(column) if is_quantity(column) else column
-        if parameter.target is not None:
+        if parameter is None and is_quantity(column):
+            return axis_label(column)
+        if parameter is None:  # no quantity of the registry: the unit its name ends with, if any
+            found = unit_of(column)
+        elif parameter.target is not None:
             option = parameter.target.partition(".")[2]
             found = unit(option) if is_quantity(option) else "-"
         else:

@@ -58,11 +58,14 @@ MIN_BLOCKS = 2
 
 
 def unit_of(column: str) -> str:
-    """The unit of an output column (:func:`mechatron.quantities.unit`: ``reach_m`` → m), ``-`` for a pure number
-    or a column that is no quantity of the registry."""
-    from ..quantities import is_quantity, unit
+    """The unit of an output column (:func:`mechatron.quantities.unit`: ``reach_m`` → m); of a column that is no
+    quantity of the registry, the unit its name ends with (:data:`~mechatron.quantities.SUFFIXES`), else ``-``."""
+    from ..quantities import SUFFIXES, is_quantity, suffix, unit
 
-    return unit(column) if is_quantity(column) else "-"
+    if is_quantity(column):
+        return unit(column)
+    end = suffix(column)
+    return "-" if end is None else SUFFIXES[end]
 
 
 def numeric_outputs(spec: Spec, table: pd.DataFrame) -> list[str]:
