@@ -16,10 +16,32 @@ the optional ``load`` (Fx, Fy) on the point (closed-loop inverse dynamics at res
 (bore, rod in m, count) its largest pressure (Pa: force over the piston or the annulus area).
 
 A design with a position that cannot be assembled fails with the first such position's reason.
+
+**Exact gradients** (:func:`gradients`, for the optimiser's exact-derivative route): the outputs of one sweep and
+their derivatives with respect to named geometric parameters l of the mechanism. Each output is an extreme over the
+samples (a max, a min, or max − min), so by Danskin's theorem its derivative is that of the sampled quantity at the
+extremal sample, the sample held: the inputs (the actuated coordinates) stay at their sample's values — they run
+between the joints' limits (a cylinder's stroke, a crank's limits) or over a full turn from the reference angle,
+data of the mechanism that its parameters do not move (a rebuilt linkage holds its inputs where the original held
+them), so dq_a/dl = 0 — while the passive coordinates move to keep the loops closed (implicit-function theorem,
+dq/dl = −(∂Φ/∂q_d)⁻¹ ∂Φ/∂l, :func:`mechatron.accuracy.sensitivity.loop_derivatives`) and a point moves by
+dr/dl = J_r dq/dl + ∂r/∂l|_q (frame Jacobian and placement twists,
+:func:`mechatron.accuracy.sensitivity.frame_parameter_twists`; the placements' exact derivatives are the
+mechanism's, :func:`mechatron.model.derivatives.placement_derivatives`). Hence d reach/dl = dx/dl at the sample of
+largest x, d x_travel/dl = dx/dl there minus dx/dl at the sample of smallest x, and so on; for the crank-slider
+d reach/d l1 = d reach/d l2 = 1, d x_travel/d l1 = 2, d x_travel/d l2 = 0. The smallest transmission angle
+μ = atan2(|u × w|, |u · w|) of the lines u = b − a and w = d − c is differentiated through its four points at its
+sample (deg per unit of l); a cylinder's largest force |f| by sign(f) df/dl at its sample and its largest pressure
+by the pressure's slope (1 / (count × piston area) pushing, −1 / (count × annulus area) pulling) times df/dl, with
+df/dl the exact derivative of the holding force (closed-loop inverse dynamics at rest,
+:func:`mechatron.dynamics.sensitivity.parameter_sensitivities`). With ``working_range`` the extremal tip position of
+the stroke box is assembled again at its inputs and differentiated there. Where two samples tie for an extreme the
+output has only one-sided derivatives; the first sample's is given. No finite difference is taken.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -123,9 +145,25 @@ def input_files(mech, options: dict[str, Any]) -> list:
 def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
     """The outputs of one design (m, deg, N, Pa; see the module docstring). ``seed`` is not used (no random
     draw)."""
+    return _evaluate(mech, _options(mech, options))[0]
+
+
+@dataclass
+class _Sweep:
+    """What :func:`_evaluate` computed the outputs from: the sweep, the extents' coordinates (``x``, ``y``, ``z`` or
+    None; over the stroke box with ``working_range``), the holding forces (or None)."""
+
+    result: Any
+    x: np.ndarray
+    y: np.ndarray
+    z: np.ndarray | None
+    forces: np.ndarray | None
+
+
+def _evaluate(mech, opts: dict[str, Any]) -> tuple[dict[str, float], _Sweep]:
+    """The outputs for checked options ``opts`` (:func:`_options`) and what they were computed from."""
     from ...kinematics.sweeps import sweep
 
-    opts = _options(mech, options)
     point = opts["point"]
     result = sweep(mech, samples=opts["samples"], frames=[point])
     if len(result.failures):
@@ -141,23 +179,33 @@ def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
             np.concatenate([cloud.cloud[:, 1], *[a[:, 1] for a in cloud.arcs]])
     out = {"reach_m": float(x.max()), "height_m": float(y.max()), "depth_m": float(-y.min()) + 0.0,
            "x_travel_m": float(x.max() - x.min()), "y_travel_m": float(y.max() - y.min())}
+    z = None
     if f"{point}_z" in result.table:  # a spatial loop: the travel along z too
         z = result.table[f"{point}_z"].to_numpy()
         out["z_travel_m"] = float(z.max() - z.min())
     angles = [m.name for m in mech.measures if m.kind == "transmission_angle"]
     if angles:
         out["min_transmission_angle_deg"] = float(np.degrees(result.table[angles].to_numpy().min()))
+    forces = None
     if mech.cylinders:
-        out.update(_cylinder_outputs(mech, result.q, point, opts))
-    return out
+        forces, cylinder = _cylinder_outputs(mech, result.q, point, opts)
+        out.update(cylinder)
+    return out, _Sweep(result, x, y, z, forces)
 
 
-def _cylinder_outputs(mech, Q: np.ndarray, point: str, opts: dict[str, Any]) -> dict[str, float]:
-    from ...dynamics.trajectory import holding_forces
+def _loads(point: str, opts: dict[str, Any]) -> list | None:
+    """The ``load`` option as loads on the point (world Fx, Fy, N), or None."""
     from ...model.loads import Load
 
-    loads = [Load(point, [*opts["load"], 0.0])] if opts["load"] is not None else None
-    forces = holding_forces(mech, Q, loads)
+    return [Load(point, [*opts["load"], 0.0])] if opts["load"] is not None else None
+
+
+def _cylinder_outputs(mech, Q: np.ndarray, point: str, opts: dict[str, Any]
+                      ) -> tuple[np.ndarray, dict[str, float]]:
+    """The holding forces (N, n_actuated) and each cylinder's largest force and pressure."""
+    from ...dynamics.trajectory import holding_forces
+
+    forces = holding_forces(mech, Q, _loads(point, opts))
     out = {}
     for j, name in enumerate(mech.actuated):
         if name not in mech.cylinders:
@@ -166,4 +214,203 @@ def _cylinder_outputs(mech, Q: np.ndarray, point: str, opts: dict[str, Any]) -> 
         if name in opts["cylinders"]:
             spec = opts["cylinders"][name]
             out[f"{name}_max_pressure_Pa"] = float(max(spec.pressure(f) for f in forces[:, j]))
+    return forces, out
+
+
+# ------------------------------------------------------------------------------------------------ exact gradients
+#: The outputs :func:`gradients` differentiates (all of them; ``CYLINDER`` stands for each cylinder's name): every
+#: one of :func:`output_names` gets its gradient (:func:`gradient_outputs` names them for a mechanism).
+GRADIENT_OUTPUTS = OUTPUTS
+
+
+def gradient_outputs(mech, options: dict[str, Any]) -> list[str]:
+    """The names of the outputs :func:`gradients` gives gradients of for ``options``, without running: every output
+    of :func:`output_names`."""
+    return output_names(mech, options)
+
+
+def gradients(mech, options: dict[str, Any], parameters: list[str]
+              ) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+    """The outputs of one design (exactly as :func:`outputs` gives them, one sweep) and the exact gradient of each
+    with respect to the named geometric ``parameters`` of ``mech`` (shape (len(parameters),): m per m, m per rad,
+    deg per m for the transmission angle, N and Pa per unit of the parameter), the inputs held at their samples
+    (module docstring).
+
+    Raises:
+        InputError: for wrong options or a name that is no parameter of ``mech``; for cylinder outputs of a
+            mechanism without a symbolic form (:func:`~mechatron.dynamics.sensitivity.parameter_sensitivities`).
+        MechatronError: for a design that cannot be assembled (as :func:`outputs`), one singular at an extremal
+            sample, or (``working_range``) an extreme of the stroke box off the reference configuration's branch.
+    """
+    from ...model.derivatives import placement_derivatives
+
+    opts = _options(mech, options)
+    names = tuple(parameters)
+    derivatives = placement_derivatives(mech, names)  # refuses unknown names before the sweep
+    out, swept = _evaluate(mech, opts)
+    if not names:
+        return out, {key: np.zeros(0) for key in out}
+    point = opts["point"]
+    result = swept.result
+    Q = result.q
+    n_l = len(names)
+    at = _PointDerivatives(mech, derivatives)
+    grad: dict[str, np.ndarray] = {}
+
+    def coordinate(values: np.ndarray, axis: int, largest: bool) -> np.ndarray:
+        i = int(np.argmax(values) if largest else np.argmin(values))
+        return at(Q[i], point)[axis]
+
+    if opts["working_range"]:
+        extents = _working_range_extents(mech, opts, swept, at)
+    else:
+        extents = {"x": (coordinate(swept.x, 0, True), coordinate(swept.x, 0, False)),
+                   "y": (coordinate(swept.y, 1, True), coordinate(swept.y, 1, False))}
+    (x_max, x_min), (y_max, y_min) = extents["x"], extents["y"]
+    grad.update({"reach_m": x_max, "height_m": y_max, "depth_m": -y_min, "x_travel_m": x_max - x_min,
+                 "y_travel_m": y_max - y_min})
+    if swept.z is not None:
+        grad["z_travel_m"] = coordinate(swept.z, 2, True) - coordinate(swept.z, 2, False)
+    if "min_transmission_angle_deg" in out:
+        grad["min_transmission_angle_deg"] = _angle_gradient(mech, result, at)
+    if swept.forces is not None:
+        grad.update(_cylinder_gradients(mech, names, Q, swept.forces, point, opts))
+    for key, value in grad.items():
+        grad[key] = np.asarray(value, dtype=float).reshape(n_l) + 0.0
+    return out, grad
+
+
+class _PointDerivatives:
+    """dr/dl (3, n_l) of frames at assembled configurations, the inputs held: J_r dq/dl + ∂r/∂l|_q, with
+    dq/dl = −(∂Φ/∂q_d)⁻¹ ∂Φ/∂l taken once per configuration."""
+
+    def __init__(self, mech, derivatives) -> None:
+        from ...kinematics.loops import loop_solver
+
+        self.mech, self.derivatives = mech, derivatives
+        self.solver = loop_solver(mech)
+        self._loops: dict[bytes, np.ndarray] = {}
+
+    def __call__(self, q: np.ndarray, frame: str) -> np.ndarray:
+        import pinocchio as pin
+
+        from ...accuracy.sensitivity import LWA, frame_parameter_twists, loop_derivatives
+
+        mech, n_l = self.mech, len(self.derivatives.names)
+        if not n_l:
+            return np.zeros((3, 0))
+        q = np.asarray(q, dtype=float)
+        key = q.tobytes()
+        if key not in self._loops:
+            self._loops[key] = loop_derivatives(mech, self.solver, self.derivatives, q)[0]
+        fid = mech.frame_id(frame)
+        J = pin.computeFrameJacobian(mech.model, mech.data, q, fid, LWA)  # forward kinematics at q too
+        pin.updateFramePlacements(mech.model, mech.data)
+        return J[:3] @ self._loops[key] + frame_parameter_twists(mech, self.derivatives, fid)[:3]
+
+
+def _angle_gradient(mech, result, at: _PointDerivatives) -> np.ndarray:
+    """d(min μ)/dl (deg per unit of l) at the sample and measure of the smallest transmission angle: μ = atan2(|u ×
+    w|, |u · w|) with u = b − a, w = d − c (the angle :func:`mechatron.kinematics.geometry.transmission_angles`
+    gives)."""
+    import pinocchio as pin
+
+    measures = [m for m in mech.measures if m.kind == "transmission_angle"]
+    values = result.table[[m.name for m in measures]].to_numpy()
+    i, k = np.unravel_index(int(np.argmin(values)), values.shape)
+    q = result.q[i]
+    a, b, c, d = (at(q, name)[:2] for name in measures[k].points)
+    pin.forwardKinematics(mech.model, mech.data, q)
+    pa, pb, pc, pd = (pin.updateFramePlacement(mech.model, mech.data, mech.frame_id(name)).translation[:2]
+                      for name in measures[k].points)
+    u, w, du, dw = pb - pa, pd - pc, b - a, d - c
+    cross, dot = u[0] * w[1] - u[1] * w[0], u @ w
+    d_cross = du[0] * w[1] + u[0] * dw[1] - du[1] * w[0] - u[1] * dw[0]
+    d_dot = du.T @ w + dw.T @ u
+    d_mu = (abs(dot) * np.sign(cross) * d_cross - abs(cross) * np.sign(dot) * d_dot) / (cross ** 2 + dot ** 2)
+    return np.degrees(d_mu)
+
+
+def _cylinder_gradients(mech, names: tuple[str, ...], Q: np.ndarray, forces: np.ndarray, point: str,
+                        opts: dict[str, Any]) -> dict[str, np.ndarray]:
+    """d/dl of each cylinder's largest force |f| (sign(f) df/dl at its sample) and largest pressure (the pressure's
+    slope times df/dl there), df/dl the exact derivative of the holding force
+    (:func:`~mechatron.dynamics.sensitivity.parameter_sensitivities`, at those samples only)."""
+    from ...dynamics.sensitivity import parameter_sensitivities
+
+    picks: dict[tuple[str, str], int] = {}
+    for j, name in enumerate(mech.actuated):
+        if name not in mech.cylinders:
+            continue
+        picks[(name, "force")] = int(np.argmax(np.abs(forces[:, j])))
+        if name in opts["cylinders"]:
+            spec = opts["cylinders"][name]
+            picks[(name, "pressure")] = int(np.argmax([spec.pressure(f) for f in forces[:, j]]))
+    samples = sorted(set(picks.values()))
+    if not samples:
+        return {}
+    sens = parameter_sensitivities(mech, Q[samples], frames=(point,), parameters=names, loads=_loads(point, opts))
+    out = {}
+    for (name, kind), i in picks.items():
+        j, row = mech.actuated.index(name), samples.index(i)
+        f, df = forces[i, j], sens.d_force[row, j]
+        if kind == "force":
+            out[f"{name}_max_force_N"] = np.sign(f) * df
+        else:
+            spec = opts["cylinders"][name]
+            slope = 1.0 / (spec.count * spec.piston_area) if f / spec.count >= 0 else \
+                -1.0 / (spec.count * spec.annulus_area)
+            out[f"{name}_max_pressure_Pa"] = slope * df
+    return out
+
+
+def _stroke_box_inputs(mech, samples: int) -> np.ndarray:
+    """The cylinders' lengths (n, 3; ``mech.cylinders`` order) of every tip position of
+    :func:`mechatron.machines.excavator.working_range` in the order its extents are taken: the faces' grids (one
+    cylinder at a limit, the other two over their strokes), then the edges' arcs."""
+    names = list(mech.cylinders)
+    strokes = {n: np.linspace(*mech.cylinders[n].stroke, samples) for n in names}
+    faces, arcs = [], []
+    for fixed in names:
+        free = [n for n in names if n != fixed]
+        for limit in mech.cylinders[fixed].stroke:
+            a, b = np.meshgrid(strokes[free[0]], strokes[free[1]], indexing="ij")
+            values = {fixed: np.full(a.size, limit), free[0]: a.ravel(), free[1]: b.ravel()}
+            faces.append(np.column_stack([values[n] for n in names]))
+        for lo_hi in ((0, 0), (0, 1), (1, 1), (1, 0)):
+            values = {n: np.full(samples, mech.cylinders[n].stroke[k]) for n, k in zip(free, lo_hi)}
+            values[fixed] = strokes[fixed]
+            arcs.append(np.column_stack([values[n] for n in names]))
+    return np.vstack(faces + arcs)
+
+
+def _working_range_extents(mech, opts: dict[str, Any], swept: _Sweep, at: _PointDerivatives
+                           ) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """The derivatives of the tip's (x, y) (``V``, the frame the working range is of) at its largest and smallest
+    x and y over the stroke box, each position assembled again at its cylinders' lengths from the reference
+    configuration (continuation along the inputs) and checked against the working range's.
+
+    Raises:
+        MechatronError: when one lands elsewhere (another assembly branch): no gradient rather than a wrong one.
+    """
+    from ...kinematics.loops import assemble
+
+    inputs = _stroke_box_inputs(mech, opts["samples"])
+    if len(inputs) != len(swept.x):  # pragma: no cover - the two layouts are one
+        raise MechatronError(f"{mech.name}: the working range has {len(swept.x)} positions, its stroke box "
+                             f"{len(inputs)}")
+    names = list(mech.cylinders)
+    out = {}
+    for axis, values in (("x", swept.x), ("y", swept.y)):
+        pair = []
+        for i in (int(np.argmax(values)), int(np.argmin(values))):
+            q = assemble(mech, dict(zip(names, map(float, inputs[i]))), guess=mech.reference_q)
+            derivative = at(q, "V")
+            tip = mech.data.oMf[mech.frame_id("V")].translation
+            if abs(tip[0] - swept.x[i]) + abs(tip[1] - swept.y[i]) > 1e-7 * max(1.0, float(np.abs(tip).max())):
+                lengths = ", ".join(f"{n} = {v:.6g}" for n, v in zip(names, inputs[i]))
+                raise MechatronError(f"{mech.name}: the working range's extreme at {lengths} is not on the branch "
+                                     "of the reference configuration; its gradient cannot be taken")
+            pair.append(derivative[:2]["xy".index(axis)])
+        out[axis] = (pair[0], pair[1])
     return out
