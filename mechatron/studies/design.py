@@ -284,11 +284,14 @@ def exact_available(spec: DesignSpec) -> str | None:
         return "a variable is a list of values or an analysis option (no derivative)"
     if len(spec.objectives) != 1:
         return "two objectives (a Pareto front)"
+    from .spec import study_mechanism
+
+    mech = study_mechanism(spec.study.mechanism)
     given = {}
     for name in spec.study.analyses:
         module = analysis(name)
-        for output in getattr(module, "GRADIENT_OUTPUTS", ()) if hasattr(module, "gradients") else ():
-            given[output] = name
+        if hasattr(module, "gradient_outputs"):
+            given.update(dict.fromkeys(module.gradient_outputs(mech, spec.study.options(name, {})), name))
     needed = [spec.objectives[0][0], *(b.name for b in spec.requirements)]
     missing = [n for n in needed if n not in given]
     return f"no exact derivative of {', '.join(missing)}" if missing else None
