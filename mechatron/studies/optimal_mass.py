@@ -271,15 +271,12 @@ def catalog_options(objective: Any, folder: Any) -> dict[str, Any]:
     Raises:
         InputError: naming the field (or the catalog's file, row and column for a bad catalog).
     """
-    from pathlib import Path
-
     from ..drives.catalogs import DEFAULT_FILES, read_catalog
     from ..io.data import data_dir
+    from .spec import file_field
 
-    given = objective.string("catalog", "")
-    path = Path(folder) / given if given else data_dir("catalogs") / DEFAULT_FILES["cylinders"]
-    if not path.is_file():
-        raise objective.error("catalog", f"no such catalog file: {path}")
+    path = file_field(objective, "catalog", folder, data_dir("catalogs") / DEFAULT_FILES["cylinders"],
+                      "catalog file")
     catalog = read_catalog(path, "cylinders")
     pressure = objective.number("pressure_MPa", DEFAULT_PRESSURE / 1e6, positive=True) * 1e6
     rated = catalog["max_pressure"].to_numpy()

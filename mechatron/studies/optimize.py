@@ -101,11 +101,11 @@ def _start(reader: Any, bounds: dict[str, tuple[float, float]]) -> dict[str, flo
 
 
 def _data_file(table: Any, key: str, folder: Path) -> Path:
-    """A file named in ``key`` of ``table``, relative to the spec's folder."""
-    path = folder / table.string(key)
-    if not path.is_file():
-        raise table.error(key, f"no such file: {path}")
-    return path
+    """A file named in ``key`` of ``table`` (:func:`~mechatron.studies.spec.file_field`: relative to the spec's
+    folder)."""
+    from .spec import file_field
+
+    return file_field(table, key, folder)
 
 
 def _positioning_problem(reader: Any, objective: Any, requirements: Any, mech: Any, folder: Path

@@ -93,10 +93,27 @@ class Spec:
         return {p.name: float(design[p.name]) for p in self.parameters if p.target is None}
 
 
+def spec_path(folder: Path, name: str) -> Path:
+    """The one path rule of study, design and optimisation files: a file they name is relative to their own folder
+    (an absolute path as it is)."""
+    return (Path(folder) / name).resolve()
+
+
+def file_field(reader: FieldReader, key: str, folder: Path, default: Path | None = None,
+               what: str = "file") -> Path:
+    """The file a field names (:func:`spec_path`), ``default`` when left out; one that does not exist is an error
+    naming the field."""
+    given = reader.string(key, "")
+    path = spec_path(folder, given) if given else default
+    if path is None or not Path(path).is_file():
+        raise reader.error(key, f"no such {what}: {path if path is not None else given}")
+    return Path(path)
+
+
 def _resolve(value: Any, folder: Path) -> Any:
     """A string naming a file relative to the study file's folder → its absolute path; anything else as it is."""
-    if isinstance(value, str) and value and (folder / value).is_file():
-        return str((folder / value).resolve())
+    if isinstance(value, str) and value and spec_path(folder, value).is_file():
+        return str(spec_path(folder, value))
     return value
 
 
@@ -233,7 +250,7 @@ def _analyses(reader: FieldReader, folder: Path) -> dict[str, dict[str, Any]]:
 
 def _mechanism(reader: FieldReader, folder: Path) -> tuple[str, Any]:
     given = reader.string("mechanism")
-    where = str((folder / given).resolve()) if (folder / given).is_file() else given
+    where = str(spec_path(folder, given)) if spec_path(folder, given).is_file() else given
     try:
         return where, study_mechanism(where)
     except InputError as exc:
