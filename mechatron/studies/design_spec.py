@@ -94,13 +94,13 @@ def read_design(path: str | Path) -> DesignSpec:
     reader.string("description", "")
     mechanism, mech = _mechanism(reader, folder)
     analyses = _analyses(reader, folder)
-    variables = _variables(reader, mech, analyses, folder)
+    variables = read_variables(reader, mech, analyses, folder)
     study = Spec(str(path), mechanism, tuple(variables), method="lhs", samples=1, analyses=analyses)
     _checked_analyses(study, mech)
     outputs = tuple(output_names(study, mech))
     objectives = _objectives(reader, outputs)
     requirements = _requirements(reader, outputs)
-    start = _start(reader, variables)
+    start = read_start(reader, variables)
     solver = _solver(reader, len(objectives), len(variables))
     reader.finish()
     study = replace(study, files=tuple(input_files(study, mech)))
@@ -122,8 +122,22 @@ def _checked_analyses(study: Spec, mech: Any) -> None:
         raise InputError(exc.message, file=exc.file, field=field_name or None) from None
 
 
+def read_variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path,
+                   known: tuple[str, ...] | None = None) -> list[Parameter]:
+    """``[variables]``: ``NAME = [lower, upper]`` (SI) or a table as a study's ``[parameters.NAME]``; with
+    ``known`` (a named problem's variables) only those, as ranges."""
+    variables = _variables(reader, mech, analyses, folder)
+    for p in variables if known is not None else ():
+        if p.name not in known:
+            raise InputError(f"not a design variable of this objective; choose from: {', '.join(known)}",
+                             file=reader.file, field=f"variables.{p.name}")
+        if p.values is not None:
+            raise InputError("a variable of this objective is a range: NAME = [lower, upper]", file=reader.file,
+                             field=f"variables.{p.name}")
+    return variables
+
+
 def _variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path) -> list[Parameter]:
-    """``[variables]``: ``NAME = [lower, upper]`` (SI) or a table as a study's ``[parameters.NAME]``."""
     table = reader.table("variables", None)
     if table is None or not table.data:
         raise reader.error("variables", "give at least one design variable: NAME = [lower, upper] (SI) with NAME a "
@@ -204,7 +218,7 @@ def _requirements(reader: FieldReader, outputs: tuple[str, ...]) -> tuple[Bound,
     return tuple(out)
 
 
-def _start(reader: FieldReader, variables: list[Parameter]) -> dict[str, float]:
+def read_start(reader: FieldReader, variables: list[Parameter]) -> dict[str, float]:
     """``[start]``: a value (SI) per ranged variable, inside its bounds."""
     table = reader.table("start", None)
     if table is None:

@@ -67,37 +67,20 @@ def _mechanism(reader: Any, folder: Path) -> Any:
 
 
 def _bounds(reader: Any, mech: Any, known: tuple[str, ...]) -> dict[str, tuple[float, float]]:
-    table = reader.table("variables")
-    if not table.data:
-        raise reader.error("variables", "give at least one design variable (name = [lower, upper])")
-    bounds = {}
-    for name in list(table.data):
-        if name not in mech.parameters:
-            raise table.error(name, f"unknown parameter of {mech.name}; known: {', '.join(mech.parameters)}")
-        if name not in known:
-            raise table.error(name, f"not a design variable of this objective; choose from: {', '.join(known)}")
-        lower, upper = table.vector(name, 2)
-        if not lower < upper:
-            raise table.error(name, f"empty range [{lower:g}, {upper:g}]: the lower bound must be below the upper")
-        bounds[name] = (float(lower), float(upper))
-    table.finish()
-    return bounds
+    """``[variables]`` read as a design file's (:func:`~mechatron.studies.design_spec.read_variables`), only the
+    named problem's ``known`` ones, as ranges: name → (lower, upper) (m)."""
+    from .design_spec import read_variables
+
+    variables = read_variables(reader, mech, {}, Path(reader.file or ".").resolve().parent, known)
+    return {p.name: (p.low, p.high) for p in variables}
 
 
 def _start(reader: Any, bounds: dict[str, tuple[float, float]]) -> dict[str, float]:
-    table = reader.table("start", None)
-    if table is None:
-        return {}
-    out = {}
-    for name in list(table.data):
-        if name not in bounds:
-            raise table.error(name, "not a design variable (give it in [variables] first)")
-        value = table.number(name)
-        if not bounds[name][0] <= value <= bounds[name][1]:
-            raise table.error(name, f"{value:g} is outside the bounds [{bounds[name][0]:g}, {bounds[name][1]:g}]")
-        out[name] = value
-    table.finish()
-    return out
+    """``[start]`` read as a design file's (:func:`~mechatron.studies.design_spec.read_start`)."""
+    from .design_spec import read_start
+    from .spec import Parameter
+
+    return read_start(reader, [Parameter(name, low, high) for name, (low, high) in bounds.items()])
 
 
 def _data_file(table: Any, key: str, folder: Path) -> Path:
