@@ -19,7 +19,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "mechatron"
 #: Layers from the bottom; a module may import from its own layer's package or from lower layers.
 LAYERS = [
     ("errors", "units", "_exports"),
-    ("io",),
+    ("io", "quantities"),
     ("report",),
     ("model",),
     ("kinematics",),

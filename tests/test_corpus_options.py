@@ -30,6 +30,8 @@ from tests.corpus import EDGE_NUMBERS, assert_clean_error, run
 TOLERANCES = "parameter,tolerance\na1,0.001\nq1,0.001\n"
 POSES_OUTSIDE = "q1,q2\n0,0\n0.5,4\n"  # planar_2r: q2 limit ±2.96706 rad
 TRAJECTORY_OUTSIDE = "t,q1,q2\n0,0,0\n0.5,0.2,1\n1,0.4,3.5\n1.5,0.5,3.5\n"
+DESIGN = ('mechanism = "crank_slider"\n[variables]\nl1 = [0.08, 0.12]\n[objective]\nminimize = "reach_m"\n'
+          '[analyses.linkage]\nsamples = 5\n')
 
 
 @pytest.fixture(scope="module")
@@ -41,6 +43,7 @@ def folder(tmp_path_factory):
     (path / "poses_outside.csv").write_text(POSES_OUTSIDE)
     (path / "trajectory_outside.csv").write_text(TRAJECTORY_OUTSIDE)
     (path / "a_directory").mkdir()
+    (path / "design.toml").write_text(DESIGN)
     return path
 
 
@@ -58,6 +61,7 @@ BASE = {
     "structure": ["structure", "planar_2r"],
     "export-urdf": ["export-urdf", "planar_2r", "-o", "x.urdf"],
     "study": ["study", "study.toml"],
+    "optimize": ["optimize", "design.toml"],
 }
 
 
