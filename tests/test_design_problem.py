@@ -2,6 +2,7 @@
 derivatives, a scissor lift's cylinder pin against a grid study, a Pareto front against the non-dominated set of a
 study over the same designs, DH angles and a URDF's origins as variables, and every refusal before any evaluation."""
 
+import json
 import shutil
 from pathlib import Path
 
@@ -41,6 +42,13 @@ def test_the_crank_slider_by_exact_derivatives(crank):
     assert result.best["l2"] == pytest.approx(0.35, abs=1e-6)
     assert result.best["reach_m"] == pytest.approx(0.45, abs=2e-6)
     assert result.feasible
+    frame = result.to_frame()
+    assert list(frame.loc[frame["kind"] == "variable", "unit"]) == ["m", "m"]
+    (travel,) = [r for r in result.requirements if r.name == "x_travel_m"]
+    assert travel.margin == pytest.approx(2 * result.best["l1"] - 0.2, abs=1e-9) and travel.unit == "m"
+    data = json.loads(json.dumps(result.as_dict(), allow_nan=False))
+    assert data["objectives"] == [{"name": "reach_m", "goal": "minimize", "unit": "m"}]
+    assert "reach" in str(result) and result.plot().axes[0].get_ylabel() == "reach (m)"
 
 
 def test_the_exact_gradients_equal_central_differences_of_the_evaluated_outputs(crank):
@@ -117,11 +125,33 @@ evaluations = 24
 """)
     result = optimize_design(path)
     assert result.solver["method"].startswith("nsga2")
-    table = result.evaluations[result.evaluations["feasible"]]
-    mask = pareto_mask(table["drive_mass_kg"].to_numpy(float), table["cycle_time_s"].to_numpy(float))
-    expected = table[mask].sort_values("drive_mass_kg", kind="stable")
-    pd.testing.assert_frame_equal(result.front.reset_index(drop=True), expected.reset_index(drop=True))
+    # a study of the same designs (a CSV of them), its own evaluation and its own Pareto front
+    from mechatron.studies.runner import run_study
+
+    designs = result.evaluations[["a2", "a3"]]
+    designs.to_csv(tmp_path / "designs.csv", index=False)
+    _write(tmp_path, """
+mechanism = "puma560"
+[designs]
+method = "csv"
+file = "designs.csv"
+[analyses.sizing]
+objective = "time"
+single_pass = true
+[output.pareto]
+x = "drive_mass_kg"
+y = "cycle_time_s"
+""", "study.toml")
+    study = run_study(tmp_path / "study.toml", tmp_path / "study")
+    feasible = study.table[study.table["feasible"].astype(bool) & (study.table["status"] == "ok")]
+    mask = pareto_mask(feasible["drive_mass_kg"].to_numpy(float), feasible["cycle_time_s"].to_numpy(float))
+    expected = feasible[mask].sort_values("drive_mass_kg", kind="stable")
     assert len(result.front) >= 1
+    columns = ["a2", "a3", "drive_mass_kg", "cycle_time_s"]
+    np.testing.assert_allclose(result.front[columns].to_numpy(float), expected[columns].to_numpy(float),
+                               rtol=1e-12)
+    table = result.evaluations[result.evaluations["feasible"]]
+    assert len(table) == len(feasible)  # the same designs feasible
     figure = result.plot()
     assert "(kg)" in figure.axes[0].get_xlabel() and "(s)" in figure.axes[0].get_ylabel()
 

@@ -382,6 +382,7 @@ class DesignResult(Result):
     requirements: list[Requirement]
     front: pd.DataFrame | None = None
     notes: list[str] = field(default_factory=list)
+    units: dict[str, str] = field(default_factory=dict)
 
     @property
     def feasible(self) -> bool:
@@ -397,7 +398,7 @@ class DesignResult(Result):
             return self.front.reset_index(drop=True)
         if self.best is None:
             return pd.DataFrame(columns=["kind", "name", "value", "limit", "margin", "met", "unit"])
-        rows = [{"kind": "variable", "name": v, "value": self.best[v], "unit": _variable_unit(self.best[v])}
+        rows = [{"kind": "variable", "name": v, "value": self.best[v], "unit": self.units.get(v, "-")}
                 for v in self.variables]
         name = self.objectives[0][0]
         rows.append({"kind": self.objectives[0][1], "name": name, "value": self.best[name], "unit": unit_of(name)})
@@ -406,14 +407,15 @@ class DesignResult(Result):
         return pd.DataFrame(rows)
 
     def as_dict(self) -> dict:
-        """name, mechanism, objectives, the best design (variables and outputs), requirements, feasible, solver,
-        the count of designs evaluated and feasible, the front (two objectives)."""
+        """name, mechanism, objectives, the variables' units, the best design (variables and outputs),
+        requirements, feasible, solver, the count of designs evaluated and feasible, the front (two objectives)."""
         from ..report.result import frame_records
 
         feasible = int(self.evaluations["feasible"].sum()) if len(self.evaluations) else 0
         return json_ready({
             "name": self.name, "mechanism": self.mechanism,
             "objectives": [{"name": n, "goal": g, "unit": unit_of(n)} for n, g in self.objectives],
+            "variables": {v: {"unit": self.units.get(v, "-")} for v in self.variables},
             "best": self.best,
             "requirements": [{"name": r.name, "kind": r.kind, "value": r.value, "limit": r.limit, "margin": r.margin,
                               "met": r.met(), "unit": r.unit} for r in self.requirements],
@@ -480,10 +482,6 @@ def _cell(value: Any) -> str:
     return f"{value:14.6g}" if isinstance(value, (int, float, np.floating)) else f"{Path(str(value)).name:>14}"
 
 
-def _variable_unit(value: Any) -> str:
-    return "SI" if isinstance(value, (int, float, np.floating)) else "-"
-
-
 # ------------------------------------------------------------------------------------------------ solving
 def optimize_design(spec: DesignSpec | str | Path, workers: int = 1, scheduler: str | None = None,
                     progress: Any = None) -> DesignResult:
@@ -540,7 +538,25 @@ def _result(spec: DesignSpec, evaluations: Evaluations, solver: dict[str, Any], 
         best = rows[feasible[int(np.argmin(scores))]]
     requirements = evaluations.requirements(best) if best is not None else []
     return DesignResult(spec.name, Path(spec.study.mechanism).name, spec.objectives,
-                        tuple(evaluations.names), solver, table, best, requirements, front, notes)
+                        tuple(evaluations.names), solver, table, best, requirements, front, notes,
+                        _variable_units(spec))
+
+
+def _variable_units(spec: DesignSpec) -> dict[str, str]:
+    """The unit of each variable: its mechanism parameter's (m, rad), the registry's for an analysis option, "-"
+    for a list of names."""
+    from ..quantities import is_quantity, unit
+    from .spec import study_mechanism
+
+    mech = study_mechanism(spec.study.mechanism)
+    out = {}
+    for p in spec.variables:
+        option = p.target.split(".", 1)[1] if p.target else None
+        if option is None:
+            out[p.name] = mech.parameters[p.name].unit
+        else:
+            out[p.name] = unit(option) if is_quantity(option) and p.values is None else "-"
+    return out
 
 
 # ------------------------------------------------------------------------------------------------ writing

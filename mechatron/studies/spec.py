@@ -18,6 +18,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
@@ -95,8 +96,14 @@ class Spec:
 
 def spec_path(folder: Path, name: str) -> Path:
     """The one path rule of study, design and optimisation files: a file they name is relative to their own folder
-    (an absolute path as it is)."""
-    return (Path(folder) / name).resolve()
+    (an absolute path as it is), links kept (a file read through a link is named as it is read). A study's spec
+    holds them absolute (:func:`absolute`): its workers may run elsewhere."""
+    return Path(folder) / name
+
+
+def absolute(path: Path) -> str:
+    """``path`` made absolute (from the working folder), links kept."""
+    return os.path.abspath(path)
 
 
 def file_field(reader: FieldReader, key: str, folder: Path, default: Path | None = None,
@@ -113,7 +120,7 @@ def file_field(reader: FieldReader, key: str, folder: Path, default: Path | None
 def _resolve(value: Any, folder: Path) -> Any:
     """A string naming a file relative to the study file's folder → its absolute path; anything else as it is."""
     if isinstance(value, str) and value and spec_path(folder, value).is_file():
-        return str(spec_path(folder, value))
+        return absolute(spec_path(folder, value))
     return value
 
 
@@ -250,7 +257,7 @@ def _analyses(reader: FieldReader, folder: Path) -> dict[str, dict[str, Any]]:
 
 def _mechanism(reader: FieldReader, folder: Path) -> tuple[str, Any]:
     given = reader.string("mechanism")
-    where = str(spec_path(folder, given)) if spec_path(folder, given).is_file() else given
+    where = absolute(spec_path(folder, given)) if spec_path(folder, given).is_file() else given
     try:
         return where, study_mechanism(where)
     except InputError as exc:
