@@ -57,7 +57,7 @@ def open_in_browser(path: Path, tmp_path: Path) -> tuple[str, list[str]]:
     result = subprocess.run(
         [browser(), "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking",
          "--disable-component-update", "--disable-sync", f"--user-data-dir={tmp_path / 'browser'}",
-         "--enable-logging=stderr", "--v=0", "--dump-dom", path.resolve().as_uri()],
+         "--enable-logging=stderr", "--v=0", "--window-size=1000,800", "--dump-dom", path.resolve().as_uri()],
         capture_output=True, text=True, timeout=90)
     assert result.returncode == 0, result.stderr[-2000:]
     console = [line for line in result.stderr.splitlines() if "CONSOLE" in line]
@@ -148,6 +148,8 @@ def check_page(path: Path, tmp_path: Path) -> Page:
     page = Page(dom)
     assert page.images and all(src.startswith("data:image/png;base64,") for src in page.images)
     assert page.body.get("data-charts-shown") == f"{len(page.images)} of {len(page.images)}"
+    assert page.body.get("data-page-width") == "fits", "the page is wider than the window (a table overflows)"
+    assert not [name for name, text in page.sections.items() if "**" in text], "markup shown as text"
     for link in page.links:
         assert link.startswith(("data:", "#")), link
         assert not link.startswith("#") or link[1:] in page.ids, f"{link} points nowhere"

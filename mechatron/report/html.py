@@ -293,7 +293,8 @@ def _list(items: list[list[str]], cited: list[str]) -> str:
 
 
 def _inline(text: str, cited: list[str], code: bool = False) -> str:
-    """Escape ``text``, turn roles and double-backquoted literals into ``<code>``, link citations."""
+    """Escape ``text``, turn roles and double-backquoted literals into ``<code>``, ``**strong**`` and ``*emphasis*``
+    into ``<strong>`` and ``<em>``, link citations."""
     def role(match: re.Match) -> str:
         target = match.group(3) or match.group(2)
         shown = match.group(2).strip() if match.group(3) else (target.rsplit(".", 1)[-1] if match.group(1)
@@ -303,7 +304,7 @@ def _inline(text: str, cited: list[str], code: bool = False) -> str:
     text = _LITERAL.sub(lambda m: f"\x00{m.group(1)}\x01", _ROLE.sub(role, text))
     text = _cite(_escape(text), cited)
     if not code:
-        text = _EMPHASIS.sub(r"<em>\1</em>", text)
+        text = _EMPHASIS.sub(r"<em>\1</em>", _STRONG.sub(r"<strong>\1</strong>", text))
     return text.replace("\x00", "" if code else "<code>").replace("\x01", "" if code else "</code>")
 
 
@@ -326,6 +327,7 @@ def _reference_id(key: str) -> str:
     return "ref-" + re.sub(r"[^A-Za-z0-9]+", "-", key)
 
 
+_STRONG = re.compile(r"(?<![\w*])\*\*(?=\S)([^*]+?)(?<=\S)\*\*(?![\w*])")
 _EMPHASIS = re.compile(r"(?<![\w*])\*(?=\S)([^*]+?)(?<=\S)\*(?![\w*])")
 _BACKQUOTED = re.compile(r"`([^`]+)`")
 
@@ -354,8 +356,8 @@ def _table(table: Table) -> str:
     more = len(frame) - len(shown)
     caption = table.caption + (f" (the first {len(shown)} of {len(frame)} rows)" if more else "")
     name = f' data-table="{_escape(table.name)}"' if table.name else ""
-    return (f"<table{name}>" + (f"<caption>{_escape(caption)}</caption>" if caption else "")
-            + f"<thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>")
+    return (f'<div class="table"><table{name}>' + (f"<caption>{_escape(caption)}</caption>" if caption else "")
+            + f"<thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table></div>")
 
 
 def _cell(value: Any, column: str) -> tuple[str, str]:
@@ -416,6 +418,7 @@ td.fail{color:#fff;background:#b3261e;font-weight:600}pre{background:#f7f7f7;pad
 font-size:.8rem}figure{margin:1rem 0}img{max-width:100%;height:auto}figcaption{font-size:.85rem;color:#444}
 .summary{font-weight:600}.warning{color:#b3261e;font-weight:600}.method{border-left:3px solid #ddd;
 padding-left:1rem}nav ol{columns:2;font-size:.9rem}footer{margin-top:2rem;font-size:.8rem;color:#666}
+div.table{overflow-x:auto;max-width:100%}
 @media print{nav{display:none}section{break-inside:avoid-page}}
 """
 _SCRIPT = """
@@ -425,6 +428,8 @@ window.addEventListener("load", function () {
     if (images[i].complete && images[i].naturalWidth > 0) { shown++; }
   }
   document.body.setAttribute("data-charts-shown", shown + " of " + images.length);
+  var page = document.documentElement;
+  document.body.setAttribute("data-page-width", page.scrollWidth <= page.clientWidth ? "fits" : "overflows");
   if (shown < images.length) { document.getElementById("charts-warning").hidden = false; }
 });
 """
