@@ -176,8 +176,12 @@ def test_chart_data_is_the_chart(arm, bucket):
 
 
 def test_a_cylinder_explains_its_choice(bucket):
-    """The deciding check is the smallest margin; the drive's mass is the catalog's mass + mass per stroke × the
-    stroke, times the cylinders side by side; the runners-up are the next lightest feasible cylinders."""
+    """The deciding check is the smallest margin of the checks that can bind — not the rated pressure, a pass/fail
+    filter whose margin is 0 for every row rated at the system pressure (issue 25, item 3: this test asserted that
+    margin 0 before); the drive's mass is the catalog's mass + mass per stroke × the stroke, times the cylinders
+    side by side; the runners-up are the lighter rows that fail a check (here HC40/22-25, 7.3 kg/m of stroke
+    against 8.5: rated 25 MPa, below the 32 MPa system — listed since issue 25) and then the next lightest
+    feasible cylinders."""
     (joint,) = bucket.joints
     catalog = default_catalog("cylinders").set_index("key")
     spec = mechatron.load("six_bar_bucket").cylinders[joint.joint]
@@ -186,10 +190,16 @@ def test_a_cylinder_explains_its_choice(bucket):
     mass = (row["mass"] + row["mass_per_stroke"] * stroke) * spec.count
     data = bucket.as_dict()["joints"][0]
     assert data["drive_mass_kg"] == pytest.approx(mass, rel=1e-12)
-    assert data["deciding_check"]["margin"] == min(c.margin for c in joint.checks)
+    binding = [c for c in joint.checks if c.name != "rated pressure"]
+    assert data["deciding_check"]["margin"] == min(c.margin for c in binding) > 0
+    assert data["deciding_check"]["name"] != "rated pressure"
     assert data["mounted_on"] is None  # a cylinder's mass is the mechanism file's
-    assert [r["cylinder"] for r in data["runner_up"]] == list(joint.ranking["cylinder"].iloc[1:3])
-    assert all(r["lost_on"] == "objective" and r["reason"].startswith("heavier") for r in data["runner_up"])
+    lighter = [r for r in data["runner_up"] if r["lost_on"] == "check"]
+    heavier = [r for r in data["runner_up"] if r["lost_on"] == "objective"]
+    assert [r["cylinder"] for r in lighter] == ["HC40/22-25"] == [r["cylinder"] for r in data["rejected"]]
+    assert lighter[0]["reason"].startswith("lighter") and lighter[0]["reason"].endswith("fails rated pressure ×1.28")
+    assert [r["cylinder"] for r in heavier] == list(joint.ranking["cylinder"].iloc[1:3])
+    assert data["runner_up"] == lighter + heavier and all(r["reason"].startswith("heavier") for r in heavier)
 
 
 def test_sizing_plot_has_one_panel_per_joint(arm, tmp_path):

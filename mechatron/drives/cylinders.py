@@ -2,31 +2,44 @@ r"""Hydraulic cylinders of a closed-loop mechanism chosen from a catalog.
 
 For a cylinder coordinate with force F(t) (N, > 0 pushes: extends the cylinder), speed v(t) (m/s) and pin-to-pin
 length L(t) (m) shared by ``count`` cylinders side by side, a hydraulic system of relief pressure p_s, and a
-catalog cylinder of bore D, rod d (piston area A_p = π D²/4, annulus A_a = A_p − π d²/4) and rated pressure p_r:
+catalog cylinder of bore D, rod d (piston area A_p = π D²/4, annulus A_a = A_p − π d²/4) and rated pressure p_r,
+each check a value against a limit (load factor = value/limit, margin = 1 − value/limit):
 
 - rated pressure  p_s ≤ p_r: the relief pressure reaches the cylinder whenever the pump works against it (at a
-  stroke end, when the load stalls), whatever the task's forces;
-- push pressure   p = max F⁺ / (count A_p)  ≤ min(p_r, p_s);
-- pull pressure   p = max F⁻ / (count A_a)  ≤ the same;
+  stroke end, when the load stalls), whatever the task's forces. A **filter** (:data:`FILTERS`): a row passes or
+  fails it; its "margin" 1 − p_s/p_r says how far the rating is above the system, not how much load the cylinder
+  could still take, and it is 0 for every row rated at the system pressure — so it never decides a feasible
+  cylinder (:meth:`CylinderSizing.deciding`);
+- push pressure   p = max F⁺ / (count A_p)  ≤ min(p_r, p_s), the pose of the largest push;
+- pull pressure   p = max F⁻ / (count A_a)  ≤ the same, the pose of the largest pull;
 - stroke          L_max − L_min ≤ the catalog's maximum stroke;
 - rod buckling    at every pose, F⁺/count ≤ F_E(L) / S with F_E(L) = π² E (π d⁴/64) / (K L)² (Euler, buckling length
   K L with the end fixing's factor K, :mod:`mechatron.drives.shafts`; the whole cylinder taken as a rod of
-  diameter d — the makers' conservative simplification), S = 3.5. Reported at the pose of the largest load factor
-  (value: the force there, limit: the allowed force at that length). Without the lengths of the task, every
-  pose is taken fully extended (L = L_max).
+  diameter d — the makers' conservative simplification), S = 3.5. Reported at the pose of the largest F⁺ (K L)²,
+  the largest load factor (value: the force there, limit: the allowed force at that length). Without the lengths
+  of the task, every pose is taken fully extended (L = L_max).
+
+The push, pull and buckling checks are load checks: p = F/A is linear in the force, so their margin is the fraction
+of the force the cylinder could still carry at that pose (1 − F/(p_lim A), 1 − F/(F_E/S)); the stroke's margin is the
+fraction of the row's longest stroke left. These four are the checks that can bind (:data:`BINDING`): the deciding
+check of a feasible cylinder is the one of them with the smallest margin, and its smallest margin (the ``margin``
+objective's score) is taken over them; a cylinder that fails a check is decided by its worst one, the filter
+included.
 
 The end fixing is the catalog row's (``end_fixing``, default pinned at both ends: an eye or clevis at each end) or
 the one given to :func:`size_cylinder`. Each cylinder says whether its bore and rod belong to the metric series of
 [ISO 3320] (:data:`ISO_3320_BORES`, :data:`ISO_3320_RODS`). The feasible cylinders are ranked by mass
-(``mass + mass_per_stroke · stroke``), cost or margin. The flow a cylinder takes,
-Q(t) = count · (A_p v⁺ + A_a v⁻) (m³/s), and the pump flow and hydraulic power over the cycle are in
-:mod:`mechatron.drives.hydraulics`.
+(``mass + mass_per_stroke · stroke``), cost or margin; the rows ranked before the chosen one (lighter; cheaper for
+``cost``) fail a check, and are reported with the checks they fail and their load factors
+(:attr:`CylinderSizing.rivals`). The flow a cylinder takes, Q(t) = count · (A_p v⁺ + A_a v⁻) (m³/s), the pressure
+its load needs, p(t) = max(F v, 0) / Q(t) ≤ p_s (:meth:`CylinderSizing.pressure_needed`), and the pump flow and
+hydraulic power over the cycle are in :mod:`mechatron.drives.hydraulics`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -51,6 +64,12 @@ if TYPE_CHECKING:  # pragma: no cover
 BUCKLING_SAFETY = 3.5
 CYLINDER_CHECKS = ("rated pressure", "push pressure", "pull pressure", "stroke", "rod buckling")
 CYLINDER_UNITS = ("Pa", "Pa", "Pa", "m", "N")
+#: The pass/fail filters among :data:`CYLINDER_CHECKS`: satisfied or not by the catalog row alone, never the deciding
+#: check of a feasible cylinder (the module docstring).
+FILTERS = ("rated pressure",)
+#: The checks that can bind: the load checks (push and pull pressure, rod buckling) and the stroke.
+BINDING = tuple(name for name in CYLINDER_CHECKS if name not in FILTERS)
+_BINDING = [CYLINDER_CHECKS.index(name) for name in BINDING]
 #: The cylinder bores of [ISO 3320] (mm): the preferred ones (the R10 series) and, in brackets in the standard,
 #: the non-preferred 90, 110, 140, 180, 220, 280, 360 and 450.
 ISO_3320_BORES = (8, 10, 12, 16, 20, 25, 32, 40, 50, 63, 80, 90, 100, 110, 125, 140, 160, 180, 200, 220, 250, 280,
@@ -90,9 +109,13 @@ class CylinderSizing(DriveSizing):
         cylinder, count: the chosen cylinder's key and how many work side by side.
         checks: rated, push and pull pressure (Pa), stroke (m), rod buckling (N).
         peak_flow: Q = count · max(A_p v⁺, A_a v⁻) (m³/s).
-        ranking: the feasible cylinders, best first (cylinder, bore, rod, iso_3320, mass, price, smallest margin,
-            peak flow, score).
+        ranking: the feasible cylinders, best first (cylinder, bore, rod, iso_3320, mass, price, smallest margin
+            over the checks that can bind (:data:`BINDING`), peak flow, score).
         closest: the cylinders with the smallest worst load factor and the checks they fail.
+        rivals: the catalog rows ranked before the chosen one by the objective (lighter for ``mass``, cheaper for
+            ``cost``), all of which fail a check, nearest first: cylinder, bore, rod (m), iso_3320, mass (kg) and
+            price (× count), worst_load_factor and ``failed`` (``check ×load factor``, ``; ``-joined); empty for
+            the ``margin`` objective and when nothing is feasible.
         duty: the coordinate's duty: force (N, > 0 pushes) and speed (m/s) over time.
         cylinder_data: the chosen cylinder's catalog data (SI).
         pressure: the system's relief pressure (Pa).
@@ -117,6 +140,7 @@ class CylinderSizing(DriveSizing):
     end_fixing: str = "pinned-pinned"
     buckling_length: float = math.nan
     length: NDArray[np.float64] | None = None
+    rivals: pd.DataFrame = field(default_factory=pd.DataFrame)
 
     kind = "cylinder"
 
@@ -138,6 +162,68 @@ class CylinderSizing(DriveSizing):
         v = self.duty.speed
         return self.count * np.where(v > 0, piston * v, -annulus * v)
 
+    def pressure_needed(self, relief: float | None = None) -> NDArray[np.float64]:
+        r"""p(t) (Pa): the pressure the pump must give the cylinders' inlet side to move their load, at every sample.
+
+        Extending (v > 0) the oil enters the piston side, p = F / (count A_p) where the cylinders push (F > 0);
+        retracting (v < 0) it enters the rod side, p = −F / (count A_a) where they pull (F < 0) — in both
+        p Q = F v. Where the load drives the cylinder (F v < 0: gravity lowering the load, a push while retracting)
+        a counterbalance (meter-out) valve on the outlet side holds the load and the pump only fills the inlet
+        side, at no pressure: p = 0; standing still (v = 0) no oil flows, p = 0. At most the relief pressure
+        ``relief`` (default :attr:`pressure`). So p(t) Q(t) = min(max(F v, 0), p_s Q(t)), the power the cylinders
+        deliver to their load (lossless: no friction in the cylinders and no back pressure on the outlet)."""
+        relief = self.pressure if relief is None else relief
+        piston, annulus = self.areas
+        v, force = self.duty.speed, self.duty.torque
+        area = self.count * np.where(v > 0, piston, annulus)
+        load = np.where(v > 0, force, np.where(v < 0, -force, 0.0))
+        return np.minimum(np.maximum(load, 0.0) / area, relief)
+
+    def is_filter(self, check: Check) -> bool:
+        """Whether ``check`` is a pass/fail filter (:data:`FILTERS`: the rated pressure), not a check that binds."""
+        return check.name in FILTERS
+
+    def _pool(self) -> list[Check]:
+        """The checks the deciding check and the smallest margin are taken over: those that can bind
+        (:data:`BINDING`) when every check passes, else every check (a failing filter decides too)."""
+        return self.checks if self.failed else [c for c in self.checks if not self.is_filter(c)]
+
+    def deciding(self) -> Check | None:
+        """The check that binds: the smallest margin among the push and pull pressure, stroke and rod buckling checks
+        (the rated pressure, a filter, never decides a feasible cylinder); when a check fails, the worst one."""
+        return min(self._pool(), key=lambda c: c.margin, default=None)
+
+    def smallest_margin(self) -> float:
+        """The smallest margin over the checks that can bind (< 0: a check fails, the filter included)."""
+        return min((c.margin for c in self._pool()), default=math.inf)
+
+    def explanation(self) -> dict:
+        """The explanation of :class:`~mechatron.drives.report.DriveSizing` and ``rejected``: the rows of
+        :attr:`rivals` (each lighter, or cheaper, row that was rejected and the checks it fails)."""
+        return {**super().explanation(), "rejected": self.rivals.to_dict(orient="records")}
+
+    def explanation_lines(self) -> list[str]:
+        """The deciding check, the rejected rows ranked before the chosen one (the nearest
+        :data:`~mechatron.drives.report.REPORTED`, with the checks they fail and by how much) and the next feasible
+        ones."""
+        deciding = self.deciding()
+        lines = []
+        if deciding is not None:
+            kind = "" if self.failed else " (the check that binds; the rated pressure is a pass/fail filter)"
+            lines.append(f"    deciding check: {deciding.name}, margin {deciding.margin:.1%}{kind}")
+        if len(self.rivals):
+            what = "cheaper" if self.objective == "cost" else "lighter"
+            lines.append(f"    {what} rows rejected, nearest first (load factor = value/limit of each check "
+                         "failed):")
+            lines += [f"      {row['cylinder']} ({row['mass']:.4g} kg, price {row['price']:.4g}): {row['failed']}"
+                      for row in self.rivals.head(REPORTED).to_dict(orient="records")]
+            if len(self.rivals) > REPORTED:
+                lines.append(f"      and {len(self.rivals) - REPORTED} {what} ones more (--json: rejected)")
+        elif self.feasible and self.objective != "margin":
+            lines.append(f"    no {'cheaper' if self.objective == 'cost' else 'lighter'} row in the catalog")
+        runners = [r for r in self.runner_up() if r["lost_on"] == "objective" or not self.feasible]
+        return lines + [f"    runner-up {row['candidate']}: {row['reason']}" for row in runners]
+
     def drive_columns(self) -> dict:
         return {"motor": None, "converter": self.cylinder, "ratio": None}
 
@@ -152,17 +238,19 @@ class CylinderSizing(DriveSizing):
 
     def as_dict(self) -> dict:
         """joint, kind, feasible, motor/gearbox/ratio (None), cylinder, count, bore and rod (m), iso_3320,
-        pressure (Pa), end_fixing, buckling_length (m), peak_flow (m³/s) and peak_flow_l_min, checks (SI),
-        alternatives, closest (when none is feasible)."""
+        pressure (Pa), end_fixing, buckling_length (m), peak_flow (m³/s) and peak_flow_l_min, checks (SI; each with
+        ``filter``: true for the rated pressure, a pass/fail filter), alternatives, closest (when none is feasible)
+        and the explanation (:meth:`explanation`): deciding_check, runner_up, rejected, drive_mass_kg,
+        drive_price."""
         return json_ready({
             "joint": self.joint, "kind": "cylinder", "feasible": self.feasible, "motor": None, "gearbox": None,
             "ratio": None, "cylinder": self.cylinder, "count": self.count,
             "bore": self.cylinder_data["bore"], "rod": self.cylinder_data["rod"], "iso_3320": self.standard,
             "pressure": self.pressure, "end_fixing": self.end_fixing, "buckling_length": self.buckling_length,
             "peak_flow": self.peak_flow, "peak_flow_l_min": self.peak_flow * 60e3,
-            "checks": [c.as_dict() for c in self.checks],
+            "checks": [{**c.as_dict(), "filter": self.is_filter(c)} for c in self.checks],
             "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
-            "closest": [] if self.feasible else self.closest.to_dict(orient="records")})
+            "closest": [] if self.feasible else self.closest.to_dict(orient="records"), **self.explanation()})
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """The force per cylinder over the cylinder speed along the task (coloured by time), with the push limit
@@ -238,29 +326,38 @@ def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pre
                        np.full(count, max(float(force[pose]), 0.0))], axis=1)
     limits = np.stack([rated, limit, limit, catalog["max_stroke"].to_numpy(), allowed], axis=1)
     factors = _load_factor(values, limits)
-    worst = factors.max(axis=1)
+    worst = factors.max(axis=1)  # every check: feasibility and the closest rows
+    binding = factors[:, _BINDING].max(axis=1)  # the checks that can bind: the margin
     feasible = worst <= 1 + PASS_TOLERANCE
     mass = catalog["mass"].fillna(0).to_numpy() if "mass" in catalog else np.zeros(count)
     if "mass_per_stroke" in catalog:
         mass = mass + catalog["mass_per_stroke"].fillna(0).to_numpy() * stroke
     price = catalog["price"].fillna(0).to_numpy() if "price" in catalog else np.zeros(count)
-    score = {"mass": mass, "cost": price, "margin": worst}[objective]
+    score = {"mass": mass, "cost": price, "margin": binding}[objective]
     extending, retracting = max(float(duty.speed.max()), 0.0), max(-float(duty.speed.min()), 0.0) + 0.0
     flow = spec.count * np.maximum(piston * extending, annulus * retracting)
     standard = iso_3320(bore, rod)
     index = np.flatnonzero(feasible)
     ranking = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[index], "bore": bore[index], "rod": rod[index],
                             "iso_3320": standard[index], "mass": mass[index] * spec.count,
-                            "price": price[index] * spec.count, "smallest_margin": 1 - worst[index],
+                            "price": price[index] * spec.count, "smallest_margin": 1 - binding[index],
                             "peak_flow": flow[index], "score": score[index]})
     ranking = ranking.sort_values(["score", "mass"], kind="stable").reset_index(drop=True)
     order = np.argsort(worst, kind="stable")[:REPORTED]
     closest = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[order], "worst_load_factor": worst[order],
                             "failed": [failures(CYLINDER_CHECKS, factors[i]) for i in order]})
-    i = int(np.flatnonzero(catalog["key"].to_numpy() == ranking["cylinder"].iloc[0])[0]) if len(ranking) \
-        else int(order[0])
+    # the ranking's order over every row (score, mass, then catalog order): the rows before the chosen one fail
+    ranked = np.lexsort((np.arange(count), mass, score))
+    first = ranked[feasible[ranked]]
+    i = int(first[0]) if len(first) else int(order[0])
+    before = ranked[:int(np.flatnonzero(ranked == i)[0])][::-1] if len(first) and objective != "margin" \
+        else np.array([], dtype=int)
+    rivals = pd.DataFrame({"cylinder": catalog["key"].to_numpy()[before], "bore": bore[before], "rod": rod[before],
+                           "iso_3320": standard[before], "mass": mass[before] * spec.count,
+                           "price": price[before] * spec.count, "worst_load_factor": worst[before],
+                           "failed": [failures(CYLINDER_CHECKS, factors[k]) for k in before]})
     checks = [Check(name, float(values[i, k]), float(limits[i, k]), CYLINDER_UNITS[k])
               for k, name in enumerate(CYLINDER_CHECKS)]
     return CylinderSizing(duty.name, objective, bool(len(ranking)), str(catalog["key"].iloc[i]), spec.count, checks,
                           float(flow[i]), ranking, closest, duty, catalog.iloc[i].to_dict(), float(pressure),
-                          fixings[i], float(K[i] * length[pose]), length)
+                          fixings[i], float(K[i] * length[pose]), length, rivals)

@@ -97,14 +97,16 @@ class DriveSizing(Result):
         return pd.DataFrame(self.rows(), columns=list(COLUMNS))
 
     def lines(self) -> list[str]:
-        """The text report as lines: the drive, every check with value, limit, margin and PASS/FAIL, and when no
-        drive is feasible the closest candidates with the checks they fail (load factor = value/limit)."""
+        """The text report as lines: the drive, every check with value, limit, margin and PASS/FAIL (a pass/fail
+        filter, :meth:`is_filter`, says ``filter`` for its margin), and when no drive is feasible the closest
+        candidates with the checks they fail (load factor = value/limit)."""
         head = self.headline()
         lines = [head if self.feasible else f"{head}  — NO FEASIBLE DRIVE; the closest one shown"]
         lines.append(f"    {'check':<32}{'value':>11}{'limit':>11}  {'unit':<6}{'margin':>8}  result")
         for c in self.checks:
             value, limit, unit = shown(c)
-            lines.append(f"    {c.name:<32}{value:>11}{limit:>11}  {unit:<6}{c.margin:>8.1%}  "
+            margin = "filter" if self.is_filter(c) else f"{c.margin:.1%}"
+            lines.append(f"    {c.name:<32}{value:>11}{limit:>11}  {unit:<6}{margin:>8}  "
                          f"{'PASS' if c.passed else 'FAIL'}")
         if not self.feasible:
             lines.append("    closest candidates and the checks they fail (load factor = value/limit):")
@@ -113,6 +115,11 @@ class DriveSizing(Result):
 
     def __str__(self) -> str:
         return "\n".join(self.lines())
+
+    def is_filter(self, check: Check) -> bool:
+        """Whether ``check`` is a pass/fail filter whose margin is no load margin (a cylinder's rated pressure:
+        :meth:`CylinderSizing.is_filter <mechatron.drives.cylinders.CylinderSizing.is_filter>`); none of a motor's."""
+        return False
 
     def smallest_margin(self) -> float:
         """The smallest margin over the checks (< 0: a check fails)."""
