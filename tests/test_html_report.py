@@ -176,8 +176,10 @@ def test_size_report_has_every_check_of_every_joint(tmp_path):
         assert list(table["check"]) == [c["name"] for c in joint["checks"]]
         for (_, row), check in zip(table.iterrows(), joint["checks"]):
             value, limit, margin = number(row["value"]), number(row["limit"]), number(row["margin"])
-            assert value == pytest.approx(check["value"], rel=1e-5)
-            assert limit == pytest.approx(check["limit"], rel=1e-5)
+            rpm = check["unit"] == "rad/s"  # speeds in rpm, as the text report gives them: n = 60 ω / 2π
+            assert row["unit"] == ("rpm" if rpm else check["unit"])
+            assert value == pytest.approx(check["value"] * (30 / math.pi if rpm else 1), rel=1e-5)
+            assert limit == pytest.approx(check["limit"] * (30 / math.pi if rpm else 1), rel=1e-5)
             assert margin == pytest.approx(1 - value / limit, rel=1e-4, abs=1e-5)
             assert row["pass"] == ("PASS" if value <= limit else "FAIL")
         alternatives = page.table(f"alternatives {joint['joint']}")
@@ -323,3 +325,15 @@ def test_report_is_written_whole_or_not_at_all(tmp_path):
     assert path.read_text(encoding="utf-8") == "previous" and [p.name for p in tmp_path.iterdir()] == ["report.html"]
     code, _, err = run("linkage", str(DATA / "four_bar.toml"), "--report", str(tmp_path / "missing" / "x.html"))
     assert code == 2 and len(err.strip().splitlines()) == 1 and "missing" in err and "does not exist" in err
+
+
+def test_size_report_shows_the_tasks_loads(tmp_path):
+    task = tmp_path / "task.toml"
+    task.write_text((ROOT / "examples" / "data" / "pick_and_place.toml").read_text(encoding="utf-8")
+                    + '\n[[loads]]\nframe = "tool"\nforce = [0.0, 0.0, -20.0]\nmoment = [0.0, 1.5, 0.0]\n')
+    path = tmp_path / "loads.html"
+    code, _, err = run("size", "puma560", "--task", str(task), "--single-pass", "--report", str(path))
+    assert code == 0, err
+    loads = check_page(path, tmp_path).table("loads")
+    assert list(loads["frame"]) == ["tool", "tool"]  # the example's own load, then this one
+    assert number(loads["Fz (N)"].iloc[1]) == -20.0 and number(loads["My (N·m)"].iloc[1]) == 1.5

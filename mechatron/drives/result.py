@@ -5,6 +5,7 @@ charts, HTML.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -314,12 +315,15 @@ class SizingResult(Result):
                 table = Table(supply.to_frame(), "SI units (J, W, A, V; m³/s, m³)", title.lower())
                 sections.append(Section(title, [Method(module.__doc__), table, Chart(supply.plot())]))
         for j in self.joints:
-            sections.append(Section(f"Joint {j.joint}", [Text(j.headline()), *(Text(line.strip()) for line in
-                                                                            j.explanation_lines()), Table(
-                j.to_frame()[["check", "value", "limit", "unit", "margin", "pass"]], "every check (SI; margin = 1 − "
-                "value/limit)", f"checks {j.joint}"), Table(j.ranking.head(REPORTED) if j.feasible else j.closest,
-                "the best feasible drives" if j.feasible else "the closest drives and the checks they fail",
-                f"alternatives {j.joint}"), Chart(j.plot())]))
+            checks_table = Table(_in_rpm(j.to_frame()[["check", "value", "limit", "unit", "margin", "pass"]]),
+                                 "every check (SI, speeds in rpm as in the text report; margin = 1 − value/limit)",
+                                 f"checks {j.joint}")
+            alternatives = Table(j.ranking.head(REPORTED) if j.feasible else j.closest,
+                                 "the best feasible drives" if j.feasible else
+                                 "the closest drives and the checks they fail", f"alternatives {j.joint}")
+            sections.append(Section(f"Joint {j.joint}", [
+                Text(j.headline()), *(Text(line.strip()) for line in j.explanation_lines()), checks_table,
+                alternatives, Chart(j.plot())]))
         if mechanism is not None:
             given, task = task, self._task(mechanism, task)
             if task.name != self.task:
@@ -337,9 +341,13 @@ class SizingResult(Result):
             where = f"t = {trajectory.t[k]:.4g} s of the task as given, where {loaded.joint} (the smallest margin) " \
                 f"carries its largest |τ| = {np.abs(loaded.duty.torque).max():.4g} {unit}"
             frame = mechanism.tool_frame if mechanism.tool_frame in mechanism.frame_names else None
+            loads = [Table(pd.DataFrame([{"frame": load.frame, **dict(zip(("Fx (N)", "Fy (N)", "Fz (N)"), load.force)),
+                                          **dict(zip(("Mx (N·m)", "My (N·m)", "Mz (N·m)"), load.moment))}
+                                         for load in task.loads]), "the task's constant loads (world axes)", "loads")
+                     ] if task.loads else []
             sections += [Section("Task", [Text(f"{task.name} ({task.source}): payload {task.payload:g} kg"), Table(
                 pd.DataFrame(trajectory.as_dict()["coordinates"]), f"{trajectory.duration:.4g} s as given (SI)",
-                "task")] + ([Code(task.text)] if given is None and task.text else [])),
+                "task"), *loads] + ([Code(task.text)] if given is None and task.text else [])),
                 Section("Most loaded pose", [Text(where), Chart(configuration_figure(
                     mechanism, q, frame=frame, title=f"{mechanism.name} at t = {trajectory.t[k]:.4g} s"))])]
         return Report(lines[0], sections, lines[-1])
@@ -355,3 +363,12 @@ class SizingResult(Result):
         if kept is not None and (task is None or (kept.source and Path(task).resolve() == Path(kept.source).resolve())):
             return kept
         return default_task(mechanism) if task is None else read_task(task, mechanism)
+
+
+def _in_rpm(checks: pd.DataFrame) -> pd.DataFrame:
+    """The checks with their speeds (rad/s) in rpm, as the text report gives them (n = 60 ω / 2π)."""
+    checks = checks.copy()
+    speed = checks["unit"] == "rad/s"
+    checks.loc[speed, ["value", "limit"]] = checks.loc[speed, ["value", "limit"]].astype(float) * 30 / math.pi
+    checks.loc[speed, "unit"] = "rpm"
+    return checks
