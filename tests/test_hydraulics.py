@@ -143,10 +143,18 @@ def test_iso_3320_series():
 # ------------------------------------------------------------------------------------------------ pump
 def test_pump_flow_and_power_by_hand():
     """Two 100/56 cylinders side by side at v_A = 0.1 sin(πt) m/s and one 80/45 at v_B = −0.2 sin(πt) m/s, T = 2 s,
-    25 MPa. While A extends (piston side, A_p = 7.854e-3 m²) B retracts (rod side, A_a = 3.436e-3 m²):
-    Q = (2 · 7.854e-3 · 0.1 + 3.436e-3 · 0.2) sin πt = 2.2580e-3 sin πt; then (2 · 5.391e-3 · 0.1 + 5.027e-3 · 0.2)
-    |sin πt| = 2.0835e-3 |sin πt|. Peak 2.2580e-3 m³/s (135.48 l/min) at t = 0.5 s, 56.45 kW at 25 MPa; volume
-    (2.2580e-3 + 2.0835e-3) · 2/π = 2.7639e-3 m³ per cycle, energy p · V = 69.10 kJ, mean flow V/T."""
+    25 MPa relief, both under F = 10 kN sin(πt). While A extends (piston side, A_p = 7.854e-3 m²) B retracts (rod
+    side, A_a = 3.436e-3 m²): Q = (2 · 7.854e-3 · 0.1 + 3.436e-3 · 0.2) sin πt = k1 sin πt, k1 = 2.2580e-3; then
+    (2 · 5.391e-3 · 0.1 + 5.027e-3 · 0.2) |sin πt| = k2 |sin πt|, k2 = 2.0835e-3. Peak 2.2580e-3 m³/s (135.48 l/min)
+    at t = 0.5 s; volume (k1 + k2) · 2/π = 2.7639e-3 m³ per cycle, mean flow V/T.
+
+    The pressures the loads need (issue 25: before, every flow at the 25 MPa relief pressure, 69.10 kJ per cycle,
+    kept as energy_at_relief): A works against its load throughout (F v = 1 kW sin² πt ≥ 0), at
+    p_A = F/(2 A_p) = 636.6 kPa sin πt extending and F/(2 A_a) = 927.5 kPa |sin πt| retracting, so its energy is
+    its work ∫ F v dt = 1 kJ; B is driven by its load throughout (F v = −2 kW sin² πt ≤ 0): p_B = 0, no energy. The
+    load-sensing pump gives the sum of the flows at A's pressure (B's throttled): P = 10 kN k1 sin² πt / (2 A_p) =
+    1437.5 W sin² πt, then 10 kN k2 sin² πt / (2 A_a) = 1932.4 W sin² πt; energy (1437.5 + 1932.4) W · ½ s =
+    1684.9 J, peak 1932.4 W at t = 1.5 s."""
     t = np.linspace(0.0, 2.0, 20001)
     s = np.sin(math.pi * t)
     a = size_cylinder(duty_of(t, 0.1 * s, 1e4 * s, name="A"), Cylinder("A", "a", "b", (1.0, 1.8), count=2),
@@ -159,12 +167,20 @@ def test_pump_flow_and_power_by_hand():
     assert (k1, k2) == pytest.approx((2.25802e-3, 2.08350e-3), rel=1e-5)
     pump = supply.to_frame().set_index("cylinder").loc["pump"]
     assert pump["peak_flow"] == pytest.approx(k1, rel=1e-12)
-    assert pump["peak_power"] == pytest.approx(25e6 * k1, rel=1e-12)
-    assert pump["peak_power"] == pytest.approx(56450.5, rel=1e-6)
     assert pump["volume"] == pytest.approx((k1 + k2) * 2 / math.pi, rel=1e-6)
-    assert pump["energy"] == pytest.approx(25e6 * (k1 + k2) * 2 / math.pi, rel=1e-6)
     assert pump["mean_flow"] == pytest.approx((k1 + k2) / math.pi, rel=1e-6)
-    assert pump["mean_power"] == pytest.approx(25e6 * (k1 + k2) / math.pi, rel=1e-6)
+    assert pump["energy_at_relief"] == pytest.approx(25e6 * (k1 + k2) * 2 / math.pi, rel=1e-6)
+    assert pump["energy_at_relief"] == pytest.approx(69099, rel=1e-4)
+    piston, annulus = math.pi * 0.1**2 / 4, math.pi * (0.1**2 - 0.056**2) / 4
+    extend, retract = 1e4 * k1 / (2 * piston), 1e4 * k2 / (2 * annulus)  # W: the pump's power over sin² πt
+    assert (extend, retract) == pytest.approx((1437.5, 1932.4), abs=0.05)
+    assert pump["peak_power"] == pytest.approx(retract, rel=1e-6)
+    assert pump["peak_pressure"] == pytest.approx(1e4 / (2 * annulus), rel=1e-6)
+    assert pump["energy"] == pytest.approx((extend + retract) / 2, rel=1e-6)
+    assert pump["mean_power"] == pytest.approx(pump["energy"] / 2, rel=1e-12)
+    cylinders = supply.to_frame().set_index("cylinder")
+    assert cylinders.loc["A", "energy"] == pytest.approx(1e3, rel=1e-6)  # its work ∫ F v dt: 1 kW · ½ s · 2
+    assert cylinders.loc["B", "energy"] == 0 and cylinders.loc["B", "peak_pressure"] == 0
     # per cylinder: A's peak is its piston side, 2 A_p 0.1; the peak of the sum is not the sum of the peaks
     frame = supply.to_frame().set_index("cylinder")
     assert frame.loc["A", "peak_flow"] == pytest.approx(2 * math.pi * 0.1**2 / 4 * 0.1, rel=1e-12)
@@ -172,13 +188,16 @@ def test_pump_flow_and_power_by_hand():
     assert a.peak_flow == pytest.approx(frame.loc["A", "peak_flow"], rel=1e-12)
     data = check_result(supply)
     assert data["pressure"] == 25e6 and data["pump"]["peak_flow"] == pytest.approx(k1)
+    assert data["pump"]["energy"] == pytest.approx(pump["energy"])
     assert "l/min" in str(supply)
     with pytest.raises(InputError, match="cylinder A twice"):
         hydraulic_supply([a, a])
 
 
 def test_the_supply_of_a_sized_machine():
-    """The six-bar bucket sized at the default 32 MPa: the pump's flow is its cylinder's, the power p Q."""
+    """The six-bar bucket sized at the default 32 MPa: the pump's flow is its cylinder's, the power p Q at the
+    pressure its load needs — for one cylinder the cylinder's positive power max(F v, 0) (issue 25: before, 32 MPa ×
+    the peak flow)."""
     result = mechatron.size(mechatron.load("six_bar_bucket"))
     supply = hydraulic_supply(result)
     (joint,) = result.joints
@@ -187,7 +206,11 @@ def test_the_supply_of_a_sized_machine():
     # the sizing's totals and JSON carry the pump: no motor, so the energy drawn is the pump's ∫ p Q dt
     pump, totals = supply.rows()[-1], result.totals()
     assert totals["energy_per_cycle_J"] == pump["energy"] > 0
-    assert totals["peak_pump_power_W"] == pytest.approx(32e6 * joint.peak_flow, rel=1e-12)
+    positive = np.maximum(joint.duty.torque * joint.duty.speed, 0.0)  # W
+    assert totals["peak_pump_power_W"] == pytest.approx(positive.max(), rel=1e-12)
+    assert pump["energy"] == pytest.approx(np.trapezoid(positive, joint.duty.t), rel=1e-12)
+    assert pump["energy_at_relief"] == pytest.approx(32e6 * pump["volume"], rel=1e-12)
+    assert pump["energy_at_relief"] > 5 * pump["energy"]
     assert totals["peak_bus_power_W"] is None and result.as_dict()["electrical"] is None
     assert result.as_dict()["hydraulics"]["pump"]["energy"] == pump["energy"]
     assert "pump: peak flow" in str(result)

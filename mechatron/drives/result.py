@@ -131,12 +131,12 @@ class SizingResult(Result):
 
         - drive_mass_kg and drive_cost: the chosen drives' catalog masses and prices;
         - energy_per_cycle_J: the energy drawn from the supplies per cycle, ∫ max(P_bus, 0) dt of the common DC
-          bus (P_bus = Σ (T_m n + R I²), :mod:`~mechatron.drives.electrical`) plus the pump's ∫ p Q dt
-          (:mod:`~mechatron.drives.hydraulics`);
+          bus (P_bus = Σ (T_m n + R I²), :mod:`~mechatron.drives.electrical`) plus the pump's ∫ p Q dt, p(t) the
+          pressure the loads need (0 where a load drives its cylinder; :mod:`~mechatron.drives.hydraulics`);
         - peak_bus_power_W: max P_bus; regenerated_energy_J: ∫ max(−P_bus, 0) dt, the braking energy per cycle;
           braking_resistor_peak_W and braking_resistor_continuous_W: max(−P_bus) and the regenerated energy over
           the cycle time;
-        - peak_pump_power_W and peak_pump_flow_m3_s: max p Q and max Q;
+        - peak_pump_power_W and peak_pump_flow_m3_s: max p(t) Q(t) and max Q;
         - cycle_time_s: the task's duration as sized."""
         masses = [j.drive_mass() for j in self.joints]
         prices = [j.drive_price() for j in self.joints]
@@ -168,8 +168,10 @@ class SizingResult(Result):
                          f"{number('braking_resistor_continuous_W', ' W')} ({number('regenerated_energy_J', ' J')} "
                          "regenerated per cycle; P = T·n + R·I²)")
         if totals["peak_pump_power_W"] is not None:
+            pump = self.hydraulic_supply().rows()[-1]
             lines.append(f"  pump: peak flow {totals['peak_pump_flow_m3_s'] * 6e4:.4g} l/min, peak power "
-                         f"{number('peak_pump_power_W', ' W')} (P = p·Q)")
+                         f"{number('peak_pump_power_W', ' W')}, {pump['energy']:.4g} J per cycle (P = p·Q at the "
+                         f"pressure the loads need; {pump['energy_at_relief']:.4g} J at the relief pressure)")
         return lines
 
     def to_frame(self) -> pd.DataFrame:
@@ -321,9 +323,14 @@ class SizingResult(Result):
             alternatives = Table(j.ranking.head(REPORTED) if j.feasible else j.closest,
                                  "the best feasible drives" if j.feasible else
                                  "the closest drives and the checks they fail", f"alternatives {j.joint}")
+            ahead = "cheaper" if getattr(j, "objective", "") == "cost" else "lighter"
+            rejected = [Table(j.rivals, f"the {ahead} catalog rows rejected, nearest first, each with the checks it "
+                              "fails (load factor = value/limit); rated pressure: a pass/fail filter, rating ≥ "
+                              "relief pressure", f"rejected {j.joint}")] if j.kind == "cylinder" and len(j.rivals) \
+                else []
             sections.append(Section(f"Joint {j.joint}", [
                 Text(j.headline()), *(Text(line.strip()) for line in j.explanation_lines()), checks_table,
-                alternatives, Chart(j.plot())]))
+                alternatives, *rejected, Chart(j.plot())]))
         if mechanism is not None:
             given, task = task, self._task(mechanism, task)
             if task.name != self.task:
