@@ -108,7 +108,8 @@ _ENTRIES: tuple[tuple[str, str, str], ...] = (
     ("feasible", "-", "true or false: every coordinate has a drive that passes every check, and the choice settled"),
     ("drive_mass_kg", "kg", "Σ of the drives' catalog masses"),
     ("drive_cost", "catalog currency", "Σ of the drives' catalog prices"),
-    ("smallest_margin", "-", "smallest margin 1 − value/limit over every check of every drive (< 0: a check fails)"),
+    ("smallest_margin", "-", "smallest margin 1 − value/limit over every check of every drive, a cylinder's rated "
+     "pressure (a pass/fail filter) only when it fails (< 0: a check fails)"),
     ("energy_per_cycle_J", "J", "energy drawn per cycle: ∫ max(P_bus, 0) dt of the common DC bus plus the pump's "
                                 "∫ p Q dt"),
     ("peak_power_W", "W", "peak power of the common DC bus plus the pump's peak power p Q"),
