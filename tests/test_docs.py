@@ -474,3 +474,19 @@ def test_make_samples_writes_the_shipped_trajectories():
         made = make()
         assert np.allclose(made.t, shipped.t, rtol=1e-6, atol=1e-9)
         assert np.allclose(made.q, shipped.q, rtol=1e-5, atol=1e-8)
+
+
+def test_the_catalog_pages_example_result_is_what_size_chooses():
+    """The PUMA 560's drives for the pick-and-place task from the example catalogs, as docs/catalogs.md tables them."""
+    from mechatron.drives.catalogs import read_catalog
+    from mechatron.dynamics.task import read_task
+
+    page = pages()["catalogs.md"].split("<!-- result: puma560 pick_and_place -->", 1)[1].strip().split("\n\n")[0]
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in page.splitlines()[2:]]
+    mech = robot("puma560")
+    result = mechatron.size(mech, read_task(DATA / "pick_and_place.toml", mech),
+                            motors=read_catalog(DATA / "motors.csv", "motors"),
+                            gearboxes=read_catalog(DATA / "gearboxes.csv", "gearboxes"))
+    chosen = [[j.joint, j.motor, j.converter if j.converter_kind != "direct" else "direct drive"]
+              for j in result.joints]
+    assert rows == chosen
