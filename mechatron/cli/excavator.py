@@ -12,15 +12,26 @@ from .values import FILE, Number
 def cmd_excavator(args: argparse.Namespace) -> int:
     """The front-shovel design report [Shovel]: parse, call :func:`~mechatron.machines.excavator.excavator_report`,
     emit. With ``-o FILE``: write the design's mechanism file (:func:`~mechatron.machines.excavator.write_shovel`),
-    and the report only if one of its outputs (--json, --csv, --plot) is asked for."""
+    and the report only if one of its outputs (--json, --csv, --plot) is asked for. With ``--lift-chart``: the
+    rated lift capacity [ISO 10567] and the digging forces [ISO 6015] of the design on the machine of its
+    ``[machine]`` table (:func:`~mechatron.machines.capacity.capacity_report`)."""
     from ..machines.excavator import excavator_report, read_design, write_shovel
+    from ..machines.shovel_machine import read_machine
     from ..report.progress import progress_bar
 
     design = read_design(args.design) if args.design else None
+    machine = read_machine(args.design) if args.design else None  # the [machine] table, checked in any case
+    if args.lift_chart and args.tooth_force is not None:
+        raise InputError("--tooth-force is a load for the design report's holding loads, not for --lift-chart")
     tooth = tuple(_floats(args.tooth_force, "--tooth-force", unit="N")) if args.tooth_force is not None else (0.0, 0.0)
     if len(tooth) != 2:
         raise InputError(f"--tooth-force needs two finite numbers FX,FY (N), got {len(tooth)} values")
     written = [write_shovel(design, args.output)] if args.output else []
+    if args.lift_chart:
+        from ..machines.capacity import capacity_report
+
+        emit(capacity_report(design, machine, args.samples), args, written)
+        return 0
     if written and not (args.json or args.csv or args.plot):
         from ..io.output import written_so_far
 
@@ -36,7 +47,10 @@ def register(sub) -> None:
     p = sub.add_parser("excavator", help="front-shovel working device: design table, special positions, envelope")
     p.add_argument("--design", metavar="FILE", type=FILE, help="TOML file overriding fields of the design (see docs)")
     p.add_argument("--samples", type=Number(integer=True, minimum=2), default=31, metavar="N",
-                   help="grid points per cylinder stroke (default 31)")
+                   help="grid points per cylinder stroke (default 31; with --lift-chart the digging positions)")
+    p.add_argument("--lift-chart", action="store_true",
+                   help="rated lift capacity [ISO 10567] and digging forces [ISO 6015] on the machine of the "
+                        "design file's [machine] table instead of the design report")
     p.add_argument("--tooth-force", metavar="FX,FY", help="force on the tooth tip for the holding loads (N)")
     output_option(p, "-o", "--output", kind="toml",
                   help="write the design's mechanism file (.toml; every command reads it) instead of the report")

@@ -566,7 +566,8 @@ def plot_working_range(mech: Mechanism, working: WorkingRange, shovel: FrontShov
 # ------------------------------------------------------------------------------------------------ design file
 def read_design(path: str | Path) -> FrontShovelDesign:
     """A front-shovel design from a TOML file with any fields of :class:`FrontShovelDesign` (lengths m, angles in
-    degrees as named, masses kg); the fields not given keep the report's values."""
+    degrees as named, masses kg); the fields not given keep the report's values. The ``[machine]`` table, the rest of
+    the machine, is :func:`mechatron.machines.shovel_machine.read_machine`'s."""
     from ..io.schema import FieldReader
     from ..io.toml import read_toml
 
@@ -581,6 +582,7 @@ def read_design(path: str | Path) -> FrontShovelDesign:
             values[f.name] = reader.whole(f.name, minimum=1)
         else:
             values[f.name] = reader.number(f.name)
+    reader.table("machine", None)  # read by shovel_machine.read_machine
     reader.finish()
     try:
         return replace(FrontShovelDesign(), **values)
