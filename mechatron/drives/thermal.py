@@ -144,6 +144,13 @@ def interval_maps(h: ArrayLike, current_sq: ArrayLike, speed_loss: ArrayLike, r_
     ``speed_loss`` (W), the network (thermal resistances in K/W, time constants in s), the resistance at the
     ambient ``r_ambient`` (Ω) and its slope R₂₅ α ``dr_dt`` (Ω/K); every argument broadcasts (a column per motor
     against a row of intervals)."""
+    with np.errstate(over="ignore", invalid="ignore"):  # a runaway interval overflows: its cycle has no steady state
+        return _interval_maps(h, current_sq, speed_loss, r_wh, r_ha, tau_w, tau_h, r_ambient, dr_dt)
+
+
+def _interval_maps(h: ArrayLike, current_sq: ArrayLike, speed_loss: ArrayLike, r_wh: ArrayLike, r_ha: ArrayLike,
+                   tau_w: ArrayLike, tau_h: ArrayLike, r_ambient: ArrayLike, dr_dt: ArrayLike
+                   ) -> tuple[NDArray[np.float64], ...]:
     h, i2 = np.asarray(h, dtype=float), np.asarray(current_sq, dtype=float)
     r_wh, r_ha, tau_w, tau_h = (np.asarray(x, dtype=float) for x in (r_wh, r_ha, tau_w, tau_h))
     c_w, c_h = tau_w / r_wh, tau_h / r_ha
@@ -192,6 +199,12 @@ def periodic_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.f
     if size > n:  # pad with identity maps
         pad = np.zeros(batch + (size - n,))
         maps = [np.concatenate([x, pad + (1.0 if k in (0, 3) else 0.0)], axis=-1) for k, x in enumerate(maps)]
+    with np.errstate(over="ignore", invalid="ignore"):  # a runaway: inf and NaN, then NaN states
+        return _periodic_states(maps, n, batch)
+
+
+def _periodic_states(maps: list[NDArray[np.float64]], n: int, batch: tuple[int, ...]
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     levels = [maps]
     while maps[0].shape[-1] > 1:
         a11, a12, a21, a22, a1, a2 = (x[..., 0::2] for x in maps)  # the first map of each pair
@@ -202,7 +215,7 @@ def periodic_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.f
     m11, m12, m21, m22, g1, g2 = (x[..., 0] for x in maps)
     i11, i22 = 1.0 - m11, 1.0 - m22
     det = i11 * i22 - m12 * m21
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+    with np.errstate(divide="ignore"):
         w = (i22 * g1 + m12 * g2) / det
         c = (i11 * g2 + m21 * g1) / det
         # the spectral radius of M: its eigenvalues from its trace and determinant
