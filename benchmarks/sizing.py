@@ -5,15 +5,16 @@ and mass matrix (mechatron's :func:`~mechatron.drives.duty.joint_duties`, Pinocc
 RMS motor torque and mean speed of every motor × converter pair at once from five time moments of the duty (the
 motor torque T = (J_m + J_c) u ω̇ + τ*/u with τ* = τ/η where the load takes power, τη where it gives it back, so
 ⟨T²⟩ = (J u)² ⟨ω̇²⟩ + 2J(⟨ω̇τ₊⟩/η + ⟨ω̇τ₋⟩η) + (⟨τ₊²⟩/η² + ⟨τ₋²⟩η²)/u²), the pairs that pass those checks and the
-gearbox's in mass order (then price), the per-sample checks — peak torque, the speed–torque curve, the voltage limit
-— only for them until one passes; the same distal-to-proximal fixed point, the duties recomputed when the drives on
-the links change. Printed: both times (best of the repeats, taking turns), their ratio (goal ≤ 2×), whether the
-drives agree, on the default task (1,115 samples) with and without the fixed point, on the same cycle sampled
-finely to 20,000 and 100,000 rows (time linear in the task: the 100,000-row time within 10 % of 5× the 20,000-row
-one), and with a catalog ten times larger (each motor and gearbox in ten variants). A closed loop: the scissor lift
-of examples/data (one hydraulic cylinder) sized along its generic task sampled to about 5,000 rows, against the
-sweep of its loops (position, velocity and acceleration analysis, :func:`mechatron.sweep`) at as many samples
-(goal ≤ 10×: the sizing's constrained inverse dynamics and cylinder checks cost at most nine sweeps).
+gearbox's (its peak torque derated above its cycle rating) in mass order (then price), the per-sample checks — peak
+torque, the speed–torque curve, the voltage limit — only for them until one passes; the same distal-to-proximal
+fixed point, the duties recomputed when the drives on the links change. Printed: both times (best of the repeats,
+taking turns), their ratio (goal ≤ 2×), whether the drives agree, on the default task (1,115 samples) with and
+without the fixed point, on the same cycle sampled finely to 20,000 and 100,000 rows (time linear in the task: the
+100,000-row time within 10 % of 5× the 20,000-row one), and with a catalog ten times larger (each motor and gearbox
+in ten variants). A closed loop: the scissor lift of examples/data (one hydraulic cylinder) sized along its generic
+task sampled to about 5,000 rows, against the sweep of its loops (position, velocity and acceleration analysis,
+:func:`mechatron.sweep`) at as many samples (goal ≤ 10×: the sizing's constrained inverse dynamics and cylinder
+checks cost at most nine sweeps).
 
     python benchmarks/sizing.py [--repeats R] [--skip-long]
 """
@@ -58,7 +59,9 @@ def floor_joint(duty, motors: pd.DataFrame, conv, inertia_ratio_max: float = 10.
     mean, top = u * (w @ np.abs(om)), u * np.abs(om).max()
     motion = np.abs(om) * w if np.abs(om).any() else w
     equivalent = (motion @ np.abs(tau) ** 3 / motion.sum()) ** (1 / 3)
-    gearbox = (equivalent <= conv.rated_torque) & (np.abs(tau).max() <= conv.peak_torque) \
+    # the peak torque derated above the cycle rating: the task repeats every T s, (N_r T)^p with p = lg 2.5/lg 3000
+    derating = np.minimum(1.0, (conv.cycle_rating * duty.duration) ** (np.log(2.5) / np.log(3000.0)))
+    gearbox = (equivalent <= conv.rated_torque) & (np.abs(tau).max() <= conv.peak_torque * derating) \
         & (top <= conv.max_input_speed) & (mean <= conv.rated_input_speed)
     ok = (rms <= continuous_torque(mean, rated, rated_speed, max_speed) * TOLERANCE) \
         & (top <= max_speed * TOLERANCE) & gearbox \

@@ -32,6 +32,7 @@ UNITS: dict[str, dict[str, float]] = {
     "fraction": {"": 1.0, "percent": 0.01},
     "money": {"eur": 1.0, "usd": 1.0},
     "time": {"": 1.0, "s": 1.0, "min": 60.0, "h": 3600.0},
+    "rate": {"per_s": 1.0, "per_min": 1 / 60, "per_h": 1 / 3600},  # events per time, 1/s inside; a suffix required
     "text": {"": 1.0},
     "count": {"": 1.0},
 }
@@ -39,7 +40,7 @@ UNITS: dict[str, dict[str, float]] = {
 #: The SI unit of each kind, as printed in reports.
 SI: dict[str, str] = {"length": "m", "angle": "rad", "torque": "N·m", "force": "N", "speed": "rad/s",
                       "linear_speed": "m/s", "inertia": "kg·m²", "mass": "kg", "power": "W", "pressure": "Pa",
-                      "time": "s", "ratio": "-", "fraction": "-"}
+                      "time": "s", "rate": "1/s", "ratio": "-", "fraction": "-"}
 
 
 def factor(kind: str, suffix: str) -> float | None:

@@ -66,3 +66,19 @@ def textbook_angular_accelerations(table, q: np.ndarray, qd: np.ndarray, qdd: np
             omega = omega + z * qd[j]
         out.append(eps.copy())
     return np.array(out)
+
+
+def file_friction_at_joints(table, qd: np.ndarray) -> np.ndarray:
+    """The friction of a robot file's drives seen at the joints, (N, n) (N·m or N): each drive's motor-side
+    viscous B·ω_m and Coulomb T_c (the first of its two for ω_m > 0, the second for ω_m < 0, none at rest) at the
+    motor speed ω_m = u·q̇, carried to the joint through its gear ratio u (virtual work: τ_joint = u·τ_motor)."""
+    qd = np.atleast_2d(np.asarray(qd, dtype=float))
+    out = np.zeros_like(qd)
+    for k, link in enumerate(table.links):
+        drive = link.drive
+        if drive is None:
+            continue
+        w = drive.gear_ratio * qd[:, k]
+        coulomb = np.where(w > 0, drive.coulomb_friction[0], np.where(w < 0, drive.coulomb_friction[1], 0.0))
+        out[:, k] = drive.gear_ratio * (drive.viscous_friction * w + coulomb)
+    return out

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 import pinocchio as pin
 import pytest
+from reference import file_friction_at_joints
 
 import mechatron
 from mechatron.cli import main
@@ -260,7 +261,8 @@ def test_no_wrist_drive_is_heavier_than_what_it_moves(puma):
 def test_the_puma_fixed_point_is_the_arm_with_its_drives(puma):
     """Every chosen motor and gearbox put into the PUMA by hand — drive data (J_m + J_c, u, η) on the DH rows,
     each drive's catalog mass a point mass on the parent link at its joint's origin — gives the sizing's motor
-    torques (1e-9) through the dynamics' own motor model, and every check passes."""
+    torques (1e-9) through the dynamics' own motor model, with the file's drive friction at the joints (issue 25),
+    and every check passes."""
     mech, task, result = puma
     assert result.converged and result.feasible and result.method == "fixed point"
     assert len(result.iterations) >= 2 and result.iterations[-1].changes == ()
@@ -278,7 +280,8 @@ def test_the_puma_fixed_point_is_the_arm_with_its_drives(puma):
                                 model.jointPlacements[i])
     geared = replace(geared, model=model)
     tr = task.trajectory
-    motors = motor_loads(geared, tr.v, tr.a, inverse_dynamics(geared, tr.q, tr.v, tr.a, task.loads))
+    motors = motor_loads(geared, tr.v, tr.a, inverse_dynamics(geared, tr.q, tr.v, tr.a, task.loads)
+                         + file_friction_at_joints(mech.dh, tr.v))
     for k, joint in enumerate(result.joints):
         speed, torque = joint.operating_points()
         assert np.allclose(torque, motors.torque[:, k], rtol=1e-9, atol=1e-12), joint.joint

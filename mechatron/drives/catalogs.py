@@ -50,6 +50,7 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("stages", "count", False), Field("ratio", "ratio"), Field("rated_torque", "torque"),
         Field("peak_torque", "torque"), Field("emergency_torque", "torque"), Field("max_input_speed", "speed"),
         Field("rated_input_speed", "speed"), Field("efficiency", "fraction", maximum=1.0),
+        Field("cycle_rating", "rate", False), Field("emergency_stops", "count", False),
         Field("input_inertia", "inertia"), Field("backlash", "angle", False, positive=False),
         Field("mass", "mass", False), Field("price", "money", False),
     ),

@@ -18,7 +18,7 @@ RMS torque (thermal)                  √⟨T_m²⟩                            
 max speed                             max |n|                                                         n_max
 inertia ratio                         (J_L/u² + J_c) / J_m, J_L the largest load inertia              10 (option)
 transmission equivalent torque        (Σ |ω| |τ|³ Δt / Σ |ω| Δt)^(1/3)                                T2N
-transmission peak torque              max |τ|                                                         T2B
+transmission peak torque              max |τ|                                                         T2B f_c
 transmission emergency torque         T_peak u (the motor's peak torque through the gear)             T2Stop
 transmission max input speed          max |n|                                                         n1max
 transmission mean input speed         ⟨|n|⟩                                                           n1N
@@ -28,6 +28,17 @@ transmission mean input speed         ⟨|n|⟩                                 
 configuration manuals; the speed-weighted cubic mean is the gearbox makers' equivalent output torque; the emergency
 check is M_max,gear ≥ M_0 i with the peak torque for M_0 ([Vendor sizing]), or the torque the drive is limited to in
 an emergency stop (:class:`DriveLimits`: a torque, or a current times the torque constant k_t; never above T_peak).
+
+**Gearbox duty.** The task repeats: it runs N = 1/T cycles per second (3600/T per hour, T its duration, dwells
+included). A gearbox's peak (acceleration) torque T2B holds up to its catalog's cycle rating N_r (``cycle_rating``,
+default 1,000 cycles/h, :data:`~mechatron.drives.converters.CYCLE_RATING`) and is derated above it,
+f_c = min(1, (N_r/N)^p) (:func:`peak_torque_factor`): the peak torque is met once a cycle, so N/N_r times as many load
+cycles in the gearbox's life, and the allowed tooth load falls along the Wöhler line of the ISO 6336-3 life factor
+Y_NT = (3·10⁶/N_L)^p of case-hardened teeth, p = lg 2.5 / lg 3000 = 0.1144 (Y_NT = 2.5 at 10³ and 1 at 3·10⁶ load
+cycles, [ISO 6336-3]; :data:`CYCLE_EXPONENT`): ×0.92 at 2,000 cycles/h, ×0.81 at 6,000. The emergency torque T2Stop
+is a count-limited load: the catalog allows it ``emergency_stops`` times in the gearbox's life (default 1,000,
+:data:`~mechatron.drives.converters.EMERGENCY_STOPS`); its check carries that count (:attr:`Check.count`) and the
+report states it.
 
 Beyond these (:data:`ALL_CHECKS`), where the catalogs give the data:
 
@@ -72,6 +83,10 @@ BEFORE_ENVELOPE = 32
 PER_SAMPLE = (0, 1, _VOLTAGE)
 #: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
 PASS_TOLERANCE = 1e-9
+#: The exponent p of the peak-torque derating f_c = min(1, (N_r/N)^p) (:func:`peak_torque_factor`): the slope of the
+#: ISO 6336-3 life factor of case-hardened teeth, Y_NT = 2.5 at 10³ and 1.0 at 3·10⁶ load cycles.
+CYCLE_EXPONENT = math.log(2.5) / math.log(3000.0)
+_EMERGENCY = CHECKS.index("transmission emergency torque")
 #: What an infinite load factor of a check means — a value where its limit is 0: no multiple of the limit is
 #: enough — in the words of a reason (:func:`failure`); other checks say it with :data:`NO_LIMIT`.
 BEYOND = {"speed-torque curve": "outside it (torque asked above the motor's maximum speed)",
@@ -81,12 +96,15 @@ NO_LIMIT = "a limit of 0 where a value is needed"
 
 @dataclass(frozen=True)
 class Check:
-    """One check of one drive: value and limit in ``unit``; margin = 1 − value/limit."""
+    """One check of one drive: value and limit in ``unit``; margin = 1 − value/limit. ``count``: how many times
+    the limit may be reached in the component's life (a gearbox's emergency torque), ``None`` for a limit without
+    a count."""
 
     name: str
     value: float
     limit: float
     unit: str
+    count: float | None = None
 
     @property
     def margin(self) -> float:
@@ -97,8 +115,10 @@ class Check:
         return _load_factor(self.value, self.limit) <= 1 + PASS_TOLERANCE
 
     def as_dict(self) -> dict:
-        return {"name": self.name, "value": float(self.value), "limit": float(self.limit), "unit": self.unit,
-                "margin": float(self.margin), "pass": bool(self.passed)}
+        """name, value, limit, unit, margin, pass, and count where the limit has one."""
+        out = {"name": self.name, "value": float(self.value), "limit": float(self.limit), "unit": self.unit,
+               "margin": float(self.margin), "pass": bool(self.passed)}
+        return out if self.count is None else {**out, "count": float(self.count)}
 
 
 @dataclass(frozen=True)
@@ -181,6 +201,15 @@ class MotorArrays:
 
     def __len__(self) -> int:
         return len(self.key)
+
+
+def peak_torque_factor(rate: ArrayLike, rating: ArrayLike) -> NDArray[np.float64]:
+    """The derating f_c = min(1, (N_r/N)^p) of a gearbox's peak torque T2B run N = ``rate`` cycles per second
+    above the rate N_r = ``rating`` (1/s) its catalog rates it for (p = :data:`CYCLE_EXPONENT`, the module
+    docstring); 1 at or below it and for ``rating`` inf (not a gearbox)."""
+    rate, rating = np.asarray(rate, dtype=float), np.asarray(rating, dtype=float)
+    with np.errstate(divide="ignore", over="ignore"):
+        return np.minimum(1.0, (rating / rate) ** CYCLE_EXPONENT)
 
 
 def failure(name: str, factor: float) -> str:
@@ -276,8 +305,11 @@ class PairChecks:
             motion = weights
         self.equivalent = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
         self.peak_load = np.abs(duty.torque).max()
-        self.transmission = np.stack([conv.rated_torque, conv.peak_torque, conv.emergency_torque,
-                                      conv.max_input_speed, conv.rated_input_speed], axis=1)
+        # the peak torque derated above the gearbox's cycle rating: the task repeats, 1/T cycles per second
+        self.cycle_rate = 1.0 / duty.duration if duty.duration > 0 else 0.0
+        self.peak_factor = peak_torque_factor(self.cycle_rate, conv.cycle_rating)
+        self.transmission = np.stack([conv.rated_torque, conv.peak_torque * self.peak_factor,
+                                      conv.emergency_torque, conv.max_input_speed, conv.rated_input_speed], axis=1)
         self.screw_values, self.screw_limits = screw_checks(duty, conv, limits.screw_life)
         # the converters that pass the checks of the converter alone (transmission and screw, but the emergency)
         alone = np.column_stack([np.full(len(conv), self.equivalent), np.full(len(conv), self.peak_load),
@@ -322,7 +354,7 @@ class PairChecks:
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), exact."""
         values, lim = self.table([m], [c])
-        return _check_list(values[0], lim[0])
+        return _check_list(values[0], lim[0], self.conv.emergency_stops[c])
 
     def screen(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> NDArray[np.bool_]:
         """Whether the pairs (m, c) — index arrays that broadcast, e.g. a column of motors and a row of converters
@@ -442,9 +474,11 @@ def _passes(value: ArrayLike, limit: ArrayLike) -> NDArray[np.bool_]:
         return (value <= 0) | ((limit > 0) & (value / limit <= 1 + PASS_TOLERANCE))
 
 
-def _check_list(values: NDArray[np.float64], limits: NDArray[np.float64]) -> list[Check]:
-    """The checks of one pair whose limit is finite (they apply)."""
-    return [Check(name, float(values[k]), float(limits[k]), ALL_UNITS[k])
+def _check_list(values: NDArray[np.float64], limits: NDArray[np.float64], stops: float = math.nan) -> list[Check]:
+    """The checks of one pair whose limit is finite (they apply); the emergency torque's with its count ``stops``
+    (the times it is allowed in the gearbox's life; NaN: none)."""
+    return [Check(name, float(values[k]), float(limits[k]), ALL_UNITS[k],
+                  float(stops) if k == _EMERGENCY and math.isfinite(stops) else None)
             for k, name in enumerate(ALL_CHECKS) if math.isfinite(limits[k])]
 
 
@@ -507,7 +541,7 @@ class Evaluation:
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), made exact first."""
         self.refine([m], [c])
-        return _check_list(self.values[m, c], self.limits[m, c])
+        return _check_list(self.values[m, c], self.limits[m, c], self.pairs.conv.emergency_stops[c])
 
 
 def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,

@@ -3,7 +3,10 @@ revolute joint, the linear drives of a catalog (ball screws, racks and pinions) 
 u = 2π / lead, rad/m, with the lead the travel per turn of the motor-side shaft).
 
 A linear drive also carries what its own checks need (:mod:`mechatron.drives.screws`): the length used, dynamic
-load rating, root diameter and end fixing of a screw, the permitted tooth force of a rack, the longest one made."""
+load rating, root diameter and end fixing of a screw, the permitted tooth force of a rack, the longest one made.
+A gearbox carries its duty ratings (:mod:`mechatron.drives.checks`): the cycles per hour its peak torque holds for
+(``cycle_rating``, default :data:`CYCLE_RATING`) and the number of emergency stops its emergency torque is allowed
+in its life (``emergency_stops``, default :data:`EMERGENCY_STOPS`)."""
 
 from __future__ import annotations
 
@@ -21,6 +24,11 @@ from .shafts import fixing_factors
 #: Length of a screw or rack beyond the stroke, for bearings and nut (m): its inertia and mass per length count
 #: over stroke + LENGTH_ALLOWANCE.
 LENGTH_ALLOWANCE = 0.2
+#: The cycle rate a gearbox's peak (acceleration) torque T2B holds up to where its catalog does not say (1/s): the
+#: gearbox makers' 1,000 cycles per hour.
+CYCLE_RATING = 1000 / 3600
+#: How many times a gearbox's emergency torque T2Stop is allowed in its life where its catalog does not say: 1,000.
+EMERGENCY_STOPS = 1000.0
 
 
 @dataclass(frozen=True)
@@ -33,7 +41,11 @@ class Converters:
     A linear drive also has its length L = stroke + :data:`LENGTH_ALLOWANCE` (m), the dynamic load rating C (N),
     the root diameter d_r (m) and the end fixing's effective-length factor K and eigenvalue λ of a screw
     (:mod:`mechatron.drives.shafts`), the permitted tooth force of a rack (N) and the longest one made
-    (``max_length``, m); NaN (C, d_r, K, λ, L) or inf (the limits) where they do not apply."""
+    (``max_length``, m); NaN (C, d_r, K, λ, L) or inf (the limits) where they do not apply.
+
+    A gearbox has the cycle rate its peak torque T2B is rated for (``cycle_rating``, 1/s; above it the check derates
+    T2B, :func:`~mechatron.drives.checks.peak_torque_factor`) and the number of emergency stops its T2Stop is allowed
+    (``emergency_stops``); inf and NaN for the other converters."""
 
     key: NDArray[np.str_]
     kind: NDArray[np.str_]
@@ -54,6 +66,8 @@ class Converters:
     whirl_factor: NDArray[np.float64]  # λ
     permitted_force: NDArray[np.float64]  # N
     max_length: NDArray[np.float64]  # m
+    cycle_rating: NDArray[np.float64]  # 1/s
+    emergency_stops: NDArray[np.float64]  # count
 
     def __len__(self) -> int:
         return len(self.key)
@@ -74,13 +88,15 @@ def _optional(value, missing: float) -> float:
 #: The linear-drive data of a converter that is not one (direct drive, gearbox).
 _ROTARY = dict(length=math.nan, dynamic_load=math.nan, root_diameter=math.nan, buckling_factor=math.nan,
                whirl_factor=math.nan, permitted_force=math.inf, max_length=math.inf)
+#: The gearbox duty ratings of a converter that is not a gearbox (direct drive, screw, rack): none.
+_NO_DUTY = dict(cycle_rating=math.inf, emergency_stops=math.nan)
 
 
 def _direct() -> dict:
     inf = math.inf
     return dict(key="direct", kind="direct", ratio=1.0, efficiency=1.0, inertia=0.0, rated_torque=inf,
                 peak_torque=inf, emergency_torque=inf, max_input_speed=inf, rated_input_speed=inf, mass=0.0,
-                price=0.0, **_ROTARY)
+                price=0.0, **_ROTARY, **_NO_DUTY)
 
 
 def _gearboxes(catalog: pd.DataFrame) -> dict:
@@ -91,11 +107,17 @@ def _gearboxes(catalog: pd.DataFrame) -> dict:
     def column(name: str) -> np.ndarray:
         return catalog[name].to_numpy(dtype=float)
 
+    def rating(name: str, default: float) -> np.ndarray:
+        return catalog[name].to_numpy(dtype=float, na_value=default) if name in catalog else \
+            np.full(len(catalog), default)
+
     out = dict(key=catalog["key"].to_numpy(dtype=str), kind=catalog["type"].to_numpy(dtype=str),
                ratio=column("ratio"), efficiency=column("efficiency"), inertia=column("input_inertia"),
                rated_torque=column("rated_torque"), peak_torque=column("peak_torque"),
                emergency_torque=column("emergency_torque"), max_input_speed=column("max_input_speed"),
-               rated_input_speed=column("rated_input_speed"), mass=known("mass"), price=known("price"))
+               rated_input_speed=column("rated_input_speed"), mass=known("mass"), price=known("price"),
+               cycle_rating=rating("cycle_rating", CYCLE_RATING),
+               emergency_stops=rating("emergency_stops", EMERGENCY_STOPS))
     return {**out, **{name: np.full(len(catalog), value) for name, value in _ROTARY.items()}}
 
 
@@ -110,15 +132,17 @@ def _linear(row: dict, length: float) -> dict:
                 dynamic_load=_optional(row.get("dynamic_load"), math.nan),
                 root_diameter=_optional(row.get("root_diameter"), math.nan), buckling_factor=float(fixing[0]),
                 whirl_factor=float(whirl[0]), permitted_force=_optional(row.get("permitted_force"), inf),
-                max_length=_optional(row.get("max_length"), inf))
+                max_length=_optional(row.get("max_length"), inf), **_NO_DUTY)
 
 
 def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
                    direct: bool = True, chain_efficiency: float = 1.0) -> Converters:
     """The converters to try on ``duty``'s joint: direct drive (if ``direct``) and every gearbox for a revolute
     joint; every linear drive, ``stroke + LENGTH_ALLOWANCE`` long, for a prismatic joint. ``chain_efficiency``
-    multiplies every converter's efficiency: the rest of the chain between motor and joint (couplings, bearings,
-    a belt; the series product η = Π η_i [Egorov, 7.53], :func:`mechatron.mechanics.efficiency.series`).
+    and the duty's own :attr:`~mechatron.drives.duty.JointDuty.efficiency` (a robot file's ``drive.efficiency``)
+    multiply every converter's efficiency: the rest of the chain between motor and joint (couplings, bearings,
+    a belt; the series product η = η_c · η_chain · η_drive, Π η_i [Egorov, 7.53],
+    :func:`mechatron.mechanics.efficiency.series`).
 
     Returns:
         :class:`Converters`: ratio u (rad/rad, or rad/m for a screw or rack: u = 2π / lead), efficiency, motor-side
@@ -141,5 +165,5 @@ def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linea
     if not rows:
         raise InputError(f"joint {duty.name}: no converter to try (give a gearbox catalog or allow direct drive)")
     columns = {name: np.concatenate([np.atleast_1d(np.asarray(r[name])) for r in rows]) for name in rows[0]}
-    columns["efficiency"] = columns["efficiency"] * chain_efficiency
+    columns["efficiency"] = columns["efficiency"] * (chain_efficiency * duty.efficiency)
     return Converters(**columns)

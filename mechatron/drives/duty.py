@@ -2,9 +2,22 @@ r"""What each joint of a mechanism must do in a task: its duty (speed, accelerat
 
 The duty comes from the dynamics of the model *without* drive inertia (armature zero): the candidate drives bring
 their own rotor and gearbox inertia, which the sizing adds exactly once. A duty can be replayed with its moves k
-times slower (k < 1: faster): within a move t → k t, ω → ω/k, ω̇ → ω̇/k², the dynamic part of the torque × 1/k², the
-static part (gravity, external loads) unchanged; the dwells between moves keep their length
-(:func:`~mechatron.dynamics.task.moving_intervals`).
+times slower (k < 1: faster): within a move t → k t, ω → ω/k, ω̇ → ω̇/k², the inertial part of the torque × 1/k², the
+static part (gravity, external loads) unchanged, the friction part taken at the new speed; the dwells between moves
+keep their length (:func:`~mechatron.dynamics.task.moving_intervals`).
+
+**The drive data of the mechanism's file** (a robot file's ``drive`` table, :class:`~mechatron.model.dh.Drive`):
+its rotor inertia is replaced by each candidate's own (the armature is removed), while its friction and efficiency
+stay with the joint. The friction is given on the motor shaft of that drive (viscous B, N·m·s/rad; Coulomb T_c+
+for positive and T_c− for negative motor speed, N·m) with its gear ratio u_f; seen at the joint it is
+
+    τ_f(q̇) = u_f (B u_f q̇ + T_c(u_f q̇)),    T_c(ω) = T_c+ if ω > 0, T_c− if ω < 0, 0 at rest,
+
+a torque (N·m, or a force in N for a prismatic joint) with the sign of the speed, added to the joint torque: the
+converter carries it, so it passes through the converter's efficiency like the rest of the load
+(:attr:`JointDuty.friction`). The file's efficiency η_f multiplies every candidate converter's, as a factor of the
+chain: η = η_converter · η_chain · η_f (:attr:`JointDuty.efficiency`,
+:func:`~mechatron.drives.converters.converters_for`).
 """
 
 from __future__ import annotations
@@ -38,7 +51,7 @@ class JointDuty:
         name, kind: joint name, ``"revolute"`` (rad, N·m) or ``"prismatic"`` (m, N).
         t: sample times (s).
         speed, acceleration: joint speed (rad/s or m/s) and acceleration (rad/s² or m/s²).
-        torque: joint torque or force without drive inertia (N·m or N).
+        torque: joint torque or force without drive inertia (N·m or N), the file's drive friction included.
         static_torque: its part that does not depend on speed or acceleration (gravity, external loads); given
             as an array or as a function that makes it (called once, when first read: only the ``time``
             objective and reports need it).
@@ -46,6 +59,10 @@ class JointDuty:
         stroke: range of the joint's position in the task (rad or m).
         moving: (N − 1,) which intervals between samples belong to a move (the others are dwells, which keep
             their length when the duty is replayed faster); ``None``: every interval moves.
+        friction: the joint-side friction of the mechanism file's drive (the module docstring): (B_q, C+, C−), the
+            viscous coefficient B_q = B u_f² (N·m·s/rad or N·s/m) and the Coulomb torques (N·m or N) for positive
+            and negative joint speed; τ_f = B_q q̇ + C± (0 at rest), part of :attr:`torque`.
+        efficiency: the efficiency η_f of the mechanism file's drive, in (0, 1]: a factor of every converter's.
     """
 
     name: str
@@ -58,6 +75,8 @@ class JointDuty:
     load_inertia: float
     stroke: float = 0.0
     moving: NDArray[np.bool_] | None = None
+    friction: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    efficiency: float = 1.0
 
     @property
     def static_torque(self) -> NDArray[np.float64]:
@@ -72,6 +91,12 @@ class JointDuty:
         """A pickled duty holds its static torque, made if need be (a function does not pickle)."""
         return {**self.__dict__, "static_source": self.static_torque}
 
+    def friction_torque(self, speed: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The friction torque τ_f = B_q q̇ + C± (N·m or N) at the joint speeds ``speed`` (rad/s or m/s):
+        :attr:`friction`, with the sign of the speed, 0 at rest."""
+        viscous, positive, negative = self.friction
+        return viscous * speed + np.where(speed > 0, positive, np.where(speed < 0, negative, 0.0))
+
     @property
     def duration(self) -> float:
         return float(self.t[-1] - self.t[0]) if len(self.t) > 1 else 0.0
@@ -79,7 +104,8 @@ class JointDuty:
     def scaled(self, k: float) -> JointDuty:
         """The same motion with its moves replayed k times slower (k < 1: faster): every interval of a move lasts
         k times as long, every dwell as long as before (t_{i+1} − t_i → k (t_{i+1} − t_i) where :attr:`moving`);
-        speeds × 1/k, accelerations and the dynamic torque × 1/k² (zero in a dwell), the static torque kept."""
+        speeds × 1/k, accelerations and the inertial torque × 1/k² (zero in a dwell), the static torque kept, the
+        friction torque τ_f(q̇/k) (:meth:`friction_torque`)."""
         if k == 1.0:
             return self
         dynamic = self.torque - self.static_torque
@@ -88,8 +114,13 @@ class JointDuty:
         else:
             step = np.diff(self.t)
             t = self.t[0] + np.concatenate([[0.0], np.cumsum(np.where(self.moving, step * k, step))])
-        return replace(self, t=t, speed=self.speed / k, acceleration=self.acceleration / k**2,
-                       torque=dynamic / k**2 + self.static_torque)
+        speed = self.speed / k
+        if not any(self.friction):
+            return replace(self, t=t, speed=speed, acceleration=self.acceleration / k**2,
+                           torque=dynamic / k**2 + self.static_torque)
+        inertial = dynamic - self.friction_torque(self.speed)
+        return replace(self, t=t, speed=speed, acceleration=self.acceleration / k**2,
+                       torque=inertial / k**2 + self.static_torque + self.friction_torque(speed))
 
     def time_weights(self) -> NDArray[np.float64]:
         """Trapezoidal-rule weights w_i with Σ w_i f_i / duration = the time mean of f (one sample: weight 1); made
@@ -224,7 +255,8 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
                  kinematics: Mechanism | None = None) -> list[JointDuty]:
     """The duty of every driven coordinate along a :class:`~mechatron.dynamics.motion.Trajectory` (``loads``:
     external :class:`~mechatron.model.Load` s, N and N·m, as in :func:`mechatron.dynamics.tree.inverse_dynamics`),
-    from the model with its drive inertia (armature) removed.
+    from the model with its drive inertia (armature) removed and the friction of its file's drives added at the
+    joints (:func:`drive_losses`: τ_f = u_f (B u_f q̇ + T_c±), with the sign of the speed; the module docstring).
 
     A serial mechanism: every joint, torques from RNEA, load inertia the diagonal of the mass matrix; the
     trajectory's q holds Pinocchio configurations (nq columns) or one coordinate per joint (nv columns, turned into
@@ -272,9 +304,30 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         kinds = [mech.joint_kind(n) for n in names]
         columns = [mech.model.joints[mech.joint_id(n)].idx_v for n in names]
     moving = moving_intervals(trajectory)
-    return [JointDuty(name, kind, t, V[:, j], A[:, j], tau[:, j], static.column(j), float(inertia[j]),
-                      float(np.ptp(positions[:, j])), moving)
-            for name, kind, j in zip(names, kinds, columns)]
+    duties = []
+    for name, kind, j in zip(names, kinds, columns):
+        friction, efficiency = drive_losses(mech, name)
+        duty = JointDuty(name, kind, t, V[:, j], A[:, j], tau[:, j], static.column(j), float(inertia[j]),
+                         float(np.ptp(positions[:, j])), moving, friction, efficiency)
+        if any(friction):
+            duty = replace(duty, torque=tau[:, j] + duty.friction_torque(V[:, j]))
+        duties.append(duty)
+    return duties
+
+
+def drive_losses(mech: Mechanism, name: str) -> tuple[tuple[float, float, float], float]:
+    """The friction and efficiency the mechanism's file gives the drive of coordinate ``name`` (its
+    :class:`~mechatron.model.dh.Drive`: motor-side viscous B and Coulomb T_c±, gear ratio u_f, efficiency η_f), as
+    the sizing applies them at the joint (the module docstring): ((B u_f², C+, C−), η_f), with C+ = u_f T_c+ and
+    C− = u_f T_c− for u_f > 0, C+ = u_f T_c− and C− = u_f T_c+ for u_f < 0 (the motor turns the other way);
+    ((0, 0, 0), 1) without drive data."""
+    drive = mech.drives.get(name)
+    if drive is None:
+        return (0.0, 0.0, 0.0), 1.0
+    u = float(drive.gear_ratio)
+    forward, backward = (float(x) for x in drive.coulomb_friction)
+    positive, negative = (u * forward, u * backward) if u > 0 else (u * backward, u * forward)
+    return (float(drive.viscous_friction) * u * u, positive, negative), float(drive.efficiency)
 
 
 class _Columns:

@@ -11,7 +11,12 @@ the feasible pairs ranked by an objective (:mod:`~mechatron.drives.search`) and 
 
 When no pair passes, the closest pairs (smallest worst load factor) are reported with the checks they fail. Each
 choice is explained (:class:`JointSizing`): its deciding check (the smallest margin) and the runners-up with why they
-lost (:meth:`~mechatron.drives.report.DriveSizing.explanation`). The drives load the mechanism
+lost (:meth:`~mechatron.drives.report.DriveSizing.explanation`), the gearbox's duty (the task's cycles per hour
+against its cycle rating, the emergency stops its emergency torque is allowed) and every kind of converter (direct
+drive, harmonic gearboxes, ball screws…) that one rule set by an option removes whole: no pair of that kind passes,
+but one would without that rule alone (:data:`RULES`: the emergency-stop torque, the inertia ratio, the supply
+voltage, the screw life, the gearbox's cycle rating); the report names the rule, the best pair it removed and the
+option that changes it. The drives load the mechanism
 (:func:`~mechatron.drives.system.size_mechanism`): every chosen motor and gearbox is a mass on the body that carries
 it, and the sizing repeats, distal to proximal, until the choice no longer changes.
 """
@@ -19,7 +24,7 @@ it, and the sizing repeats, distal to proximal, until the choice no longer chang
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -28,18 +33,44 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..report.result import json_ready
-from .checks import ALL_CHECKS, Check, DriveLimits, MotorArrays, PairChecks, _load_factor, failures, motor_side
+from .checks import (
+    ALL_CHECKS,
+    Check,
+    DriveLimits,
+    MotorArrays,
+    PairChecks,
+    _load_factor,
+    failures,
+    motor_side,
+    peak_torque_factor,
+)
 from .converters import Converters, converters_for
 from .duty import JointDuty
 from .motor import continuous_torque, peak_torque_limit
 from .report import REPORTED, RPM, DriveSizing
-from .search import fastest_scale, first_in_order, motor_passes, smallest_worst
+from .search import _growing, _motor_blocks, fastest_scale, feasible_pairs, first_in_order, motor_passes, smallest_worst
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 OBJECTIVES = ("mass", "cost", "margin", "time")
+#: The rules whose limit an option sets, by check: what the rule is and the option that changes it (the command
+#: line's; the API's and a study's names in parentheses). A kind of converter that one of them removes whole is
+#: reported (:meth:`Alternatives.ruled_out`).
+RULES: dict[str, tuple[str, str]] = {
+    "transmission emergency torque": (
+        "the emergency-stop torque: the motor's peak torque through the gear against the gearbox's emergency "
+        "torque", "--stop-torque or --stop-current (stop_torque, stop_current): the torque or current the drive "
+        "limits an emergency stop to"),
+    "inertia ratio": ("the load-to-motor inertia ratio", "--inertia-ratio (inertia_ratio_max; default 10)"),
+    "voltage limit": ("the supply voltage", "--voltage (voltage; default each motor's catalog voltage)"),
+    "screw equivalent load": ("the required screw life", "--screw-life-h (screw_life; default 20,000 h)"),
+    "transmission peak torque": (
+        "the gearbox's peak torque derated above its cycle rating (the task's cycles per hour)",
+        "the gearbox catalog's cycle_rating column (cycles per hour its peak torque holds; default 1,000/h), or a "
+        "slower task"),
+}
 
 
 def _known(value: object) -> float:
@@ -154,6 +185,40 @@ class JointSizing(DriveSizing):
     def drive_columns(self) -> dict:
         return {"motor": self.motor, "converter": self.converter, "ratio": self.ratio}
 
+    def gearbox_duty(self) -> dict | None:
+        """The chosen gearbox's duty (``None`` for direct drive, a screw or a rack): cycles_per_hour = 3600/T (the
+        task of duration T s repeats, as sized), cycle_rating_per_hour (its catalog's, the peak torque's rating),
+        peak_torque_factor f_c (:func:`~mechatron.drives.checks.peak_torque_factor`), peak_torque_Nm (T2B, the
+        catalog's) and emergency_stops (how many times its emergency torque is allowed in its life)."""
+        c = self.converter_data
+        if not math.isfinite(c.get("cycle_rating", math.inf)):
+            return None
+        rate = 1.0 / self.duty.duration if self.duty.duration > 0 else 0.0
+        return {"cycles_per_hour": 3600.0 * rate, "cycle_rating_per_hour": 3600.0 * c["cycle_rating"],
+                "peak_torque_factor": float(peak_torque_factor(rate, c["cycle_rating"])),
+                "peak_torque_Nm": c["peak_torque"], "emergency_stops": c["emergency_stops"]}
+
+    def ruled_out(self) -> list[dict]:
+        """The kinds of converter one rule set by an option removes whole (:meth:`Alternatives.ruled_out`)."""
+        return self.alternatives.ruled_out() if self.alternatives else []
+
+    def explanation(self) -> dict:
+        """:meth:`~mechatron.drives.report.DriveSizing.explanation` with gearbox_duty (:meth:`gearbox_duty`) and
+        ruled_out (:meth:`ruled_out`: kind, check, rule, option, candidate, motor, converter, mass, price,
+        message)."""
+        return {**super().explanation(), "gearbox_duty": self.gearbox_duty(), "ruled_out": self.ruled_out()}
+
+    def explanation_lines(self) -> list[str]:
+        """The deciding check, the runners-up, the gearbox's duty and the kinds a rule removed whole."""
+        lines = super().explanation_lines()
+        duty = self.gearbox_duty()
+        if duty is not None:
+            lines.append(f"    gearbox duty: {duty['cycles_per_hour']:.4g} cycles/h (the {self.duty.duration:.4g} s "
+                         f"task repeated), peak torque rated for {duty['cycle_rating_per_hour']:.4g}/h: T2B "
+                         f"{duty['peak_torque_Nm']:.4g} N·m × {duty['peak_torque_factor']:.3g}; emergency torque "
+                         f"allowed {duty['emergency_stops']:,.0f} times in its life")
+        return lines + [f"    ruled out: {row['message']}" for row in self.ruled_out()]
+
     def headline(self) -> str:
         through = "direct drive" if self.converter == "direct" else \
             f"{self.converter_kind} {self.converter}, u = {self.ratio:.4g}"
@@ -247,7 +312,8 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         duty = duty.scaled(scale)
     checks = PairChecks(duty, arrays, conv, inertia_ratio_max, limits)
     table = _Table(arrays.key, conv, (arrays.mass, conv.mass), (arrays.price, conv.price))
-    alternatives = Alternatives(checks, table, objective)
+    alternatives = Alternatives(checks, table, objective, motors=arrays, limits=limits or DriveLimits(),
+                                inertia_ratio_max=inertia_ratio_max)
     if objective == "margin":
         first = alternatives.best()
     else:
@@ -302,8 +368,12 @@ class Alternatives:
     table: _Table
     objective: str
     before: tuple[np.ndarray, np.ndarray] | None = None
+    motors: MotorArrays | None = field(default=None, repr=False)
+    limits: DriveLimits = field(default_factory=DriveLimits, repr=False)
+    inertia_ratio_max: float = 10.0
     _ranking: pd.DataFrame | None = field(default=None, repr=False)
     _rivals: pd.DataFrame | None = field(default=None, repr=False)
+    _ruled_out: list[dict] | None = field(default=None, repr=False)
 
     def order(self) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
         """(primary, tie): the objective's (per motor, per converter) scores — mass then price, or price then mass
@@ -338,6 +408,108 @@ class Alternatives:
             self._rivals = pd.DataFrame() if self.before is None else \
                 self.table.rows(self.checks, *self.before, failed=True)
         return self._rivals
+
+
+    def ruled_out(self) -> list[dict]:
+        """The kinds of converter (``direct``, a gearbox ``type``, a linear drive ``type``) of which no pair passes
+        every check, but one would without one rule of :data:`RULES` — or without all of them together, where no one
+        alone does — made once: each with kind, check (the rule's checks, ``; ``-joined), rule, option, candidate
+        (the best pair that rule removed, by the objective; the lightest for ``margin``), motor, converter, mass
+        (kg), price and message (one line for the report)."""
+        if self._ruled_out is not None:
+            return self._ruled_out
+        conv, out = self.checks.conv, []
+        alive = set(self.ranking()["kind"]) if self.motors is not None else set(conv.kind)
+        for kind in dict.fromkeys(conv.kind.tolist()):
+            index = np.flatnonzero(conv.kind == kind)
+            if kind in alive or self._best(self.checks, index) is not None:
+                continue
+            subset = conv.subset(index)
+            found = [(rule, self._best(self._relaxed((rule,), subset), np.arange(len(index)), index))
+                     for rule in RULES if self._applies(rule, subset)]
+            found = [(rule, best) for rule, best in found if best is not None]
+            if not found:  # several rules together?
+                rules = tuple(rule for rule in RULES if self._applies(rule, subset))
+                best = self._best(self._relaxed(rules, subset), np.arange(len(index)), index) if rules else None
+                found = [(rules, best)] if best is not None and len(rules) > 1 else []
+            for rules, (m, c) in found:
+                out.append(self._ruled_out_row(kind, (rules,) if isinstance(rules, str) else rules, m, c))
+        self._ruled_out = out
+        return out
+
+    def _applies(self, rule: str, conv: Converters) -> bool:
+        """Whether ``rule`` can remove a converter of ``conv``: its check applies to them (the peak torque's
+        derating: some of them are derated at this task's pace)."""
+        if rule == "transmission emergency torque":
+            return bool(np.isfinite(conv.emergency_torque).any())
+        if rule == "screw equivalent load":
+            return bool(np.isfinite(conv.dynamic_load).any())
+        if rule == "transmission peak torque":
+            return bool((peak_torque_factor(self.checks.cycle_rate, conv.cycle_rating) < 1).any())
+        if rule == "voltage limit":
+            return bool(np.isfinite(self.checks.voltage).any())
+        return True
+
+    def _relaxed(self, rules: tuple[str, ...], conv: Converters) -> PairChecks:
+        """The checks of the pairs of ``conv`` without ``rules``: the converters' emergency torque, screw load
+        rating or cycle rating, the motors' supply voltage or the inertia ratio limit taken as infinite."""
+        motors, limits, ratio_max, inf = self.motors, self.limits, self.inertia_ratio_max, np.full(len(conv), np.inf)
+        if "transmission emergency torque" in rules:
+            conv = replace(conv, emergency_torque=inf)
+        if "screw equivalent load" in rules:
+            conv = replace(conv, dynamic_load=np.full(len(conv), np.nan))
+        if "transmission peak torque" in rules:
+            conv = replace(conv, cycle_rating=inf)
+        if "voltage limit" in rules:
+            motors, limits = replace(motors, voltage=np.full(len(motors), np.nan)), replace(limits, voltage=None)
+        if "inertia ratio" in rules:
+            ratio_max = math.inf
+        return PairChecks(self.checks._duty, motors, conv, ratio_max, limits)
+
+    def _best(self, checks: PairChecks, converters: np.ndarray, catalog: np.ndarray | None = None
+              ) -> tuple[int, int] | None:
+        """The first pair (motor, converter index of ``checks``) of ``converters`` that passes every check of
+        ``checks``, by the objective (mass then price; price then mass for ``cost``; the catalogs' order last);
+        ``catalog``: the joint's index of each converter of ``checks`` (default the same)."""
+        catalog = converters if catalog is None else catalog
+        (first_m, first_c), (tie_m, tie_c) = self.order()
+        found_m, found_c = [], []
+        for block in _motor_blocks(checks):  # the pairs that pass the screening, a block of motors at a time
+            motors = np.arange(block.start, block.stop)
+            mm, cc = np.nonzero(checks.screen(motors[:, None], converters[None, :]))
+            found_m.append(motors[mm])
+            found_c.append(converters[cc])
+        m, c = np.concatenate(found_m), np.concatenate(found_c)
+        joint_c = catalog[np.searchsorted(converters, c)] if catalog is not converters else c
+        order = np.lexsort((tie_m[m] + tie_c[joint_c], first_m[m] + first_c[joint_c]))
+        m, c = m[order], c[order]
+        for part in _growing(len(m)):
+            ok = feasible_pairs(checks, m[part], c[part], screened=True)
+            if ok.any():
+                k = part.start + int(np.argmax(ok))
+                return int(m[k]), int(c[k])
+        return None
+
+    def _ruled_out_row(self, kind: str, rules: tuple[str, ...], m: int, c: int) -> dict:
+        """One kind a rule removed whole, with the best pair it removed (m: motor, c: the kind's converter)."""
+        conv = self.checks.conv
+        index = np.flatnonzero(conv.kind == kind)[c]
+        motor, converter = str(self.table.motors[m]), str(conv.key[index])
+        mass, price = self.table.mass[0][m] + self.table.mass[1][index], \
+            self.table.price[0][m] + self.table.price[1][index]
+        what = "direct drive" if kind == "direct" else f"{kind} gearbox" if np.isfinite(conv.cycle_rating[index]) \
+            else kind
+        checks = " and ".join(f"the {rule} check ({RULES[rule][0]})" for rule in rules)
+        best = "the lightest" if self.objective == "margin" else "the best"
+        chosen = self.ranking()
+        than = f"; the chosen drive: {chosen['mass'].iloc[0]:.4g} kg, {chosen['price'].iloc[0]:.4g}" if len(chosen) \
+            else ""
+        options = "; ".join(RULES[rule][1] for rule in rules)
+        message = (f"every {what} fails {checks}; without {'it' if len(rules) == 1 else 'them'} {best} would be "
+                   f"{motor} + {converter} ({mass:.4g} kg, {price:.4g}{than}) — change it with {options}")
+        return {"kind": kind, "check": "; ".join(rules), "rule": "; ".join(RULES[r][0] for r in rules),
+                "option": options, "candidate": f"{motor} + {converter}", "motor": motor, "converter": converter,
+                "mass": float(mass), "price": float(price), "message": message}
 
 
 def _closest(checks: PairChecks, table: _Table) -> pd.DataFrame:

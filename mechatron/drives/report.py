@@ -98,8 +98,9 @@ class DriveSizing(Result):
 
     def lines(self) -> list[str]:
         """The text report as lines: the drive, every check with value, limit, margin and PASS/FAIL (a pass/fail
-        filter, :meth:`is_filter`, says ``filter`` for its margin), and when no drive is feasible the closest
-        candidates with the checks they fail (load factor = value/limit)."""
+        filter, :meth:`is_filter`, says ``filter`` for its margin; a limit with a count, how many times it is
+        allowed), and when no drive is feasible the closest candidates with the checks they fail (load factor =
+        value/limit)."""
         head = self.headline()
         lines = [head if self.feasible else f"{head}  — NO FEASIBLE DRIVE; the closest one shown"]
         lines.append(f"    {'check':<32}{'value':>11}{'limit':>11}  {'unit':<6}{'margin':>8}  result")
@@ -107,7 +108,8 @@ class DriveSizing(Result):
             value, limit, unit = shown(c)
             margin = "filter" if self.is_filter(c) else f"{c.margin:.1%}"
             lines.append(f"    {c.name:<32}{value:>11}{limit:>11}  {unit:<6}{margin:>8}  "
-                         f"{'PASS' if c.passed else 'FAIL'}")
+                         f"{'PASS' if c.passed else 'FAIL'}"
+                         + ("" if c.count is None else f"  (allowed {c.count:,.0f} times in its life)"))
         if not self.feasible:
             lines.append("    closest candidates and the checks they fail (load factor = value/limit):")
             lines += [f"      {self.candidate(row)}: {row['failed']}" for row in self.closest.to_dict(orient="records")]

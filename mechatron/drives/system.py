@@ -178,8 +178,9 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     built: dict[tuple, Converters] = {}
 
     def converters(duty: JointDuty) -> Converters:
-        """The converters to try on a joint, built once per kind (and stroke: a screw's length follows it)."""
-        key = (duty.kind, duty.stroke if duty.kind == "prismatic" else None)
+        """The converters to try on a joint, built once per kind (and stroke: a screw's length follows it; and the
+        efficiency of the file's drive, a factor of every converter's)."""
+        key = (duty.kind, duty.stroke if duty.kind == "prismatic" else None, duty.efficiency)
         if key not in built:
             built[key] = converters_for(duty, gearboxes, linear, direct, chain_efficiency)
         return built[key]

@@ -33,6 +33,9 @@ REFERENCES: dict[str, str] = {
                   "life L10 = (C_a/F_m)³·10⁶ revolutions).",
     "ISO 6015": "ISO 6015:2006, Earth-moving machinery — Hydraulic excavators and backhoe loaders — Methods of "
                 "determining tool forces.",
+    "ISO 6336-3": "ISO 6336-3:2019, Calculation of load capacity of spur and helical gears — Part 3: Calculation "
+                  "of tooth bending strength (the life factor Y_NT of case-hardened teeth, 2.5 at 10³ and 1 at "
+                  "3·10⁶ load cycles: the slope of the gearbox peak-torque derating above its cycle rating).",
     "Saltelli": 'A. Saltelli, P. Annoni, I. Azzini, F. Campolongo, M. Ratto, S. Tarantola, "Variance based sensitivity '
                 'analysis of model output. Design and estimator for the total sensitivity index", Computer Physics '
                 "Communications 181(2), 2010: the sampling scheme (matrices A, B and A_B⁽ⁱ⁾) and the first-order "
