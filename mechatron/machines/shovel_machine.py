@@ -169,9 +169,12 @@ def check_machine(m: ShovelMachine) -> None:
         mass, moment = m.base(over)
         a, b = m.lines(over)
         if not -b < moment / mass < a:
-            raise bad("upper_centre", f"the machine without its working device tips over the {over}: the centre of "
-                                      f"the upper structure and undercarriage is {moment / mass:g} m from the slew "
-                                      f"axis, outside its tipping lines (−{b:g} … {a:g} m)")
+            way = "forwards" if moment / mass >= a else "backwards"
+            facing = "along" if over == "front" else "across"
+            raise bad("upper_centre", f"the machine without its working device tips {way}, the upper structure "
+                                      f"facing {facing} the tracks: the centre of the upper structure and "
+                                      f"undercarriage is {moment / mass:g} m from the slew axis, outside its tipping "
+                                      f"lines (−{b:g} … {a:g} m)")
     if not 0 < m.friction <= 2:
         raise bad("friction", f"the ground's friction coefficient must be > 0 and <= 2, got {m.friction:g}")
     for name, p in (("relief_pressure", m.relief_pressure), *((f"{n}.relief_pressure", p) for n, p in

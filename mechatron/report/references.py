@@ -36,6 +36,9 @@ REFERENCES: dict[str, str] = {
     "ISO 6336-3": "ISO 6336-3:2019, Calculation of load capacity of spur and helical gears — Part 3: Calculation "
                   "of tooth bending strength (the life factor Y_NT of case-hardened teeth, 2.5 at 10³ and 1 at "
                   "3·10⁶ load cycles: the slope of the gearbox peak-torque derating above its cycle rating).",
+    "ISO 10567": "ISO 10567:2007, Earth-moving machinery — Hydraulic excavators — Lift capacity (the lift point, the "
+                 "tipping lines over the front and over the side, and the rated lift capacity: the smaller of 75 % "
+                 "of the tipping load and 87 % of the hydraulic lift capacity).",
     "Saltelli": 'A. Saltelli, P. Annoni, I. Azzini, F. Campolongo, M. Ratto, S. Tarantola, "Variance based sensitivity '
                 'analysis of model output. Design and estimator for the total sensitivity index", Computer Physics '
                 "Communications 181(2), 2010: the sampling scheme (matrices A, B and A_B⁽ⁱ⁾) and the first-order "

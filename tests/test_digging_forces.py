@@ -1,0 +1,180 @@
+"""Digging forces of the front shovel at the bucket lip [ISO 6015]: the hydraulic limit against the virtual work of the
+cylinder forces, the tipping limit against a moment balance of the whole machine about its tipping lines, the
+slipping limit against the friction of the ground's normal force, all written out by hand; one case governed by each
+limit (the illustrative machine: hydraulics; a light machine: tipping; low friction: slipping); the largest force
+over the working range and where.
+
+By hand: with only cylinder j moving (the others held) the lip V moves along u_j = ∂V/∂L_j (central differences of
+the loop closure); a digging resistance −D û_j on the lip loads each cylinder i by D û_j·∂V/∂L_i (virtual work:
+F_i δL_i = −f·δV), on top of its share F₀ of the weights (the constrained inverse dynamics, checked against the virtual
+work of the weights). The masses: the boom, stick and bucket as uniform bars CF, FQ, QV.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from mechatron.dynamics.trajectory import holding_forces
+from mechatron.kinematics.geometry import point_positions
+from mechatron.kinematics.loops import assemble
+from mechatron.machines import excavator as ex
+from mechatron.machines.digging import digging_forces
+from mechatron.machines.shovel_machine import ShovelMachine
+
+G = 9.81
+DESIGN = ex.FrontShovelDesign()
+POSES = {"L1": [3.0, 2.6, 3.3], "L2": [2.5, 2.2, 2.8], "L3": [2.2, 2.4, 2.0]}
+LIGHT = ShovelMachine(upper_mass=6000.0, undercarriage_mass=5000.0, upper_centre=(-0.5, 1.5))
+SLIPPERY = ShovelMachine(friction=0.1)
+
+
+@pytest.fixture(scope="module")
+def mech():
+    return ex.build_linkage(ex.shovel_spec(ex.synthesize(DESIGN)))
+
+
+def hand_limits(mech, design, machine, lengths, tool):
+    """(hydraulic, tipping, slipping) N for the tool's cylinder extending (bucket: L3, arm: L2) by hand."""
+    q = assemble(mech, lengths)
+    pins = dict(zip("CFQV", point_positions(mech, q, "C", "F", "Q", "V")))
+    h, dV, dW = 1e-6, {}, {}
+    masses = {"CF": design.boom_mass, "FQ": design.stick_mass, "QV": design.bucket_mass}
+    for name in ("L1", "L2", "L3"):
+        # central differences, or second-order one-sided ones at the end of a stroke
+        low, high = mech.cylinders[name].stroke
+        side = 1 if lengths[name] - h < low else -1 if lengths[name] + h > high else 0
+        steps, weights = ((h, -h), (1, -1)) if side == 0 else ((0.0, side * h, 2 * side * h), (-1.5 * side, 2 * side,
+                                                                                                -0.5 * side))
+        values = []
+        for step in steps:
+            qs = assemble(mech, {**lengths, name: lengths[name] + step}, q)
+            p = dict(zip("CFQV", point_positions(mech, qs, "C", "F", "Q", "V")))
+            values.append((p["V"], sum(m * (p[a][1] + p[b][1]) / 2 for (a, b), m in masses.items())))
+        scale = 2 * h if side == 0 else h
+        dV[name] = sum(w * v[0] for w, v in zip(weights, values)) / scale
+        dW[name] = G * sum(w * v[1] for w, v in zip(weights, values)) / scale  # the weights' virtual work
+    F0 = dict(zip(mech.actuated, holding_forces(mech, q[None, :])[0]))
+    for name in F0:
+        assert F0[name] == pytest.approx(dW[name], rel=1e-6, abs=1.0)
+    u = dV["L3" if tool == "bucket" else "L2"]
+    u = u / np.linalg.norm(u)
+    # hydraulics: F_i(D) = F0_i + D û·∂V/∂L_i within −pull … push
+    hydraulic = math.inf
+    for name in mech.actuated:
+        bore, rod = machine.bores[name]
+        count = design.boom_cylinders if name == "L1" else 1
+        p = machine.relief(name)
+        push, pull = count * p * math.pi * bore**2 / 4, count * p * math.pi * (bore**2 - rod**2) / 4
+        slope = float(u @ dV[name])
+        if slope > 0:
+            hydraulic = min(hydraulic, (push - F0[name]) / slope)
+        elif slope < 0:
+            hydraulic = min(hydraulic, (pull + F0[name]) / -slope)
+    # tipping: moments about the front line (a, 0) and the rear line (−b, 0) of the weights and of −D û at V
+    a, b = machine.track_length / 2, machine.track_length / 2
+    weights = [(machine.upper_mass, machine.upper_centre[0]), (machine.undercarriage_mass, 0.0)]
+    weights += [(m, (pins[s][0] + pins[e][0]) / 2) for (s, e), m in masses.items()]
+    V = pins["V"]
+    tipping = math.inf
+    resisting_front = G * sum(m * (a - x) for m, x in weights)
+    arm_front = (V[0] - a) * u[1] - V[1] * u[0]  # the moment of +û about (a, 0)
+    if arm_front > 0:  # −D û turns the machine forwards over the front line
+        tipping = min(tipping, resisting_front / arm_front)
+    resisting_back = G * sum(m * (x + b) for m, x in weights)
+    arm_back = (V[0] + b) * u[1] - V[1] * u[0]
+    if arm_back < 0:
+        tipping = min(tipping, resisting_back / -arm_back)
+    # slipping: D |u_x| = μ (M g + D u_y)
+    mass = machine.upper_mass + machine.undercarriage_mass + sum(masses.values())
+    denominator = abs(u[0]) - machine.friction * u[1]
+    slipping = machine.friction * mass * G / denominator if denominator > 0 else math.inf
+    return {"hydraulic": hydraulic, "tipping": tipping, "slipping": slipping}, V
+
+
+@pytest.mark.parametrize("machine, governs", [(ShovelMachine(), "hydraulic"), (LIGHT, "tipping"),
+                                              (SLIPPERY, "slipping")], ids=["hydraulic", "tipping", "slipping"])
+def test_each_limit_governs_a_case_as_by_hand(mech, machine, governs):
+    result = digging_forces(DESIGN, machine, lengths=POSES)
+    table = result.to_frame()
+    assert len(table) == 3
+    seen = set()
+    for k in range(3):
+        lengths = {n: POSES[n][k] for n in POSES}
+        for tool in ("bucket", "arm"):
+            limits, V = hand_limits(mech, DESIGN, machine, lengths, tool)
+            row = table.iloc[k]
+            assert (row["lip_radius_m"], row["lip_height_m"]) == pytest.approx(tuple(V), abs=1e-9)
+            for limit, value in limits.items():
+                assert row[f"{tool}_{limit}_N"] == pytest.approx(value, rel=1e-6), (tool, limit)
+            best = min(limits, key=limits.get)
+            assert row[f"{tool}_force_N"] == pytest.approx(limits[best], rel=1e-6)
+            assert row[f"{tool}_limit"] == best
+            seen.add(best)
+    assert governs in seen
+    if governs == "hydraulic":
+        assert seen == {"hydraulic"}
+
+
+def test_without_weights_the_hydraulic_limit_is_the_iso6015_calculated_force():
+    """With massless links the digging cylinder's relief force through the lip's lever is the calculated tool force of
+    [ISO 6015] (excavator.tool_forces), where that cylinder is the one that gives way."""
+    design = replace(DESIGN, boom_mass=0.0, stick_mass=0.0, bucket_mass=0.0)
+    mech = ex.build_linkage(ex.shovel_spec(ex.synthesize(design)))
+    machine = ShovelMachine()
+    table = digging_forces(design, machine, lengths=POSES).to_frame()
+    cylinders = machine.cylinders(design)
+    checked = 0
+    for k in range(3):
+        q = assemble(mech, {n: POSES[n][k] for n in POSES})
+        tool = ex.tool_forces(mech, q, cylinders, machine.relief_pressure)
+        for name, cylinder in (("bucket", "L3"), ("arm", "L2")):
+            if table.iloc[k][f"{name}_cylinder"] == cylinder:
+                assert table.iloc[k][f"{name}_hydraulic_N"] == pytest.approx(tool[name]["extending"], rel=1e-9)
+                checked += 1
+            else:  # a holding cylinder gives way first: less than the calculated tool force
+                assert table.iloc[k][f"{name}_hydraulic_N"] < tool[name]["extending"]
+    assert checked >= 2
+
+
+def test_the_largest_force_over_the_range_and_where():
+    result = digging_forces(DESIGN, ShovelMachine(), samples=5)
+    table = result.to_frame()
+    front = ShovelMachine().tipping_lines["front"]
+    assert (table["lip_radius_m"] > front).all()  # the lip ahead of the front tipping line
+    assert len(table) <= 125
+    data = result.as_dict()["digging_forces"]
+    for tool in ("bucket", "arm"):
+        k = table[f"{tool}_force_N"].idxmax()
+        best = data[tool]
+        assert best["force_N"] == pytest.approx(table[f"{tool}_force_N"].max())
+        assert best["position_m"] == pytest.approx([table.loc[k, "lip_radius_m"], table.loc[k, "lip_height_m"]])
+        assert best["limit"] == table.loc[k, f"{tool}_limit"]
+        assert min(best[f"{x}_N"] or math.inf for x in ("hydraulic", "tipping", "slipping")) == \
+            pytest.approx(best["force_N"])
+        assert sum(best["governed"].values()) == len(table)
+
+
+def test_the_largest_forces_the_page_quotes_by_hand(mech):
+    """docs/front_shovel_design.md quotes the largest digging forces of the default command (31 lengths a stroke):
+    their three limits at the quoted positions are the hand references'."""
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parent.parent / "docs" / "front_shovel_design.md").read_text(encoding="utf-8")
+    result = digging_forces(DESIGN, ShovelMachine(), samples=31)
+    for tool, words in (("bucket", "bucket-cylinder"), ("arm", "arm-cylinder")):
+        best = result.largest[tool]
+        limits, V = hand_limits(mech, DESIGN, ShovelMachine(), best["cylinder_lengths_m"], tool)
+        assert best["position_m"] == pytest.approx(list(V), abs=1e-9)
+        assert best["force_N"] == pytest.approx(min(limits.values()), rel=1e-6)
+        assert best["limit"] == min(limits, key=limits.get) == "hydraulic"
+        radius, height = best["position_m"]
+        assert f"largest {words} force is {best['force_N'] / 1e3:.1f} kN, hydraulic-limited" in page.replace("\n", " ")
+        assert f"radius of {radius:.3f} m and {-height:.3f} m below the ground" in page.replace("\n", " ")
+    counts = result.largest["bucket"]["governed"], result.largest["arm"]["governed"]
+    assert f"Slipping governs {counts[0]['slipping']} of the {len(result.table):,} positions".replace(",", " ") \
+        in page.replace("\n", " ")
+    assert f"{counts[1]['slipping']} for the arm" in page
