@@ -35,6 +35,7 @@ from ..errors import InputError
 from ..report.result import json_ready
 from .checks import (
     ALL_CHECKS,
+    PASS_TOLERANCE,
     Check,
     DriveLimits,
     MotorArrays,
@@ -422,13 +423,16 @@ class Alternatives:
         alive = set(self.ranking()["kind"]) if self.motors is not None else set(conv.kind)
         for kind in dict.fromkeys(conv.kind.tolist()):
             index = np.flatnonzero(conv.kind == kind)
-            if kind in alive or self._best(self.checks, index) is not None:
+            if kind in alive:
+                continue
+            passing, alone, together = self._screen_kind(index)
+            if passing and self._best(self.checks, index) is not None:
                 continue
             subset = conv.subset(index)
             found = [(rule, self._best(self._relaxed((rule,), subset), np.arange(len(index)), index))
-                     for rule in RULES if self._applies(rule, subset)]
+                     for rule in RULES if alone[rule] and self._applies(rule, subset)]
             found = [(rule, best) for rule, best in found if best is not None]
-            if not found:  # several rules together?
+            if not found and together:  # several rules together?
                 rules = tuple(rule for rule in RULES if self._applies(rule, subset))
                 best = self._best(self._relaxed(rules, subset), np.arange(len(index)), index) if rules else None
                 found = [(rules, best)] if best is not None and len(rules) > 1 else []
@@ -436,6 +440,22 @@ class Alternatives:
                 out.append(self._ruled_out_row(kind, (rules,) if isinstance(rules, str) else rules, m, c))
         self._ruled_out = out
         return out
+
+    def _screen_kind(self, converters: np.ndarray) -> tuple[bool, dict[str, bool], bool]:
+        """What the pairs of ``converters`` (every motor with each) can be, from lower bounds of their checks
+        (:meth:`PairChecks.table` at level 0: the time means in closed form, no pass over the samples; a block of
+        motors at a time; necessary conditions): (some pair may pass every check, for each rule of :data:`RULES`
+        whether some pair may fail it alone, whether some pair may fail only rules of :data:`RULES`)."""
+        columns = [ALL_CHECKS.index(rule) for rule in RULES]
+        passing, alone, together = False, np.zeros(len(columns), dtype=bool), False
+        for block in _motor_blocks(self.checks):
+            m, c = (x.ravel() for x in np.meshgrid(np.arange(block.start, block.stop), converters, indexing="ij"))
+            fails = _load_factor(*self.checks.table(m, c, 0)) > 1 + PASS_TOLERANCE
+            ruled, other = fails[:, columns], np.delete(fails, columns, axis=1).any(axis=1)
+            passing |= bool((~fails).all(axis=1).any())
+            alone |= (ruled & ~other[:, None] & (ruled.sum(axis=1) == 1)[:, None]).any(axis=0)
+            together |= bool((ruled.any(axis=1) & ~other).any())
+        return passing, dict(zip(RULES, alone.tolist())), together
 
     def _applies(self, rule: str, conv: Converters) -> bool:
         """Whether ``rule`` can remove a converter of ``conv``: its check applies to them (the peak torque's
