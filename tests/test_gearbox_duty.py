@@ -11,6 +11,7 @@ The hand case: a disc of 0.5 kg·m² on a vertical axis (no gravity torque) move
 from __future__ import annotations
 
 import contextlib
+import html
 import io
 import json
 import math
@@ -30,6 +31,7 @@ from mechatron.drives.sizing import size_joint, size_mechanism
 from mechatron.dynamics.motion import move
 from mechatron.errors import InputError
 from mechatron.model.dh import DHLink, DHTable, Inertial, dh_mechanism
+from mechatron.report.html import render
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The slope of the ISO 6336-3 life factor of case-hardened teeth, from its two ends: Y_NT = 2.5 at N_L = 10³ and
@@ -260,6 +262,10 @@ def test_the_ruled_out_candidate_is_what_the_rule_relaxed_chooses():
     harmonic = gearboxes[gearboxes["type"] == "harmonic"]
     relaxed = size_joint(q1.duty, motors, harmonic, direct=False, limits=DriveLimits(stop_torque=1e-9))
     assert relaxed.feasible and row["candidate"] == relaxed.choice()
+    # the text report and the HTML report say it, in the joint's section
+    assert f"    ruled out: {row['message']}" in str(result).splitlines()
+    page = render(result.report())
+    assert f"<p>ruled out: {html.escape(row['message'])}</p>" in page
     assert row["mass"] == pytest.approx(relaxed.drive_mass(), rel=1e-12)
     # and the pair the emergency rule removed fails only that rule, by the motor's peak × u against T2Stop
     motor, gear = motors.set_index("key").loc[row["motor"]], gearboxes.set_index("key").loc[row["converter"]]
