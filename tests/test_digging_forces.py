@@ -178,3 +178,26 @@ def test_the_largest_forces_the_page_quotes_by_hand(mech):
     assert f"Slipping governs {counts[0]['slipping']} of the {len(result.table):,} positions".replace(",", " ") \
         in page.replace("\n", " ")
     assert f"{counts[1]['slipping']} for the arm" in page
+
+
+def test_the_examples_largest_forces_the_page_quotes_by_hand():
+    from pathlib import Path
+
+    from mechatron.machines.shovel_machine import read_machine
+
+    root = Path(__file__).resolve().parent.parent
+    path = root / "examples" / "data" / "front_shovel_design.toml"
+    page = (root / "docs" / "front_shovel_design.md").read_text(encoding="utf-8").replace("\n", " ")
+    design, machine = ex.read_design(path), read_machine(path)
+    mech = ex.build_linkage(ex.shovel_spec(ex.synthesize(design)))
+    result = digging_forces(design, machine, samples=31)
+    forces = []
+    for tool in ("bucket", "arm"):
+        best = result.largest[tool]
+        limits, _ = hand_limits(mech, design, machine, best["cylinder_lengths_m"], tool)
+        assert best["limit"] == min(limits, key=limits.get) == "slipping"
+        assert best["force_N"] == pytest.approx(limits["slipping"], rel=1e-6)
+        assert limits["hydraulic"] > limits["slipping"]
+        forces.append(best["force_N"] / 1e3)
+    assert f"limited by slipping on the ground of friction 0.5: {forces[0]:.1f} kN for the bucket cylinder and " \
+           f"{forces[1]:.1f} kN for the arm cylinder" in page

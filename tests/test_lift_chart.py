@@ -309,3 +309,18 @@ def test_the_shipped_example_reads_its_machine():
     assert machine.tipping_lines == {"front": 2.25, "rear": 2.25, "side": 1.375}
     assert machine.bores["L2"] == (0.22, 0.16) and machine.relief("L2") == 34e6 and machine.relief("L1") == 32e6
     assert machine.bores["L1"] == ShovelMachine().bores["L1"]
+
+
+def test_the_examples_cell_the_page_quotes_by_hand():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    path = root / "examples" / "data" / "front_shovel_design.toml"
+    page = (root / "docs" / "front_shovel_design.md").read_text(encoding="utf-8").replace("\n", " ")
+    design, machine = ex.read_design(path), read_machine(path)
+    chart = lift_chart(design, machine, radii=[7.0], heights=[4.0])
+    front, side = (hand_tipping_kg(design, machine, 7.0, 4.0, over) for over in ("front", "side"))
+    assert chart.cell(7.0, 4.0, "front")["limit"] == chart.cell(7.0, 4.0, "side")["limit"] == "tipping"
+    front, side = (f"{0.75 * x:,.0f}".replace(",", " ") for x in (front, side))
+    assert f"lifts {front} kg over the front and {side} kg over the side at a radius of 7 m and a height of 4 m, " \
+           "both tipping-limited" in page

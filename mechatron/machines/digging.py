@@ -44,7 +44,7 @@ from .shovel_machine import (
     slipping_force,
     tipping_force,
 )
-from .shovel_poses import assembled
+from .shovel_poses import assembled, serpentine
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -128,10 +128,9 @@ def _kn(force: float) -> str:
 
 
 def stroke_grid(mech: Any, samples: int) -> dict[str, np.ndarray]:
-    """Every combination of ``samples`` lengths along each cylinder's stroke (m)."""
-    strokes = [np.linspace(*mech.cylinders[n].stroke, samples) for n in mech.actuated]
-    grids = np.meshgrid(*strokes, indexing="ij")
-    return {n: g.ravel() for n, g in zip(mech.actuated, grids)}
+    """Every combination of ``samples`` lengths along each cylinder's stroke (m), in a serpentine order."""
+    order = serpentine(samples, len(mech.actuated))
+    return {n: np.linspace(*mech.cylinders[n].stroke, samples)[order[:, i]] for i, n in enumerate(mech.actuated)}
 
 
 def digging_forces(design: FrontShovelDesign | None = None, machine: ShovelMachine | None = None,

@@ -227,8 +227,8 @@ def lift_chart(design: FrontShovelDesign | None = None, machine: ShovelMachine |
     heights = sorted(heights if heights is not None else grid[1])
     cells, lengths = [], {"L1": [], "L2": [], "L3": []}
     bucket_mid = sum(shovel.theta3) / 2
-    for radius in radii:
-        for height in heights:
+    for i, radius in enumerate(radii):
+        for height in heights if i % 2 == 0 else heights[::-1]:  # a serpentine: short steps between cells
             angles = lift_angles(shovel, machine.slew_axis + radius, height)
             if angles is None:
                 continue
