@@ -201,3 +201,10 @@ def test_the_examples_largest_forces_the_page_quotes_by_hand():
         forces.append(best["force_N"] / 1e3)
     assert f"limited by slipping on the ground of friction 0.5: {forces[0]:.1f} kN for the bucket cylinder and " \
            f"{forces[1]:.1f} kN for the arm cylinder" in page
+
+
+def test_lengths_outside_a_stroke_are_refused():
+    import mechatron
+
+    with pytest.raises(mechatron.InputError, match="lengths of L3 must be within its stroke"):
+        digging_forces(DESIGN, lengths={"L1": [3.0], "L2": [2.5], "L3": [5.0]})

@@ -173,6 +173,7 @@ def test_a_line_of_load_inside_the_tipping_line_cannot_tip():
     assert side["tipping_kg"] == pytest.approx(hand_tipping_kg(DESIGN, machine, 2.5, 0.5, "side"), rel=1e-9)
     data = check_result(chart)
     assert data["lift_chart"][0]["tipping_kg"] is None  # JSON: null, not inf or NaN
+    assert math.isnan(chart.to_frame()["tipping_kg"].iloc[0])  # CSV: an empty cell
 
 
 def test_a_second_design_file_with_its_machine(tmp_path):

@@ -152,6 +152,11 @@ def digging_forces(design: FrontShovelDesign | None = None, machine: ShovelMachi
         inputs = stroke_grid(mech, samples)
     else:
         inputs = {n: np.atleast_1d(np.asarray(lengths[n], dtype=float)) for n in mech.actuated}
+        for name, values in inputs.items():
+            low, high = mech.cylinders[name].stroke
+            if not np.all((values >= low - 1e-12) & (values <= high + 1e-12)):
+                raise InputError(f"{mech.name}: the lengths of {name} must be within its stroke "
+                                 f"{low:.6g} … {high:.6g} m, got {values.min():.6g} … {values.max():.6g}")
     Q, found = assembled(mech, shovel, inputs)
     lip = found[LIP]
     ahead = lip[:, 0] - machine.slew_axis > machine.tipping_lines["front"]

@@ -126,11 +126,11 @@ class LiftChart(Result):
     reach: NDArray[np.float64]
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per cell and side: radius_m, height_m, over, rated_kg, tipping_kg (inf: cannot tip),
-        hydraulic_kg, limit."""
+        """One row per cell and side: radius_m, height_m, over, rated_kg, tipping_kg (empty where no load tips the
+        machine), hydraulic_kg, limit."""
         import pandas as pd
 
-        return pd.DataFrame(self.rows, columns=list(ROW_KEYS))
+        return pd.DataFrame(self.rows, columns=list(ROW_KEYS)).replace([math.inf], math.nan)
 
     def as_dict(self) -> dict:
         """``lift_chart``: the rows (the tipping load null where no load tips the machine)."""
