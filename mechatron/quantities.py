@@ -104,6 +104,7 @@ _ENTRIES: tuple[tuple[str, str, str], ...] = (
     ("stop_current", "A", "emergency-stop current limit of the motors"),
     ("voltage", "V", "supply voltage of the voltage-limit check"),
     ("screw_life_h", "h", "required nominal life of ball screws"),
+    ("ambient", "°C", "ambient temperature of the motors' winding temperature check (in °C, as the option says)"),
     # sizing: outputs and the sizing result's totals
     ("feasible", "-", "true or false: every coordinate has a drive that passes every check, and the choice settled"),
     ("drive_mass_kg", "kg", "Σ of the drives' catalog masses"),

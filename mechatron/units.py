@@ -2,7 +2,8 @@
 
 SI is used inside and in the API (m, rad, kg, s, N, N·m, Pa, W). A file field or column in another unit says so
 in its name, as ``<field>_<unit>``: ``stroke_mm``, ``angle_deg``, ``rated_speed_rpm``, ``rotor_inertia_kgcm2``,
-``tolerance_arcmin``; a field without a suffix is in SI. Every reader converts with :func:`factor`.
+``tolerance_arcmin``; a field without a suffix is in SI. Every reader converts with :func:`factor` (and
+:func:`offset`: a temperature in °C, ``_degC``, is T_K = T_°C + 273.15).
 """
 
 from __future__ import annotations
@@ -32,6 +33,9 @@ UNITS: dict[str, dict[str, float]] = {
     "fraction": {"": 1.0, "percent": 0.01},
     "money": {"eur": 1.0, "usd": 1.0},
     "time": {"": 1.0, "s": 1.0, "min": 60.0, "h": 3600.0},
+    "temperature": {"": 1.0, "K": 1.0, "degC": 1.0},
+    "thermal_resistance": {"": 1.0, "K_W": 1.0},
+    "temperature_coefficient": {"": 1.0, "per_K": 1.0, "percent_K": 0.01},
     "rate": {"per_s": 1.0, "per_min": 1 / 60, "per_h": 1 / 3600},  # events per time, 1/s inside; a suffix required
     "text": {"": 1.0},
     "count": {"": 1.0},
@@ -40,13 +44,24 @@ UNITS: dict[str, dict[str, float]] = {
 #: The SI unit of each kind, as printed in reports.
 SI: dict[str, str] = {"length": "m", "angle": "rad", "torque": "N·m", "force": "N", "speed": "rad/s",
                       "linear_speed": "m/s", "inertia": "kg·m²", "mass": "kg", "power": "W", "pressure": "Pa",
-                      "time": "s", "rate": "1/s", "ratio": "-", "fraction": "-"}
+                      "time": "s", "rate": "1/s", "ratio": "-", "fraction": "-", "temperature": "K",
+                      "thermal_resistance": "K/W", "temperature_coefficient": "1/K"}
+
+#: Units whose zero is not SI's: (kind, suffix) → the offset added after the factor (T_K = T_°C + 273.15). A
+#: temperature is read in °C only from a field whose name says so (``_degC``).
+OFFSETS: dict[tuple[str, str], float] = {("temperature", "degC"): 273.15}
 
 
 def factor(kind: str, suffix: str) -> float | None:
     """The factor that converts a value of ``kind`` given in unit ``suffix`` to SI, or ``None`` if that unit is not
     known for that kind."""
     return UNITS[kind].get(suffix)
+
+
+def offset(kind: str, suffix: str) -> float:
+    """What is added to a value of ``kind`` in unit ``suffix`` after its factor (:func:`factor`) to make it SI: 0
+    but for °C (273.15)."""
+    return OFFSETS.get((kind, suffix), 0.0)
 
 
 def suffixes(kind: str) -> list[str]:

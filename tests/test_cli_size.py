@@ -26,7 +26,9 @@ def run(capsys, *argv):
 
 
 ROOT = Path(__file__).resolve().parents[1]
-REQUIRED_CHECKS = {"peak torque", "RMS torque", "max speed", "inertia ratio"}
+REQUIRED_CHECKS = {"peak torque", "max speed", "inertia ratio"}
+#: The thermal check: RMS torque, or the winding temperature of a motor with the thermal data (the shipped ones).
+THERMAL_CHECKS = {"RMS torque", "winding temperature rise"}
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +51,8 @@ def test_size_puma_json_contract(puma_json):
         assert {"joint", "motor", "gearbox", "ratio", "checks"} <= set(j)
         assert isinstance(j["motor"], str) and isinstance(j["gearbox"], str) and j["ratio"] > 0
         names = {c["name"] for c in j["checks"]}
-        assert REQUIRED_CHECKS <= names
+        assert REQUIRED_CHECKS <= names and len(THERMAL_CHECKS & names) == 1
+        assert j["thermal"]["check"] in names and j["thermal"]["duty_type"].startswith(("S1", "S3", "S6"))
         for c in j["checks"]:
             assert {"name", "value", "limit", "margin", "pass"} <= set(c)
             assert c["pass"] is (c["value"] <= c["limit"] * (1 + 1e-9))

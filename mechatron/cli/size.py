@@ -13,10 +13,12 @@ def cmd_size(args: argparse.Namespace) -> int:
     feasible drive."""
     from ..drives.checks import SCREW_LIFE, DriveLimits
     from ..drives.sizing import size
+    from ..drives.thermal import ZERO_CELSIUS
     from ..report.progress import progress_bar
 
     limits = DriveLimits(args.stop_torque, args.stop_current,
-                         SCREW_LIFE if args.screw_life_h is None else args.screw_life_h * 3600.0, args.voltage)
+                         SCREW_LIFE if args.screw_life_h is None else args.screw_life_h * 3600.0, args.voltage,
+                         args.ambient + ZERO_CELSIUS)
     mech = _carrying(_load(args), args)
     result = size(mech, args.task, motors=args.motors, gearboxes=args.gearboxes, linear=args.linear,
                   cylinders=args.cylinders, objective=args.objective, inertia_ratio_max=args.inertia_ratio,
@@ -69,6 +71,9 @@ def register(sub) -> None:
                       help="the same as a current limit (A): the stop torque of each motor is k_t times it")
     p.add_argument("--voltage", type=Number(positive=True, unit="V"), metavar="V",
                    help="supply voltage of the voltage-limit check (default: each motor's catalog voltage)")
+    p.add_argument("--ambient", type=Number(minimum=-50.0, maximum=100.0, unit="°C"), metavar="DEGC", default=40.0,
+                   help="ambient temperature in °C of the motors' winding temperature check (the motors with thermal "
+                        "data; the winding may rise by its limit temperature minus it), -50 … 100 (default 40)")
     p.add_argument("--screw-life-h", type=Number(positive=True, unit="h"), metavar="H",
                    help="required nominal (L10) life of ball screws running the task over and over, in hours "
                         "(default 20000)")

@@ -19,7 +19,7 @@ import pandas as pd
 from ..errors import InputError
 from ..io.data import data_dir
 from ..io.tables import number, read_csv
-from ..units import UNITS
+from ..units import SI, UNITS, offset
 from .motor import ELECTRICAL_COLUMNS
 from .shafts import end_fixing
 
@@ -27,13 +27,14 @@ from .shafts import end_fixing
 @dataclass(frozen=True)
 class Field:
     """One column of a catalog: its name, kind of quantity (a key of :data:`mechatron.units.UNITS`), whether every
-    row must give it, whether it must be > 0 (else ≥ 0) and its largest value (SI)."""
+    row must give it, whether it must be > 0 (else ≥ 0), its largest value and its smallest (SI)."""
 
     name: str
     kind: str
     required: bool = True
     positive: bool = True  # > 0 (else >= 0)
     maximum: float | None = None
+    minimum: float | None = None
 
 
 SCHEMAS: dict[str, tuple[Field, ...]] = {
@@ -43,7 +44,15 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("max_speed", "speed"), Field("rotor_inertia", "inertia"),
         Field("torque_constant", "torque_constant", False), Field("rated_current", "current", False),
         Field("rated_power", "power", False), Field("resistance", "resistance", False),
-        Field("voltage", "voltage", False), Field("mass", "mass", False), Field("price", "money", False),
+        Field("voltage", "voltage", False),
+        # the two-node thermal model (mechatron.drives.thermal): all five or none, with k_t and R (at 25 °C)
+        Field("rth_winding_housing", "thermal_resistance", False), Field("rth_housing_ambient", "thermal_resistance",
+                                                                         False),
+        Field("tau_winding", "time", False), Field("tau_housing", "time", False),
+        Field("max_winding_temperature", "temperature", False, minimum=273.15, maximum=773.15),
+        Field("temperature_coefficient", "temperature_coefficient", False, positive=False, maximum=0.1),
+        Field("loss_torque", "torque", False, positive=False),
+        Field("mass", "mass", False), Field("price", "money", False),
     ),
     "gearboxes": (
         Field("key", "text"), Field("maker", "text", False), Field("type", "text"),
@@ -179,6 +188,8 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
     """The cells of one column (text, stripped) as the field's values: text as is, numbers × ``factor`` (SI), NaN for
     an empty optional cell."""
     values: list = []
+    suffix = column[len(field.name) + 1:]
+    shift = offset(field.kind, suffix)  # °C → K
     for row, text in zip(cells.index, cells):
         if not text:
             if field.required:
@@ -188,7 +199,10 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
         if field.kind == "text":
             values.append(text)
             continue
-        value = number(text, file=path, row=row, field=column) * factor
+        value = number(text, file=path, row=row, field=column) * factor + shift
+        if field.minimum is not None and not field.minimum <= value <= (field.maximum or math.inf):
+            raise InputError(f"must be between {_shown(field.minimum, field)} and {_shown(field.maximum, field)}, "
+                             f"got {text}", file=path, row=row, field=column)
         if value < 0 or (field.positive and value == 0):
             raise InputError(f"must be {'> 0' if field.positive else '>= 0'}, got {text}", file=path, row=row,
                              field=column)
@@ -198,11 +212,17 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
     return values
 
 
+def _shown(value: float, field: Field) -> str:
+    """A bound of ``field`` (SI) as an error says it: ``273.15 K (0 °C)`` for a temperature."""
+    text = f"{value:g} {SI.get(field.kind, '')}".strip()
+    return f"{text} ({value - 273.15:g} °C)" if field.kind == "temperature" else text
+
+
 def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: dict[str, str],
                        lines: list[int]) -> None:
     """Relations between columns: peak ≥ rated, max speed ≥ rated speed, rod < bore (strictly: a rod as wide as
     the bore leaves no annulus to pull with), a screw's root diameter < its diameter, a known end fixing, and the
-    electrical columns of a motor all or none."""
+    electrical and the thermal columns of a motor all or none."""
     rules = {"motors": [("peak_torque", "rated_torque", False), ("max_speed", "rated_speed", False)],
              "gearboxes": [("peak_torque", "rated_torque", False), ("emergency_torque", "peak_torque", False),
                            ("max_input_speed", "rated_input_speed", False)],
@@ -223,15 +243,46 @@ def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: di
                 except InputError as error:
                     raise InputError(error.message, file=path, row=row, field=column_of["end_fixing"]) from None
     if kind == "motors":
-        _check_electrical(table, path, column_of, lines)
+        thermal = _check_thermal(table, path, column_of, lines)
+        _check_electrical(table, path, column_of, lines, thermal)
 
 
-def _check_electrical(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int]) -> None:
+def _given(table: pd.DataFrame, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """Which rows give each column of ``names`` (a value, not empty)."""
+    return {name: table[name].notna().to_numpy() if name in table else np.zeros(len(table), dtype=bool)
+            for name in names}
+
+
+def _check_thermal(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int]) -> bool:
+    """The thermal columns of a motor catalog (:data:`~mechatron.drives.thermal.THERMAL_COLUMNS`) are given in
+    every row, with the torque constant and the resistance (the copper loss I² R of I = T/k_t), or in none: else the
+    first row that lacks one names it. Whether the catalog gives them."""
+    from .thermal import THERMAL_COLUMNS
+
+    needed = (*THERMAL_COLUMNS, "torque_constant", "resistance")
+    given = _given(table, needed)
+    if not any(given[name].any() for name in THERMAL_COLUMNS):
+        return False
+    complete = np.all(list(given.values()), axis=0)
+    if not complete.all():
+        i = int(np.flatnonzero(~complete)[0])
+        missing = next(name for name in needed if not given[name][i])
+        raise InputError(f"missing value: the thermal columns are given for some rows or columns only; the winding "
+                         f"temperature needs all of {', '.join(needed)} in every row (or none of "
+                         f"{', '.join(THERMAL_COLUMNS)} in any)", file=path, row=lines[i],
+                         field=column_of.get(missing, missing))
+    return True
+
+
+def _check_electrical(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int],
+                      thermal: bool = False) -> None:
     """A motor that gives its resistance or supply voltage gives all of the torque constant, the resistance and the
-    voltage (the voltage limit needs the three); else the row names the first one missing."""
-    given = {name: table[name].notna().to_numpy() if name in table else np.zeros(len(table), dtype=bool)
-             for name in ELECTRICAL_COLUMNS}
+    voltage (the voltage limit needs the three; a catalog with the thermal columns may give k_t and R without the
+    voltage: its copper loss needs them); else the row names the first one missing."""
+    given = _given(table, ELECTRICAL_COLUMNS)
     partial = (given["resistance"] | given["voltage"]) & ~np.all(list(given.values()), axis=0)
+    if thermal:
+        partial &= given["voltage"]
     if partial.any():
         i = int(np.flatnonzero(partial)[0])
         missing = next(name for name in ELECTRICAL_COLUMNS if not given[name][i])

@@ -46,6 +46,12 @@ Beyond these (:data:`ALL_CHECKS`), where the catalogs give the data:
   (V) (:mod:`mechatron.drives.motor`): max (k_t |n| + R |T_m| / k_t) ≤ U, the back-EMF k_e ω plus the resistive
   drop R I of the current I = T_m / k_t (k_e = k_t in SI units), at every sample — the voltage-limit line of the
   speed–torque curve, applied to |T_m| in all four quadrants as the makers' curves are (conservative when braking);
+- **winding temperature rise** (K) of a motor with the thermal columns (:mod:`mechatron.drives.thermal`): the
+  winding's highest rise above the ambient T_a over the task repeated to its periodic steady state, in the two-node
+  network of winding and housing with the copper loss I² R(T) (I = T_m/k_t) and the speed losses, ≤ T_max − T_a
+  (:attr:`DriveLimits.ambient`, default 40 °C). It replaces the RMS torque check, which such a motor does not
+  take (its limit is inf); the screening bounds it from below by the mean rise (R_wh + R_ha)(R(T_a) ⟨T_m²⟩/k_t²
+  + T_f ⟨|n|⟩), and the network is simulated only for the pairs checked exactly (:meth:`PairChecks.winding`);
 - the screw and rack checks of :mod:`mechatron.drives.screws` (equivalent load and L10 life, critical speed,
   buckling, rack tooth force, length).
 
@@ -66,6 +72,7 @@ from .converters import Converters
 from .duty import JointDuty
 from .motor import continuous_torque, electrical_data, peak_torque_limit
 from .screws import SCREW_CHECKS, SCREW_LIFE, SCREW_UNITS, screw_checks
+from .thermal import AMBIENT_RANGE, BATCH_ELEMENTS, DEFAULT_AMBIENT, ZERO_CELSIUS, ThermalData, periodic_rise
 
 #: The checks of a motor and a gearbox (each applies to a motor with a gearbox).
 CHECKS = ("peak torque", "speed-torque curve", "RMS torque", "max speed", "inertia ratio",
@@ -73,9 +80,10 @@ CHECKS = ("peak torque", "speed-torque curve", "RMS torque", "max speed", "inert
           "transmission max input speed", "transmission mean input speed")
 UNITS = ("N·m", "-", "N·m", "rad/s", "-", "N·m", "N·m", "N·m", "rad/s", "rad/s")
 #: Every check of a motor × converter pair: :data:`CHECKS`, the voltage limit, the screw and rack checks.
-ALL_CHECKS = CHECKS + ("voltage limit",) + SCREW_CHECKS
-ALL_UNITS = UNITS + ("V",) + SCREW_UNITS
+ALL_CHECKS = CHECKS + ("voltage limit", "winding temperature rise") + SCREW_CHECKS
+ALL_UNITS = UNITS + ("V", "K") + SCREW_UNITS
 _VOLTAGE = len(CHECKS)
+_WINDING = _VOLTAGE + 1  # the thermal model's check (mechatron.drives.thermal)
 #: Pairs of a joint checked sample by sample over every sample before the samples that can decide are sought
 #: (:meth:`JointDuty.envelope`, worth its cost only for many pairs; :meth:`PairChecks.per_sample`).
 BEFORE_ENVELOPE = 32
@@ -90,6 +98,9 @@ _EMERGENCY = CHECKS.index("transmission emergency torque")
 #: What an infinite load factor of a check means — a value where its limit is 0: no multiple of the limit is
 #: enough — in the words of a reason (:func:`failure`); other checks say it with :data:`NO_LIMIT`.
 BEYOND = {"speed-torque curve": "outside it (torque asked above the motor's maximum speed)",
+          "winding temperature rise": "no steady state (thermal runaway: the copper loss grows with the winding's "
+                                      "temperature faster than the motor sheds it), or no rise allowed (the ambient "
+                                      "at or above the winding's limit temperature)",
           "RMS torque": "no continuous torque at the mean speed (above the motor's maximum speed)"}
 NO_LIMIT = "a limit of 0 where a value is needed"
 
@@ -132,12 +143,15 @@ class DriveLimits:
             above T_peak; a motor without a torque constant keeps T_peak). Give one of the two.
         screw_life: The required nominal life of a screw running the task over and over (s; default 20 000 h).
         voltage: The supply voltage (V) of the voltage-limit check, instead of each motor's catalog voltage.
+        ambient: The ambient temperature (K; default 313.15 K, 40 °C) of the winding temperature check
+            (:mod:`~mechatron.drives.thermal`): the winding may rise by its limit temperature minus it.
     """
 
     stop_torque: float | None = None
     stop_current: float | None = None
     screw_life: float = SCREW_LIFE
     voltage: float | None = None
+    ambient: float = DEFAULT_AMBIENT
 
     def __post_init__(self) -> None:
         for name in ("stop_torque", "stop_current", "voltage"):
@@ -148,6 +162,10 @@ class DriveLimits:
             raise InputError("give the emergency-stop limit as a torque or as a current, not both")
         if not (math.isfinite(self.screw_life) and self.screw_life > 0):
             raise InputError(f"screw_life must be a finite number of seconds > 0, got {self.screw_life!r}")
+        low, high = AMBIENT_RANGE
+        if not (isinstance(self.ambient, (int, float)) and low <= self.ambient <= high):
+            raise InputError(f"ambient must be a temperature of {low:g} … {high:g} K ({low - ZERO_CELSIUS:g} … "
+                             f"{high - ZERO_CELSIUS:g} °C), got {self.ambient!r}")
 
     def stop_torques(self, motors: MotorArrays) -> NDArray[np.float64]:
         """The torque (N·m) each motor gives in an emergency stop: min(limit, T_peak), T_peak without a limit (a
@@ -171,7 +189,8 @@ class MotorArrays:
     """The columns of a motor catalog the checks read, as arrays (SI; :func:`read_catalog
     <mechatron.drives.catalogs.read_catalog>`), read once for a whole sizing: ``key``; rotor inertia J_m (kg·m²);
     rated and peak torque (N·m); rated and top speed (rad/s); torque constant k_t (N·m/A), winding resistance R (Ω)
-    and supply voltage U (V), NaN where the catalog lacks them; mass (kg) and price, 0 where missing."""
+    and supply voltage U (V), NaN where the catalog lacks them; mass (kg) and price, 0 where missing; the thermal
+    model's data (:class:`~mechatron.drives.thermal.ThermalData`)."""
 
     key: NDArray[np.str_]
     rotor: NDArray[np.float64]
@@ -184,6 +203,7 @@ class MotorArrays:
     voltage: NDArray[np.float64]
     mass: NDArray[np.float64]
     price: NDArray[np.float64]
+    thermal: ThermalData | None = None
 
     @classmethod
     def of(cls, motors: pd.DataFrame | MotorArrays) -> MotorArrays:
@@ -197,7 +217,7 @@ class MotorArrays:
         kt, resistance, voltage = electrical_data(motors)
         return cls(motors["key"].to_numpy(dtype=str), *(motors[name].to_numpy(dtype=float) for name in (
             "rotor_inertia", "rated_torque", "peak_torque", "rated_speed", "max_speed")), kt, resistance, voltage,
-            known("mass"), known("price"))
+            known("mass"), known("price"), ThermalData.of(motors))
 
     def __len__(self) -> int:
         return len(self.key)
@@ -291,6 +311,12 @@ class PairChecks:
         self.voltage = np.where(checked, voltage, math.inf)
         self.stop = limits.stop_torques(motors)
         self.inertia_ratio_max = inertia_ratio_max
+        # the winding temperature (mechatron.drives.thermal) of the motors with the thermal data, instead of RMS
+        self.thermal, self.ambient = motors.thermal or ThermalData.of(pd.DataFrame(index=range(len(motors)))), \
+            limits.ambient
+        self.heated = self.thermal.given  # the motors checked by the thermal model
+        self.allowed_rise = np.where(self.heated, self.thermal.allowed_rise(self.ambient), math.inf)
+        self._rises: dict[tuple[int, int], float] = {}  # the exact rise of the pairs simulated
 
         # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩ and the mean and top motor speeds of each converter:
         # exact (sums over the samples) for the converters asked for (:meth:`_means`); in closed form from moments
@@ -320,9 +346,11 @@ class PairChecks:
         self._keep: NDArray[np.intp] | None = None  # the envelope's samples, when many pairs are checked
         self._checked = 0  # pairs checked sample by sample so far
 
-    def table(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def table(self, m: ArrayLike, c: ArrayLike, level: int = 2, thermal: bool = True
+              ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(values, limits) of every check (:data:`ALL_CHECKS`) of the pairs (m[i], c[i]), each (len(m),
-        len(ALL_CHECKS)), SI units; the per-sample checks at ``level`` (0: 0, 1: lower bounds, 2: exact)."""
+        len(ALL_CHECKS)), SI units; the per-sample checks at ``level`` (0: 0, 1: lower bounds, 2: exact), the winding
+        temperature rise as its mean-rise bound but at level 2 with ``thermal`` (then simulated, :meth:`winding`)."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         values, lim = np.empty((len(m), len(ALL_CHECKS))), np.empty((len(m), len(ALL_CHECKS)))
         Jm = self.rotor[m]
@@ -333,13 +361,22 @@ class PairChecks:
             rms = np.sqrt(np.maximum(Jm**2 * m_aa + 2 * (Jm * m_ab) + m_bb, 0.0))
         values[:, 2] = rms
         lim[:, 2] = continuous_torque(mean_speed, self.rated[m], self.rated_speed[m], self.top_speed[m])
+        heated = self.heated[m]
+        if heated.any():  # the thermal model instead of RMS: its mean rise, a lower bound, or (level 2) exact
+            lim[:, 2] = np.where(heated, math.inf, lim[:, 2])
+            values[:, _WINDING] = np.where(heated, self.thermal.mean_bound(m, rms, mean_speed, self.ambient), 0.0)
+            if level == 2 and thermal:
+                values[heated, _WINDING] = self.winding(m[heated], c[heated])
+        else:
+            values[:, _WINDING] = 0.0
+        lim[:, _WINDING] = self.allowed_rise[m]
         values[:, 3], lim[:, 3] = top_speed, self.top_speed[m]
         values[:, 4], lim[:, 4] = self.load_inertia[c] / Jm, self.inertia_ratio_max
         values[:, 5], values[:, 6], values[:, 7] = self.equivalent, self.peak_load, self.stop[m] * self.conv.ratio[c]
         values[:, 8], values[:, 9] = top_speed, mean_speed
         lim[:, 5:10] = self.transmission[c]
         lim[:, 0], lim[:, 1], lim[:, _VOLTAGE] = self.peak[m], 1.0, self.voltage[m]
-        values[:, _VOLTAGE + 1:], lim[:, _VOLTAGE + 1:] = self.screw_values[c], self.screw_limits[c]
+        values[:, _WINDING + 1:], lim[:, _WINDING + 1:] = self.screw_values[c], self.screw_limits[c]
         if level == 0:
             values[:, PER_SAMPLE] = 0.0
         else:
@@ -347,9 +384,10 @@ class PairChecks:
                 self.per_sample(m, c)
         return values, lim
 
-    def worst(self, m: ArrayLike, c: ArrayLike, level: int = 2) -> NDArray[np.float64]:
-        """The largest load factor (value/limit) of each pair (m[i], c[i]), the per-sample checks at ``level``."""
-        return _load_factor(*self.table(m, c, level)).max(axis=1)
+    def worst(self, m: ArrayLike, c: ArrayLike, level: int = 2, thermal: bool = True) -> NDArray[np.float64]:
+        """The largest load factor (value/limit) of each pair (m[i], c[i]), the per-sample checks at ``level`` (the
+        winding's rise simulated at level 2 with ``thermal``, else its bound)."""
+        return _load_factor(*self.table(m, c, level, thermal)).max(axis=1)
 
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), exact."""
@@ -361,13 +399,22 @@ class PairChecks:
         — pass every check that needs no pass over the samples: those of the converter alone
         (:attr:`converter_passes`), RMS torque, max speed, inertia ratio and emergency torque; and the peak
         torque's bound RMS ≤ max |T_m| (with room for rounding). Necessary for a pass (never false for a pair
-        that passes every check), in the same floating-point operations as :meth:`table`."""
+        that passes every check), in the same floating-point operations as :meth:`table`. A motor with the thermal
+        data takes the bound of its winding's rise (its mean rise) instead of the RMS torque check."""
         rms, mean_speed, top_speed = self._bounds(m, c)
         ok = self.converter_passes[c] & _passes(top_speed, self.top_speed[m]) \
             & _passes(self.load_inertia[c] / self.rotor[m], self.inertia_ratio_max) \
             & _passes(self.stop[m] * self.conv.ratio[c], self.transmission[c, 2])
-        return ok & _passes(rms * (1 - 1e-6), self.peak[m]) & _passes(rms, continuous_torque(
-            mean_speed, self.rated[m], self.rated_speed[m], self.top_speed[m]))
+        ok &= _passes(rms * (1 - 1e-6), self.peak[m])
+        heated = self.heated[m]
+        if not heated.any():
+            return ok & _passes(rms, continuous_torque(mean_speed, self.rated[m], self.rated_speed[m],
+                                                       self.top_speed[m]))
+        warm = _passes(self.thermal.mean_bound(m, rms, mean_speed, self.ambient), self.allowed_rise[m])
+        if heated.all():
+            return ok & warm
+        return ok & np.where(heated, warm, _passes(rms, continuous_torque(mean_speed, self.rated[m],
+                                                                          self.rated_speed[m], self.top_speed[m])))
 
     def bounds_pass(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> NDArray[np.bool_]:
         """Whether the pairs (m[i], c[i]) pass the per-sample checks at the few decisive samples (level 1): necessary
@@ -468,6 +515,33 @@ class PairChecks:
         return out
 
 
+    def winding(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
+        """The winding's highest rise above the ambient (K) of the pairs (m[i], c[i]) over the task repeated to its
+        periodic steady state (:func:`~mechatron.drives.thermal.periodic_rise`, every sample of the task; inf where
+        the losses run away), simulated once per pair (then kept); 0 for a motor without the thermal data."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        out = np.zeros(len(m))
+        todo = [i for i in range(len(m)) if self.heated[m[i]] and (int(m[i]), int(c[i])) not in self._rises]
+        if todo:
+            duty, th = self._duty, self.thermal
+            todo_m, todo_c = m[todo], c[todo]
+            batch = max(1, BATCH_ELEMENTS // len(duty.t))
+            for start in range(0, len(todo), batch):
+                mb, cb = todo_m[start:start + batch], todo_c[start:start + batch]
+                used, where = np.unique(cb, return_inverse=True)
+                n, accel, base = motor_side(duty, self._u[used], self._eta[used], self._Jc[used])
+                current = (self.rotor[mb, None] * accel[where] + base[where]) / th.kt[mb, None]
+                loss = th.loss_torque[mb, None] * np.abs(n[where])
+                rise = periodic_rise(duty.t, current * current, loss, *(x[mb, None] for x in (
+                    th.r_wh, th.r_ha, th.tau_w, th.tau_h, th.resistance, th.alpha)), self.ambient)[..., 0]
+                top = np.where(np.isnan(rise).any(axis=1), math.inf, rise.max(axis=1, initial=0.0))
+                self._rises.update(zip(zip(mb.tolist(), cb.tolist()), top.tolist()))
+        for i in range(len(m)):
+            if self.heated[m[i]]:
+                out[i] = self._rises[int(m[i]), int(c[i])]
+        return out
+
+
 def _passes(value: ArrayLike, limit: ArrayLike) -> NDArray[np.bool_]:
     """Whether value/limit ≤ 1 + PASS_TOLERANCE, as :func:`_load_factor` counts it (0/0 passes, x/0 fails)."""
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -490,7 +564,8 @@ class Evaluation:
     The per-sample checks (peak torque, speed–torque curve, voltage limit) start as lower bounds from a few decisive
     samples (:meth:`JointDuty.strong_samples`) and are made exact for the pairs given to :meth:`refine` (``exact``
     marks them) over the samples that can decide them (:meth:`JointDuty.envelope`). Every other check is exact from
-    the start. A lower bound never passes a pair that fails.
+    the start (the winding temperature rise simulated for every pair). A lower bound never passes a pair that
+    fails.
     """
 
     def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
@@ -499,6 +574,8 @@ class Evaluation:
         shape = self.pairs.shape
         rows, cols = np.indices(shape)
         values, lim = self.pairs.table(rows.ravel(), cols.ravel(), level=1)
+        heated = self.pairs.heated[rows.ravel()]  # the winding's temperature exact from the start, as RMS is
+        values[heated, _WINDING] = self.pairs.winding(rows.ravel()[heated], cols.ravel()[heated])
         self.values, self.limits = values.reshape(shape + (-1,)), lim.reshape(shape + (-1,))
         self.exact = np.zeros(shape, dtype=bool)
 

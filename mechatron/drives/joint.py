@@ -50,6 +50,7 @@ from .duty import JointDuty
 from .motor import continuous_torque, peak_torque_limit
 from .report import REPORTED, RPM, DriveSizing
 from .search import _growing, _motor_blocks, fastest_scale, feasible_pairs, first_in_order, motor_passes, smallest_worst
+from .thermal import DEFAULT_AMBIENT, ZERO_CELSIUS, ThermalData, duty_text, duty_type, winding_temperature
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -98,6 +99,8 @@ class JointSizing(DriveSizing):
         time_scale: the task's moves were replayed this many times slower (``time`` objective; < 1: faster), its
             dwells as they are.
         alternatives: the ranking and the rivals (:class:`Alternatives`), found when first asked for.
+        ambient: the ambient temperature of the thermal check (K; :attr:`DriveLimits.ambient
+            <mechatron.drives.checks.DriveLimits.ambient>`).
 
     Properties :attr:`ranking` and :attr:`rivals`: the best feasible pairs and the pairs that come before the chosen
     one by the objective but fail a check (:class:`Alternatives`).
@@ -118,6 +121,7 @@ class JointSizing(DriveSizing):
     converter_data: dict = field(default_factory=dict)
     time_scale: float = 1.0
     alternatives: Alternatives | None = field(default=None, repr=False)
+    ambient: float = DEFAULT_AMBIENT
 
     @property
     def ranking(self) -> pd.DataFrame:
@@ -161,11 +165,52 @@ class JointSizing(DriveSizing):
                 peak_torque_limit(speed, m["peak_torque"], m["rated_torque"], m["rated_speed"], m["max_speed"]))
 
     def _rms_point(self) -> tuple[float, float]:
-        """(mean speed (rad/s), RMS torque (N·m)): the point of the thermal check."""
-        rms = next(c for c in self.checks if c.name == "RMS torque")
+        """(mean speed (rad/s), RMS torque (N·m)): the point of the RMS check (of the S1 curve's), computed for a
+        motor checked by its winding's temperature instead (trapezoidal time means)."""
+        n, torque = self.operating_points()
+        weights = self.duty.time_weights()
+        rms = next((c.value for c in self.checks if c.name == "RMS torque"), math.sqrt(float(weights @ torque**2)))
         mean_speed = next((c.value for c in self.checks if c.name == "transmission mean input speed"),
-                          float(np.mean(np.abs(self.operating_points()[0]))))
-        return mean_speed, rms.value
+                          float(weights @ np.abs(n)))
+        return mean_speed, rms
+
+    def winding_temperature(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None:
+        """(t (s), T_w, T_h (K)): the winding's and the housing's temperature at every sample of the task repeated
+        to its periodic steady state (:func:`~mechatron.drives.thermal.winding_temperature`), for the chosen pair;
+        ``None`` for a motor without the thermal data."""
+        thermal = ThermalData.of(pd.DataFrame([self.motor_data]))
+        if not thermal.given[0]:
+            return None
+        n, torque = self.operating_points()
+        return (self.duty.t, *winding_temperature(self.duty.t, torque, n, thermal, 0, self.ambient))
+
+    def thermal(self) -> dict:
+        """How the motor's heat was checked: ``check`` (``winding temperature rise``, the two-node model of the
+        catalog's thermal data, or ``RMS torque``, against the S1 curve at the mean speed, for a motor without
+        them), ``duty_type`` and ``cyclic_duration_factor`` (IEC 60034-1, :func:`~mechatron.drives.thermal.
+        duty_type`), ``ambient_K``, and with the model ``winding_max_K`` (the winding's highest temperature over
+        the cycle) and ``winding_limit_K``."""
+        kind, factor = duty_type(self.duty)
+        out = {"check": "RMS torque", "duty_type": duty_text(kind, factor), "cyclic_duration_factor": factor,
+               "ambient_K": self.ambient}
+        rise = next((c for c in self.checks if c.name == "winding temperature rise"), None)
+        if rise is not None:
+            out.update(check=rise.name, winding_max_K=self.ambient + rise.value,
+                       winding_limit_K=self.ambient + rise.limit)
+        return out
+
+    def thermal_lines(self) -> list[str]:
+        """The thermal check used, as a line of the text report."""
+        info = self.thermal()
+        ambient = f"{info['ambient_K'] - ZERO_CELSIUS:.4g} °C ambient"
+        if info["check"] == "RMS torque":
+            what = (f"RMS torque against the S1 curve at the mean speed (the catalog gives no thermal data for "
+                    f"{self.motor})")
+        else:
+            what = (f"winding temperature, two-node model of winding and housing at {ambient}: the winding reaches "
+                    f"{info['winding_max_K'] - ZERO_CELSIUS:.4g} °C of its {info['winding_limit_K'] - ZERO_CELSIUS:.4g}"
+                    " °C")
+        return [f"    thermal check: {what}; duty type {info['duty_type']} (IEC 60034-1)"]
 
     def chart_frame(self) -> pd.DataFrame:
         """The data of :meth:`plot`, one row per point (SI): ``series`` — ``operating point`` (every sample of the
@@ -211,7 +256,7 @@ class JointSizing(DriveSizing):
 
     def explanation_lines(self) -> list[str]:
         """The deciding check, the runners-up, the gearbox's duty and the kinds a rule removed whole."""
-        lines = super().explanation_lines()
+        lines = [*self.thermal_lines(), *super().explanation_lines()]
         duty = self.gearbox_duty()
         if duty is not None:
             lines.append(f"    gearbox duty: {duty['cycles_per_hour']:.4g} cycles/h (the {self.duty.duration:.4g} s "
@@ -231,14 +276,16 @@ class JointSizing(DriveSizing):
     def as_dict(self) -> dict:
         """joint, kind, feasible, motor, gearbox (the converter's key), converter_kind, ratio, time_scale, checks
         (name, value, limit, unit, margin, pass; SI), alternatives (the best feasible pairs), closest (when none is
-        feasible), and the explanation (:meth:`~mechatron.drives.report.DriveSizing.explanation`): deciding_check,
-        runner_up, drive_mass_kg, drive_price."""
+        feasible), thermal (:meth:`thermal`: the thermal check used, the duty type, the winding's temperature), and
+        the explanation (:meth:`~mechatron.drives.report.DriveSizing.explanation`): deciding_check, runner_up,
+        drive_mass_kg, drive_price."""
         return json_ready({
             "joint": self.joint, "kind": self.kind, "feasible": self.feasible, "motor": self.motor,
             "gearbox": self.converter, "converter_kind": self.converter_kind, "ratio": self.ratio,
             "time_scale": self.time_scale, "checks": [c.as_dict() for c in self.checks],
             "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
-            "closest": [] if self.feasible else self.closest.to_dict(orient="records"), **self.explanation()})
+            "closest": [] if self.feasible else self.closest.to_dict(orient="records"), "thermal": self.thermal(),
+            **self.explanation()})
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """The chosen motor's speed–torque chart: its continuous (S1) and intermittent zones
@@ -331,7 +378,7 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     return JointSizing(duty.name, duty.kind, objective, feasible, str(arrays.key[m]), str(conv.key[c]),
                        str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c), closest, duty,
                        motors.iloc[m].to_dict(), {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__},
-                       scale, alternatives)
+                       scale, alternatives, (limits or DriveLimits()).ambient)
 
 
 @dataclass(frozen=True)

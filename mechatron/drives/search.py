@@ -59,12 +59,17 @@ def _motor_blocks(checks: PairChecks) -> list[slice]:
 
 def feasible_pairs(checks: PairChecks, m: np.ndarray, c: np.ndarray, screened: bool = False) -> np.ndarray:
     """Which pairs (m[i], c[i]) pass every check: the checks without samples first (:meth:`PairChecks.screen`;
-    ``screened``: the pairs passed it already), then lower bounds of the per-sample ones, then those exact, each on
-    the pairs the one before let through."""
+    ``screened``: the pairs passed it already), then lower bounds of the per-sample ones, then those exact (the
+    winding temperature at its bound), then the winding temperature simulated, each on the pairs the one before
+    let through."""
     ok = np.ones(len(m), dtype=bool) if screened else checks.screen(m, c)
     index = np.flatnonzero(ok)
     ok[index] = checks.bounds_pass(m[index], c[index])
     index = np.flatnonzero(ok)
+    heated = getattr(checks, "heated", None)  # motors with the thermal model: the winding simulated last
+    if heated is not None and heated[m[index]].any():
+        ok[index] = checks.worst(m[index], c[index], thermal=False) <= 1 + PASS_TOLERANCE
+        index = np.flatnonzero(ok)
     ok[index] = checks.worst(m[index], c[index]) <= 1 + PASS_TOLERANCE
     return ok
 
@@ -254,11 +259,16 @@ def smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) 
         keep = bound <= limit
         m, c, bound = m[keep], c[keep], bound[keep]
         order = np.argsort(bound, kind="stable")
-        for start in range(0, len(order), 256):
-            part = order[start:start + 256]
+        heated = bool(checks.heated[m].any())  # the winding simulated only where its bound leaves a chance
+        parts = _growing(len(order), 16) if heated else [slice(s, s + 256) for s in range(0, len(order), 256)]
+        for piece in parts:
+            part = order[piece]
             if bound[part[0]] > limit:
                 break
-            exact = checks.worst(m[part], c[part], 2)
+            exact = checks.worst(m[part], c[part], 2, thermal=not heated)
+            if heated:
+                sharp = np.flatnonzero((exact <= limit) & ((exact <= 1 + PASS_TOLERANCE) | (not feasible_only)))
+                exact[sharp] = checks.worst(m[part[sharp]], c[part[sharp]], 2)
             if feasible_only:
                 part, exact = part[exact <= 1 + PASS_TOLERANCE], exact[exact <= 1 + PASS_TOLERANCE]
             rows = np.column_stack([m[part], c[part], exact, bound[part]])

@@ -6,7 +6,8 @@ Options (the spec's ``[analyses.sizing]`` table; every one optional, see ``docs/
 out-and-back task), the catalogs ``motors``, ``gearboxes``, ``linear``, ``cylinders`` (CSV; default the example
 catalogs of ``catalogs/``), ``objective`` (``mass``, ``cost``, ``margin``, ``time``), ``inertia_ratio``,
 ``direct``, ``pressure_MPa``, ``chain_efficiency``, ``single_pass``, ``max_iterations``, ``stop_torque`` (N·m),
-``stop_current`` (A), ``voltage`` (V), ``screw_life_h`` (h) — the options of ``mechatron size``. The old
+``stop_current`` (A), ``voltage`` (V), ``screw_life_h`` (h), ``ambient`` (°C, as ``--ambient``) — the options of
+``mechatron size``. The old
 spelling ``pressure_mpa`` is read for one more release, with a warning (:data:`mechatron.quantities.RENAMED`).
 
 Outputs (SI; :mod:`mechatron.quantities`): ``feasible``; ``drive_mass_kg`` and ``drive_cost`` (Σ of the drives'
@@ -54,7 +55,8 @@ NUMBERS: dict[str, tuple[float | None, dict]] = {
     "chain_efficiency": (1.0, dict(minimum=0.01, maximum=1.0)),
     "max_iterations": (10, dict(integer=True, minimum=2, maximum=1000)),
     "stop_torque": (None, dict(positive=True, unit="N·m")), "stop_current": (None, dict(positive=True, unit="A")),
-    "voltage": (None, dict(positive=True, unit="V")), "screw_life_h": (None, dict(positive=True, unit="h"))}
+    "voltage": (None, dict(positive=True, unit="V")), "screw_life_h": (None, dict(positive=True, unit="h")),
+    "ambient": (40.0, dict(minimum=-50.0, maximum=100.0, unit="°C"))}
 #: The options that are true or false.
 FLAGS = ("direct", "single_pass")
 OPTIONS = ("task", *CATALOGS, "objective", *NUMBERS, *FLAGS)
@@ -144,6 +146,7 @@ def arguments(mech: Mechanism, options: dict) -> dict:
     ``mech``, the catalogs as DataFrames)."""
     from ...drives.checks import SCREW_LIFE, DriveLimits
     from ...drives.sizing import OBJECTIVES
+    from ...drives.thermal import ZERO_CELSIUS
     from ...dynamics.task import default_task, read_task
     from ...quantities import renamed
 
@@ -171,7 +174,8 @@ def arguments(mech: Mechanism, options: dict) -> dict:
                 pressure=values["pressure_MPa"] * 1e6, chain_efficiency=values["chain_efficiency"],
                 single_pass=field_flag("sizing", options, "single_pass", False),
                 max_iterations=values["max_iterations"],
-                limits=DriveLimits(values["stop_torque"], values["stop_current"], screw_life, values["voltage"]))
+                limits=DriveLimits(values["stop_torque"], values["stop_current"], screw_life, values["voltage"],
+                                   values["ambient"] + ZERO_CELSIUS))
 
 
 def check(mech: Mechanism, options: dict) -> None:
