@@ -5,8 +5,10 @@ and mass matrix (mechatron's :func:`~mechatron.drives.duty.joint_duties`, Pinocc
 RMS motor torque and mean speed of every motor × converter pair at once from five time moments of the duty (the
 motor torque T = (J_m + J_c) u ω̇ + τ*/u with τ* = τ/η where the load takes power, τη where it gives it back, so
 ⟨T²⟩ = (J u)² ⟨ω̇²⟩ + 2J(⟨ω̇τ₊⟩/η + ⟨ω̇τ₋⟩η) + (⟨τ₊²⟩/η² + ⟨τ₋²⟩η²)/u²), the pairs that pass those checks and the
-gearbox's (its peak torque derated above its cycle rating) in mass order (then price), the per-sample checks — peak
-torque, the speed–torque curve, the voltage limit — only for them until one passes; the same distal-to-proximal
+gearbox's (its peak torque derated above its cycle rating) in mass order (then price) — for a motor with thermal data
+its winding's mean rise in place of RMS —, the per-sample checks — peak torque, the speed–torque curve, the voltage
+limit, then the winding's temperature over the repeated task (mechatron's two-node network,
+:func:`~mechatron.drives.thermal.periodic_rise`) — only for them until one passes; the same distal-to-proximal
 fixed point, the duties recomputed when the drives on the links change. Printed: both times (best of the repeats,
 taking turns), their ratio (goal ≤ 2×), whether the drives agree, on the default task (1,115 samples) with and
 without the fixed point, on the same cycle sampled finely to 20,000 and 100,000 rows (time linear in the task: the
@@ -35,6 +37,7 @@ from mechatron.drives.converters import converters_for
 from mechatron.drives.duty import DriveMount, drive_carrier, joint_duties, mount_drives
 from mechatron.drives.motor import continuous_torque, electrical_data, peak_torque_limit
 from mechatron.drives.system import distal_first
+from mechatron.drives.thermal import DEFAULT_AMBIENT, REFERENCE, ThermalData, periodic_rise
 from mechatron.dynamics.task import generic_task, read_task, task_file
 
 TOLERANCE = 1 + 1e-9  # a check passes at value ≤ limit (1 + 1e-9), as mechatron's
@@ -63,8 +66,16 @@ def floor_joint(duty, motors: pd.DataFrame, conv, inertia_ratio_max: float = 10.
     derating = np.minimum(1.0, (conv.cycle_rating * duty.duration) ** (np.log(2.5) / np.log(3000.0)))
     gearbox = (equivalent <= conv.rated_torque) & (np.abs(tau).max() <= conv.peak_torque * derating) \
         & (top <= conv.max_input_speed) & (mean <= conv.rated_input_speed)
-    ok = (rms <= continuous_torque(mean, rated, rated_speed, max_speed) * TOLERANCE) \
-        & (top <= max_speed * TOLERANCE) & gearbox \
+    heat = ThermalData.of(motors)
+    heated, allowed = heat.given[:, None], (heat.limit - DEFAULT_AMBIENT)[:, None]
+    # the motors with thermal data: their winding's mean rise (R_wh + R_ha)(R(T_a) T_rms²/k_t² + T_f ⟨|n|⟩) bounds
+    # its highest from below; the others: RMS against the S1 torque at the mean speed
+    total = (heat.r_wh + heat.r_ha)[:, None]
+    r_ambient = (heat.resistance * (1 + heat.alpha * (DEFAULT_AMBIENT - REFERENCE)))[:, None]
+    mean_rise = total * (r_ambient * (rms / heat.kt[:, None]) ** 2 + heat.loss_torque[:, None] * mean)
+    warm = np.where(heated, mean_rise <= allowed * TOLERANCE,
+                    rms <= continuous_torque(mean, rated, rated_speed, max_speed) * TOLERANCE)
+    ok = warm & (top <= max_speed * TOLERANCE) & gearbox \
         & ((duty.load_inertia / u**2 + jc) / jm[:, None] <= inertia_ratio_max * TOLERANCE) \
         & (peak * u <= conv.emergency_torque * TOLERANCE)
     mass = motors["mass"].fillna(0).to_numpy()[:, None] + conv.mass[None, :]
@@ -80,6 +91,12 @@ def floor_joint(duty, motors: pd.DataFrame, conv, inertia_ratio_max: float = 10.
             continue
         if np.isfinite(voltage[i]) and (kt[i] * speed + resistance[i] / kt[i] * torque).max() > voltage[i] * TOLERANCE:
             continue
+        if heated[i, 0]:  # the winding over the repeated task, every sample (the two-node network's steady state)
+            rise = periodic_rise(duty.t, (torque / heat.kt[i])[None] ** 2, heat.loss_torque[i] * speed[None],
+                                 heat.r_wh[i], heat.r_ha[i], heat.tau_w[i], heat.tau_h[i], heat.resistance[i],
+                                 heat.alpha[i], DEFAULT_AMBIENT)[0, :, 0]
+            if not rise.max() <= allowed[i, 0] * TOLERANCE:  # NaN: runaway
+                continue
         return int(i), int(g)
     return -1, -1
 

@@ -389,6 +389,18 @@ class PairChecks:
         winding's rise simulated at level 2 with ``thermal``, else its bound)."""
         return _load_factor(*self.table(m, c, level, thermal)).max(axis=1)
 
+    def passes_exactly(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.bool_]:
+        """Whether the pairs (m[i], c[i]) pass every check, exact (as :meth:`worst` ≤ 1 + PASS_TOLERANCE), the
+        winding simulated (:meth:`winding`) only for the pairs that pass every other check and its bound."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        values, lim = self.table(m, c, 2, thermal=False)
+        ok = _load_factor(values, lim).max(axis=1) <= 1 + PASS_TOLERANCE
+        sharp = np.flatnonzero(ok & self.heated[m])
+        if len(sharp):
+            values[sharp, _WINDING] = self.winding(m[sharp], c[sharp])
+            ok[sharp] = _load_factor(values[sharp], lim[sharp]).max(axis=1) <= 1 + PASS_TOLERANCE
+        return ok
+
     def checks(self, m: int, c: int) -> list[Check]:
         """The checks of one pair that apply (finite limit), exact."""
         values, lim = self.table([m], [c])

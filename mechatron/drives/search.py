@@ -66,11 +66,8 @@ def feasible_pairs(checks: PairChecks, m: np.ndarray, c: np.ndarray, screened: b
     index = np.flatnonzero(ok)
     ok[index] = checks.bounds_pass(m[index], c[index])
     index = np.flatnonzero(ok)
-    heated = getattr(checks, "heated", None)  # motors with the thermal model: the winding simulated last
-    if heated is not None and heated[m[index]].any():
-        ok[index] = checks.worst(m[index], c[index], thermal=False) <= 1 + PASS_TOLERANCE
-        index = np.flatnonzero(ok)
-    ok[index] = checks.worst(m[index], c[index]) <= 1 + PASS_TOLERANCE
+    exactly = getattr(checks, "passes_exactly", None)  # the winding simulated last, where the rest passes
+    ok[index] = exactly(m[index], c[index]) if exactly else checks.worst(m[index], c[index]) <= 1 + PASS_TOLERANCE
     return ok
 
 
