@@ -294,6 +294,19 @@ def test_the_sizing_decides_by_the_winding_where_rms_decides_the_other_way(case,
     assert info["duty_type"] == "S1"
 
 
+def test_a_runaway_winding_fails_with_the_rise_at_its_limit_resistance():
+    """20 A through A's winding: I² R₂₅ α R_tot = 4.7 ≥ 1, no steady state; the check takes the rise at the
+    resistance held at R(155 °C), I² R(T_max) R_tot = 1808 K (finite: a margin), and the report says it runs
+    away."""
+    duty = burst(20.0, 5.0, 0.0)
+    a = size_joint(duty, MOTORS.iloc[:1].reset_index(drop=True), direct=True)
+    check = next(c for c in a.checks if c.name == "winding temperature rise")
+    held = 1.0 * (1 + ALPHA_COPPER * 130.0)
+    assert check.value == pytest.approx(400 * held * 3.0, abs=1e-6) and not a.feasible
+    assert a.thermal()["runaway"] and "the winding runs away" in str(a)
+    assert np.isinf(a.winding_temperature()[1]).all()
+
+
 def test_the_ambient_derates_the_motor():
     """At 60 °C the winding may rise 95 K: the long bursts' motor B still passes with the same rise (the losses do
     not depend on the ambient but through R(T_a)), with 20 K less room."""

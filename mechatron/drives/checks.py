@@ -72,7 +72,15 @@ from .converters import Converters
 from .duty import JointDuty
 from .motor import continuous_torque, electrical_data, peak_torque_limit
 from .screws import SCREW_CHECKS, SCREW_LIFE, SCREW_UNITS, screw_checks
-from .thermal import AMBIENT_RANGE, BATCH_ELEMENTS, DEFAULT_AMBIENT, ZERO_CELSIUS, ThermalData, periodic_rise
+from .thermal import (
+    AMBIENT_RANGE,
+    BATCH_ELEMENTS,
+    DEFAULT_AMBIENT,
+    REFERENCE,
+    ZERO_CELSIUS,
+    ThermalData,
+    periodic_rise,
+)
 
 #: The checks of a motor and a gearbox (each applies to a motor with a gearbox).
 CHECKS = ("peak torque", "speed-torque curve", "RMS torque", "max speed", "inertia ratio",
@@ -98,9 +106,7 @@ _EMERGENCY = CHECKS.index("transmission emergency torque")
 #: What an infinite load factor of a check means — a value where its limit is 0: no multiple of the limit is
 #: enough — in the words of a reason (:func:`failure`); other checks say it with :data:`NO_LIMIT`.
 BEYOND = {"speed-torque curve": "outside it (torque asked above the motor's maximum speed)",
-          "winding temperature rise": "no steady state (thermal runaway: the copper loss grows with the winding's "
-                                      "temperature faster than the motor sheds it), or no rise allowed (the ambient "
-                                      "at or above the winding's limit temperature)",
+          "winding temperature rise": "no rise allowed (the ambient is at or above the winding's limit temperature)",
           "RMS torque": "no continuous torque at the mean speed (above the motor's maximum speed)"}
 NO_LIMIT = "a limit of 0 where a value is needed"
 
@@ -529,8 +535,11 @@ class PairChecks:
 
     def winding(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """The winding's highest rise above the ambient (K) of the pairs (m[i], c[i]) over the task repeated to its
-        periodic steady state (:func:`~mechatron.drives.thermal.periodic_rise`, every sample of the task; inf where
-        the losses run away), simulated once per pair (then kept); 0 for a motor without the thermal data."""
+        periodic steady state (:func:`~mechatron.drives.thermal.periodic_rise`, every sample of the task), simulated
+        once per pair (then kept); 0 for a motor without the thermal data. Where the losses run away (no steady
+        state) the rise with the resistance held at its value at the limit temperature: finite, above the allowed
+        rise (the winding cannot stay below its limit, else that resistance would bound its losses) and above the
+        mean-rise bound, so that a margin says how far the pair is from passing."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         out = np.zeros(len(m))
         todo = [i for i in range(len(m)) if self.heated[m[i]] and (int(m[i]), int(c[i])) not in self._rises]
@@ -546,7 +555,15 @@ class PairChecks:
                 loss = th.loss_torque[mb, None] * np.abs(n[where])
                 rise = periodic_rise(duty.t, current * current, loss, *(x[mb, None] for x in (
                     th.r_wh, th.r_ha, th.tau_w, th.tau_h, th.resistance, th.alpha)), self.ambient)[..., 0]
-                top = np.where(np.isnan(rise).any(axis=1), math.inf, rise.max(axis=1, initial=0.0))
+                top = rise.max(axis=1, initial=0.0)
+                runaway = np.flatnonzero(np.isnan(top))
+                if len(runaway):  # no steady state: the rise at the resistance held at its limit's (finite, failing)
+                    mr = mb[runaway]
+                    held = th.resistance[mr] * (1 + th.alpha[mr] * (th.limit[mr] - REFERENCE))
+                    top[runaway] = periodic_rise(
+                        duty.t, (current * current)[runaway], loss[runaway], *(x[mr, None] for x in (
+                            th.r_wh, th.r_ha, th.tau_w, th.tau_h)), held[:, None], 0.0, self.ambient)[..., 0].max(
+                        axis=1)
                 self._rises.update(zip(zip(mb.tolist(), cb.tolist()), top.tolist()))
         for i in range(len(m)):
             if self.heated[m[i]]:

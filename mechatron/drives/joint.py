@@ -189,15 +189,21 @@ class JointSizing(DriveSizing):
         catalog's thermal data, or ``RMS torque``, against the S1 curve at the mean speed, for a motor without
         them), ``duty_type`` and ``cyclic_duration_factor`` (IEC 60034-1, :func:`~mechatron.drives.thermal.
         duty_type`), ``ambient_K``, and with the model ``winding_max_K`` (the winding's highest temperature over
-        the cycle) and ``winding_limit_K``."""
+        the cycle; where the losses run away, with the resistance held at its value at the limit temperature),
+        ``winding_limit_K`` and ``runaway`` (no steady state)."""
+        if "_thermal" in self.__dict__:
+            return dict(self.__dict__["_thermal"])
         kind, factor = duty_type(self.duty)
         out = {"check": "RMS torque", "duty_type": duty_text(kind, factor), "cyclic_duration_factor": factor,
                "ambient_K": self.ambient}
         rise = next((c for c in self.checks if c.name == "winding temperature rise"), None)
         if rise is not None:
+            hottest = self.winding_temperature()
             out.update(check=rise.name, winding_max_K=self.ambient + rise.value,
-                       winding_limit_K=self.ambient + rise.limit)
-        return out
+                       winding_limit_K=self.ambient + rise.limit,
+                       runaway=bool(hottest is not None and not np.isfinite(hottest[1]).all()))
+        self.__dict__["_thermal"] = out
+        return dict(out)
 
     def thermal_lines(self) -> list[str]:
         """The thermal check used, as a line of the text report."""
@@ -207,9 +213,12 @@ class JointSizing(DriveSizing):
             what = (f"RMS torque against the S1 curve at the mean speed (the catalog gives no thermal data for "
                     f"{self.motor})")
         else:
-            what = (f"winding temperature, two-node model of winding and housing at {ambient}: the winding reaches "
-                    f"{info['winding_max_K'] - ZERO_CELSIUS:.4g} °C of its {info['winding_limit_K'] - ZERO_CELSIUS:.4g}"
-                    " °C")
+            hottest, limit = info["winding_max_K"] - ZERO_CELSIUS, info["winding_limit_K"] - ZERO_CELSIUS
+            reaches = (f"runs away (its copper loss outgrows the cooling: no steady state; held at its limit "
+                       f"temperature's resistance it would reach {hottest:.4g} °C)" if info["runaway"] else
+                       f"reaches {hottest:.4g} °C")
+            what = (f"winding temperature, two-node model of winding and housing at {ambient}: the winding {reaches} "
+                    f"of its {limit:.4g} °C")
         return [f"    thermal check: {what}; duty type {info['duty_type']} (IEC 60034-1)"]
 
     def chart_frame(self) -> pd.DataFrame:

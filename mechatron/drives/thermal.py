@@ -37,13 +37,16 @@ resistance's rise with temperature is exact too.
 θ ↦ M θ + G composed of the intervals' maps: θ(0) = (1 − M)⁻¹ G, solved directly (no simulation of cycle after
 cycle). The maps are composed pairwise (a balanced tree: log₂ N levels of vectorised 2 × 2 products), then the states
 at every sample come down the same tree from θ(0). When the cycle map has an eigenvalue ≥ 1 — the copper loss
-growing with temperature faster than the network sheds it — there is no steady state (thermal runaway): the rise is
-infinite. The winding's highest temperature over the cycle is taken at the samples (the task's resolution).
+growing with temperature faster than the network sheds it — there is no steady state (thermal runaway): NaN, an
+infinite rise. The winding's highest temperature over the cycle is taken at the samples (the task's resolution).
 
 The check (:mod:`~mechatron.drives.checks`, "winding temperature rise"): max θ_w ≤ T_max − T_a, the allowed rise of
 the winding's limit temperature T_max above the ambient (``mechatron size --ambient``, default 40 °C): the ambient
-derates the motor. A lower bound, for screening many pairs cheaply: over a period the heat stored returns to its
-start, so the time means obey ⟨θ_w⟩ = (R_wh + R_ha) ⟨P⟩ exactly, and since θ_w ≥ 0,
+derates the motor. Where the losses run away the check takes the rise with the resistance held at R(T_max): finite,
+and above the allowed rise (were it not, that resistance would bound the losses below the limit, and the winding
+could not run away), so that its margin says how far the motor is from passing. A lower bound, for screening many
+pairs cheaply: over a period the heat stored returns to its start, so the time means obey ⟨θ_w⟩ = (R_wh + R_ha) ⟨P⟩
+exactly, and since θ_w ≥ 0,
 
     max θ_w ≥ ⟨θ_w⟩ ≥ (R_wh + R_ha) (R_a ⟨T_m²⟩/k_t² + T_f ⟨|n|⟩),
 
