@@ -280,7 +280,8 @@ def smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) 
 def motor_passes(duty: JointDuty, motors: pd.DataFrame | MotorArrays, conv: Converters, inertia_ratio_max: float,
                   limits: DriveLimits | None = None) -> Callable[[float], bool]:
     """passes(k): whether some pair passes every check with the task replayed k times slower, a block of motors at
-    a time (the pair that passed last is tried first)."""
+    a time (the pair that passed last is tried first; with motors checked by their winding, the pairs of a block by
+    their lower bounds, smallest first, a few at a time, until one passes)."""
     last: list[tuple[int, int]] = []
     motors = MotorArrays.of(motors)
 
@@ -293,10 +294,17 @@ def motor_passes(duty: JointDuty, motors: pd.DataFrame | MotorArrays, conv: Conv
             index = np.arange(block.start, block.stop)
             mm, cc = np.nonzero(checks.screen(index[:, None], usable[None, :]))
             m, c = index[mm], usable[cc]
-            ok = np.flatnonzero(feasible_pairs(checks, m, c, screened=True))
-            if len(ok):
-                last[:] = [(int(m[ok[0]]), int(c[ok[0]]))]
-                return True
+            if checks.heated[m].any():  # the most likely first, a few at a time: each winding is a simulation
+                bound = checks.worst(m, c, 1)
+                order = np.argsort(bound, kind="stable")[: np.count_nonzero(bound <= 1 + PASS_TOLERANCE)]
+                parts = [order[part] for part in _growing(len(order))]
+            else:
+                parts = [np.arange(len(m))]
+            for part in parts:
+                ok = np.flatnonzero(feasible_pairs(checks, m[part], c[part], screened=True))
+                if len(ok):
+                    last[:] = [(int(m[part][ok[0]]), int(c[part][ok[0]]))]
+                    return True
         return False
 
     return passes
