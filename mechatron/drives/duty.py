@@ -279,7 +279,7 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
     V, A = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (trajectory.v, trajectory.a))
     if mech.closures:
         Q, tau, holding, inertia = _closed_loop(bare, kinematics or mech, trajectory, loads)
-        static = _Columns(holding)
+        static = _Columns(holding)  # the holding forces are computed when first read
         names = list(mech.actuated)
         kinds = ["cylinder" if n in mech.cylinders else mech.joint_kind(n) for n in names]
         positions = np.asarray(trajectory.q, dtype=float)
@@ -348,10 +348,12 @@ class _Columns:
 
 
 def _closed_loop(mech: Mechanism, kinematics: Mechanism, trajectory: Trajectory, loads: Loads
-                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """(Q, forces, holding forces, largest reduced inertia of each actuated coordinate) along the trajectory: the
-    loops of ``kinematics``, the masses of ``mech`` (:func:`~mechatron.dynamics.trajectory.actuator_duty`)."""
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], Callable[[], NDArray[np.float64]],
+                            NDArray[np.float64]]:
+    """(Q, forces, the holding forces (a function making them), largest reduced inertia of each actuated coordinate)
+    along the trajectory: the loops of ``kinematics``, the masses of ``mech``
+    (:func:`~mechatron.dynamics.trajectory.actuator_duty`)."""
     from ..dynamics.trajectory import actuator_duty
 
     duty = actuator_duty(mech, trajectory, loads, kinematics=kinematics)
-    return duty.q, duty.forces, duty.holding, duty.inertia
+    return duty.q, duty.forces, lambda: duty.holding, duty.inertia

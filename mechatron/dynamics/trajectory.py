@@ -7,7 +7,9 @@ joint's state, and the constrained inverse dynamics (:func:`mechatron.dynamics.c
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import functools
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -33,7 +35,7 @@ def closed_loop_states(mech: Mechanism, trajectory: Trajectory) -> tuple[Array, 
     inputs = {name: trajectory.coordinates[:, i] for i, name in enumerate(mech.actuated)}
     rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}
     accels = {name: trajectory.a[:, i] for i, name in enumerate(mech.actuated)}
-    result = sweep(mech, inputs, rates=rates, accelerations=accels, frames=[], measures=[])
+    result = sweep(mech, inputs, rates=rates, accelerations=accels, frames=[], measures=[], stop_on_failure=True)
     if len(result.failures):
         raise InputError(f"{mech.name}: the trajectory leaves the reachable range: "
                          f"{result.failures['reason'].iloc[0]}")
@@ -63,22 +65,27 @@ class ActuatorDuty:
     Attributes:
         q: the joint positions (N, nq).
         forces: the actuator forces that drive the motion (N, n_actuated).
-        holding: the forces that hold each position at rest (gravity and the loads alone) (N, n_actuated).
         inertia: the largest reduced inertia of each actuated coordinate with the other inputs held, the diagonal
             of Sᵀ M S over about ``inertia_samples`` positions (the reduced moment of inertia [Egorov, 6.8]).
+        holding: the forces that hold each position at rest (gravity and the loads alone) (N, n_actuated),
+            computed when first read.
     """
 
     q: Array
     forces: Array
-    holding: Array
     inertia: Array
+    at_rest: Callable[[], Array] = field(repr=False)
+
+    @functools.cached_property
+    def holding(self) -> Array:
+        return self.at_rest()
 
 
 def actuator_duty(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *,
                   kinematics: Mechanism | None = None, inertia_samples: int = 50) -> ActuatorDuty:
     """The :class:`ActuatorDuty` of a closed-loop mechanism along ``trajectory``: its loops solved once (position,
-    velocity and acceleration analysis), the driving and the holding forces together, from the same closure
-    Jacobians, and the reduced inertias at every (N // ``inertia_samples``)-th position.
+    velocity and acceleration analysis), the driving forces (and, when first asked for, the holding forces, from
+    the same states), and the reduced inertias at every (N // ``inertia_samples``)-th position.
 
     ``kinematics``: the mechanism whose loops give the states and the Jacobians, when ``mech`` only changes the
     masses of the same linkage (its drives' masses mounted on the bodies, the armature removed): its compiled loop
@@ -87,11 +94,12 @@ def actuator_duty(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, 
 
     kinematics = kinematics or mech
     Q, V, A = closed_loop_states(kinematics, trajectory)
-    forces, holding = _forces(mech, kinematics, Q, V, A, (loads, loads), at_rest=(False, True))
+    forces = _forces(mech, kinematics, Q, V, A, (loads,))[0]
     Qs = Q[:: max(1, len(Q) // inertia_samples)]
     S = _velocity_matrices(kinematics, Qs)
     inertia = np.einsum("kia,kij,kja->ka", S, np.atleast_3d(mass_matrix(mech, Qs)).reshape(len(Qs), mech.nv, -1), S)
-    return ActuatorDuty(Q, forces, holding, np.max(inertia, axis=0, initial=0.0))
+    return ActuatorDuty(Q, forces, np.max(inertia, axis=0, initial=0.0),
+                        lambda: _forces(mech, kinematics, Q, V, A, (loads,), at_rest=(True,))[0])
 
 
 def _velocity_matrices(kinematics: Mechanism, Q: Array) -> Array:
@@ -126,15 +134,19 @@ def _forces(mech: Mechanism, kinematics: Mechanism, Q: Array, V: Array, A: Array
             at_rest: tuple[bool, ...] = (False,)) -> list[Array]:
     """The actuator forces (N, n_actuated) of the constrained inverse dynamics at every state, for each of
     ``loads`` (at rest — zero velocities and accelerations — where ``at_rest`` says so), all at once where the
-    closures are not redundant: with need = M q̈ + h − Q (batched RNEA) and the closure Jacobian J split into its
-    actuated and dependent columns, [B Jᵀ][τ_a; λ] = need reads J_dᵀ λ = need_d and τ_a = need_a − J_aᵀ λ (the
-    sweep that gave the states has refused the singular ones, where J_d is not invertible); one Jacobian for every
-    right-hand side. Redundant closures, or joints the batched kinematics does not know:
-    :func:`~mechatron.dynamics.constrained.inverse` state by state. The loops of ``kinematics`` (the same linkage),
-    the masses of ``mech``."""
+    closures are not redundant: with need = M q̈ + h − Q (batched RNEA, the loads' generalized forces Q by the
+    batched kinematics, :func:`~mechatron.dynamics.tree.load_forces`, once for each set of loads) and the closure
+    Jacobian J split into its actuated and dependent columns, [B Jᵀ][τ_a; λ] = need reads J_dᵀ λ = need_d and
+    τ_a = need_a − J_aᵀ λ, that is τ_a = Sᵀ need with the velocity maps S = [I; S_d], S_d = −J_d⁻¹ J_a (virtual
+    work; the sweep that gave the states has refused the singular ones, where J_d is not invertible). S_d comes
+    from the loops' compiled kernel where the sweep had one, else from the batched closure Jacobians. Redundant
+    closures, or joints the batched kinematics does not know: :func:`~mechatron.dynamics.constrained.inverse`
+    state by state. The loops of ``kinematics`` (the same linkage), the masses of ``mech``."""
     from ..kinematics import batch
     from ..kinematics.loops import loop_solver
-    from .tree import inverse_dynamics
+    from ..kinematics.sweeps import kept_sweep_kernel
+    from ..model.loads import as_loads
+    from .tree import inverse_dynamics, load_forces
 
     solver = loop_solver(kinematics)
     frames = _batched_frames(solver)
@@ -144,11 +156,28 @@ def _forces(mech: Mechanism, kinematics: Mechanism, Q: Array, V: Array, A: Array
         return [np.array([[f[n] for n in mech.actuated] for f in
                           (inverse(mech, q, v, a, load)[0] for q, v, a in zip(Q, Vs, As))]).reshape(len(Q), -1)
                 for load, (Vs, As) in zip(loads, states)]
-    need = np.stack([np.atleast_2d(inverse_dynamics(mech, Q, Vs, As, load)) for load, (Vs, As) in
-                     zip(loads, states)], axis=-1)  # (N, nv, cases)
-    out = np.empty((len(Q), len(solver.act), len(loads)))
+    applied: dict[tuple, Array] = {}
+
+    def need(load: Loads, Vs: Array, As: Array) -> Array:
+        """M q̈ + h − Q (N, nv) of one case, the loads' Q computed once for equal loads."""
+        load = as_loads(load)
+        key = tuple((x.frame, *x.force, *x.moment) for x in load)
+        try:
+            if key not in applied:
+                applied[key] = load_forces(mech, Q, load)
+        except NotImplementedError:
+            return np.atleast_2d(inverse_dynamics(mech, Q, Vs, As, load))
+        return np.atleast_2d(inverse_dynamics(mech, Q, Vs, As)) - applied[key]
+
+    needs = np.stack([need(load, Vs, As) for load, (Vs, As) in zip(loads, states)], axis=-1)  # (N, nv, cases)
+    act, dep = solver.act, solver.dep
+    kernel = kept_sweep_kernel(solver)
+    out = np.empty((len(Q), len(act), len(loads)))
     for part in batch.chunks(len(Q)):
-        _, J = solver.system.stack(frames.placements(Q[part]))
-        lam = batch.solve(np.swapaxes(J[:, :, solver.dep], 1, 2), need[part][:, solver.dep])
-        out[part] = need[part][:, solver.act] - np.swapaxes(J[:, :, solver.act], 1, 2) @ lam
+        if kernel is not None:
+            maps = kernel.maps(Q[part])  # S_d (n, n_dep, n_act)
+        else:
+            _, J = solver.system.stack(frames.placements(Q[part]))
+            maps = -batch.solve(J[:, :, dep], J[:, :, act])
+        out[part] = needs[part][:, act] + np.swapaxes(maps, 1, 2) @ needs[part][:, dep]
     return [out[..., k] for k in range(len(loads))]

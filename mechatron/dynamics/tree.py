@@ -36,7 +36,7 @@ from ..io.budget import available_cores
 from ..io.values import number
 from ..kinematics.frames import lean_samples, samples
 from ..model.batched import REVOLUTE
-from ..model.loads import Loads, as_loads
+from ..model.loads import Load, Loads, as_loads
 from ..model.mechanism import Mechanism
 
 Array = NDArray[np.float64]
@@ -61,6 +61,55 @@ def external_forces(mech: Mechanism, q: ArrayLike, loads: Loads) -> list[pin.For
         r = placement.translation - oMi.translation
         out[joint] += pin.Force(oMi.rotation.T @ load.force,
                                 oMi.rotation.T @ (load.moment + pin.skew(r) @ load.force))
+    return out
+
+
+def _load_frames(mech: Mechanism, loads: tuple[Load, ...]):
+    """The batched kinematics (:func:`~mechatron.model.batched.batched_frames`) of the loads' frames, in the order
+    of their names' first appearance, built once per mechanism and frames; None where it does not know a joint."""
+    from ..model.batched import batched_frames
+
+    names = tuple(dict.fromkeys(load.frame for load in loads))
+
+    def build():
+        try:
+            return names, batched_frames(mech.model, [frame_index(mech, n) for n in names])
+        except NotImplementedError:
+            return None
+
+    built = mech.cached(("load_frames", names), build)
+    return None if built is None else built
+
+
+def load_forces(mech: Mechanism, Q: ArrayLike, loads: Loads) -> Array:
+    r"""The generalized forces of constant world loads at N configurations Q (N, nq): Q_k = Σ_p J_p(q_k)ᵀ [F_p; M_p]
+    (N, nv; N·m, N), J_p the LOCAL_WORLD_ALIGNED Jacobian (6 × nv) of the origin of the load's frame, all samples at
+    once by the batched kinematics (:mod:`mechatron.model.batched`). By the principle of virtual work these are the
+    joint torques the loads hold, so RNEA with the loads as external forces is RNEA without them minus Q_k
+    ([Egorov, 6.15]).
+
+    Raises:
+        NotImplementedError: where the batched kinematics does not know a joint of ``mech``.
+    """
+    loads = as_loads(loads)
+    Q = np.atleast_2d(np.asarray(Q, dtype=float))
+    out = np.zeros((len(Q), mech.nv))
+    if not loads:
+        return out
+    built = _load_frames(mech, loads)
+    if built is None:
+        raise NotImplementedError(f"batched kinematics of {mech.name}: a joint it does not know")
+    names, frames = built
+    wrench = np.zeros((len(names), 6))  # Σ [F; M] of the loads at each frame
+    for load in loads:
+        k = names.index(load.frame)
+        wrench[k, :3] += load.force
+        wrench[k, 3:] += load.moment
+    from ..kinematics import batch
+
+    for part in batch.chunks(len(Q)):
+        J = frames.placements(Q[part]).jacobian  # (n, F, 6, nv)
+        out[part] = np.einsum("kfiv,fi->kv", J, wrench)
     return out
 
 
@@ -232,9 +281,11 @@ def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, 
             ``MECHATRON_THREADS``, else by size and idle cores).
 
     Returns:
-        (nv,) or (N, nv). A batch without loads runs in Pinocchio's compiled loop ``rneaInParallel`` (one thread
-        unless the batch is long and cores are idle), bit for bit the loop over ``pin.rnea``; with loads, a Python
-        loop (the external forces depend on each configuration).
+        (nv,) or (N, nv). A batch runs in Pinocchio's compiled loop ``rneaInParallel`` (one thread unless the batch
+        is long and cores are idle), bit for bit the loop over ``pin.rnea``; with loads, their generalized forces
+        Σ J_pᵀ [F_p; M_p] are subtracted for all samples at once (:func:`load_forces`: the frames' Jacobians from the
+        batched kinematics, no Python per sample), the same numbers as RNEA with the loads as external forces to
+        rounding; where the batched kinematics does not know a joint, a Python loop over the samples.
     """
     if loads is None and threads is None:
         tau = _one_state(pin.rnea, mech, q, v, a)
@@ -243,8 +294,11 @@ def inverse_dynamics(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, 
     single, Q, (V, A) = lean_samples(mech, q, v, a)
     model, data = mech.model, mech.data
     loads = as_loads(loads)
-    if not loads and len(Q) > 1:
-        return _finite(_compiled(pin.rneaInParallel, mech, thread_count(len(Q), threads), Q, V, A), "RNEA")
+    if len(Q) > 1 and (not loads or _load_frames(mech, loads) is not None):
+        tau = _compiled(pin.rneaInParallel, mech, thread_count(len(Q), threads), Q, V, A)
+        if loads:
+            tau -= load_forces(mech, Q, loads)
+        return _finite(tau, "RNEA")
     if threads is not None:
         thread_count(1, threads)  # checked; one state or loads run serially
     out = np.empty((len(Q), mech.nv))

@@ -51,10 +51,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..model.symbolic import Unsupported, angle_about_z, closure_residual, frame_placements
+from ..model.symbolic import Unsupported, angle_about_z, closure_residual, frame_placements, joint_placements
 from .loops import TOLERANCE
 
 if TYPE_CHECKING:
+    from ..model.symbolic import Geometry
     from .loops import LoopSolver
 
 #: Unrolled Newton steps of the compiled solve (``newton``), and the most steps of the driver's: from guesses
@@ -109,9 +110,11 @@ typedef struct {
   casadi_real* res[%(sz_res)d];
   casadi_int iw[%(sz_iw)d + 1];
   casadi_real w[%(sz_w)d + 1];
+  const double* P; /* the geometry's parameters (Geometry) */
 } m_work;
 
-/* mechatron_analyse over M_L lanes: q (M_NQ, M_L), r and a (M_NA, M_L) to out (M_NOUT, M_L); w: M_WORK doubles;
+/* mechatron_analyse over M_L lanes: q (M_NQ, M_L), r and a (M_NA, M_L), the parameters P to out (M_NOUT, M_L);
+   w: M_WORK doubles;
    with vector types where the compiler has them (GCC's extension), cloned for the vector units there are (chosen
    when the library is loaded; -ffp-contract=off: the same numbers as the scalar function) */
 #if %(cloned)d && defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__GLIBC__)
@@ -131,6 +134,7 @@ M_CLONES %(block)s
 static double m_step(m_work* s, const double* q, double* next, double* maps) {
   double out[M_NSTEP];
   s->arg[0] = q;
+  s->arg[1] = s->P;
   s->res[0] = out;
   mechatron_step(s->arg, s->res, s->iw, s->w, 0);
   memcpy(next, out, sizeof(double) * M_ND);
@@ -180,7 +184,7 @@ static int m_far(m_work* s, double* q, double* maps) {
 /* The analysis of `count` (<= M_L) samples, k0 + l or index[l] (index not NULL), at their q in motion: q, q' and q''
    into motion, q and the outputs into the table's rows (-1: not kept). */
 static void m_analyse(const m_int* index, m_int k0, int count, m_int n, const double* R, const double* A,
-                      double* table, double* motion, const m_int* rows, double* w) {
+                      const double* P, double* table, double* motion, const m_int* rows, double* w) {
   double q[M_NQ * M_L], r[M_NA * M_L], a[M_NA * M_L], out[M_NOUT * M_L];
   m_int at[M_L];
   for (int l = 0; l < M_L; ++l) {
@@ -191,7 +195,7 @@ static void m_analyse(const m_int* index, m_int k0, int count, m_int n, const do
       a[b * M_L + l] = A[k * M_NA + b];
     }
   }
-  m_block(q, r, a, out, w);
+  m_block(q, r, a, P, out, w);
   for (int l = 0; l < count; ++l)
     for (int i = 0; i < M_NQ; ++i) {
       motion[(n + at[l]) * M_NQ + i] = out[i * M_L + l];
@@ -281,35 +285,55 @@ static int m_position(m_work* s, m_int k, const double* U, const unsigned char* 
 m_int mechatron_continue(m_int start, m_int stop, m_int n, const double* U, const double* R, const double* A,
                          const unsigned char* same, const unsigned char* valid, const double* begin,
                          const double* reach, double* history, m_int* state, double* maps, double* table,
-                         double* motion, const m_int* rows) {
+                         double* motion, const m_int* rows, const double* P) {
   m_work s;
   double* w = malloc(sizeof(double) * M_WORK);
   m_int k = start, first = start;
   if (!w) return start;
+  s.P = P;
   for (; k < stop; ++k) {
     if (!valid[k] || !m_position(&s, k, U, same, begin, reach, history, state, maps, motion + k * M_NQ)) break;
     if (k + 1 - first == M_L) {
-      m_analyse(NULL, first, M_L, n, R, A, table, motion, rows, w);
+      m_analyse(NULL, first, M_L, n, R, A, P, table, motion, rows, w);
       first = k + 1;
     }
   }
-  if (k > first) m_analyse(NULL, first, (int)(k - first), n, R, A, table, motion, rows, w);
+  if (k > first) m_analyse(NULL, first, (int)(k - first), n, R, A, P, table, motion, rows, w);
   free(w);
   return k;
 }
 
 /* The analysis of the samples index[0 ... count-1] at their coordinates in motion. */
 void mechatron_analyse_rows(m_int count, const m_int* index, m_int n, const double* R, const double* A,
-                            double* table, double* motion, const m_int* rows) {
+                            double* table, double* motion, const m_int* rows, const double* P) {
   double* w = malloc(sizeof(double) * M_WORK);
   if (!w) return;
   for (m_int c = 0; c < count; c += M_L)
-    m_analyse(index + c, 0, (int)(count - c < M_L ? count - c : M_L), n, R, A, table, motion, rows, w);
+    m_analyse(index + c, 0, (int)(count - c < M_L ? count - c : M_L), n, R, A, P, table, motion, rows, w);
   free(w);
+}
+
+/* Newton's method with halved steps from the guess q (M_NQ, in place: the last iterate), as m_far; 1 if it
+   converged. */
+int mechatron_far(double* q, const double* P) {
+  m_work s;
+  double maps[M_ND * M_NA + 1];
+  s.P = P;
+  return m_far(&s, q, maps);
+}
+
+/* The velocity maps S_d = -J_d^-1 J_a (M_ND x M_NA, column-major) at each of the `count` configurations Q
+   (count, M_NQ) into out (count, M_ND * M_NA). */
+void mechatron_maps(m_int count, const double* Q, const double* P, double* out) {
+  m_work s;
+  double next[M_ND + 1];
+  s.P = P;
+  for (m_int k = 0; k < count; ++k) m_step(&s, Q + k * M_NQ, next, out + k * M_ND * M_NA);
 }
 """
 #: ``analyse`` over lanes where an operation has no lane-wise form here: one sample after the other.
-SCALAR_BLOCK = r"""static void m_block(const double* q, const double* r, const double* a, double* out, double* w) {
+SCALAR_BLOCK = r"""static void m_block(const double* q, const double* r, const double* a, const double* P, double* out,
+                    double* w) {
   const casadi_real* arg[%(sz_arg)d];
   casadi_real* res[%(sz_res)d];
   casadi_int iw[%(sz_iw)d + 1];
@@ -323,6 +347,7 @@ SCALAR_BLOCK = r"""static void m_block(const double* q, const double* r, const d
     arg[0] = qs;
     arg[1] = rs;
     arg[2] = as;
+    arg[3] = P;
     res[0] = o;
     mechatron_analyse(arg, res, iw, w, 0);
     for (int j = 0; j < M_NOUT; ++j) out[j * M_L + l] = o[j];
@@ -365,11 +390,13 @@ def blocked(function) -> str | None:
     second = {k: f"w{first + j}" for j, k in enumerate(sorted(set(pairs.values())))}  # each pair's other value
     variables = [f"w{i}" for i in range(first)] + list(second.values())
     lines = ["static void m_block(const double* restrict in0, const double* restrict in1, "
-             "const double* restrict in2, double* restrict out, double* restrict w) {",
+             "const double* restrict in2, const double* restrict in3, double* restrict out, double* restrict w) {",
              f"  m_v {', '.join(variables)};", "  double x0[M_L], x1[M_L], y0[M_L], y1[M_L];", "  (void)w;"]
     for k in range(function.n_instructions()):
         op, args, result = function.instruction_id(k), function.instruction_input(k), function.instruction_output(k)
-        if op == ca.OP_INPUT:
+        if op == ca.OP_INPUT and args[0] == 3:  # a parameter: the same in every lane
+            lines.append(f"  w{result[0]} = M_SPLAT(in3[{args[1]}]);")
+        elif op == ca.OP_INPUT:
             lines.append(f"  memcpy(&w{result[0]}, in{args[0]} + {args[1]} * M_L, sizeof(m_v));")
         elif op == ca.OP_OUTPUT:
             lines.append(f"  memcpy(out + {result[1]} * M_L, &w{args[0]}, sizeof(m_v));")
@@ -480,16 +507,15 @@ def external(function, path: Path | None):
         return function
 
 
-class LoopKernel:
-    """The compiled ``newton``, ``analyse`` and ``step`` of a loop solver's closures, see the module docstring,
-    reporting the columns of a sweep's table: of the frames ``points`` the position (x, y and, when ``spatial``, z;
-    m), velocity and its size (m/s), acceleration and its size (m/s²); of the frames ``links`` the angle about z in
-    (−π, π], its rate and acceleration (rad, rad/s, rad/s²); of the frames ``others`` x and y (m). :meth:`newton` and
-    :meth:`analyse` take and return NumPy arrays of N samples; :meth:`run` runs the driver (where :attr:`driven`)
-    over samples into a table."""
+class KernelCode:
+    """What a :class:`LoopKernel` compiles, once per structure: the CasADi functions ``newton``, ``step`` and
+    ``analyse`` of (q, …, p) with the geometry p as an input (:class:`~mechatron.model.symbolic.Geometry`), their
+    shared library with the driver, and the names of the frame columns. Every mechanism whose loops, joints, frames
+    and reported frames have the same :attr:`~mechatron.model.symbolic.Geometry.signature` — a design study's
+    geometries — shares one (:func:`loop_kernel`)."""
 
-    def __init__(self, solver: LoopSolver, points: list[str], links: list[str], others: list[str] = (),
-                 spatial: bool = False) -> None:
+    def __init__(self, solver: LoopSolver, geometry: Geometry, points: list[str], links: list[str],
+                 others: list[str] = (), spatial: bool = False) -> None:
         import casadi as ca
 
         mech, system = solver.mech, solver.system
@@ -499,48 +525,54 @@ class LoopKernel:
         nq, act, dep = model.nq, [int(i) for i in solver.act], [int(i) for i in solver.dep]
         self.nq, self.na, self.nd, self.act, self.dep = nq, len(act), len(dep), act, dep
         self.others = list(others)
-        q = ca.SX.sym("q", nq)
-        closing = frame_placements(model, [mech.frame_id(n) for n in system.frame_names], q)
-        phi = closure_residual(system, dict(zip(system.frame_names, closing)), q)
+        self.size = geometry.size
+        q, p = ca.SX.sym("q", nq), ca.SX.sym("p", geometry.size)
+        joints, frames, constants = geometry.symbols(ca, p)
+        self._placements = lambda names, at: dict(zip(names, frame_placements(
+            model, [mech.frame_id(n) for n in names], at, joints=joint_placements(model, at, given=joints),
+            given=frames)))
+        closing = self._placements(system.frame_names, q)
+        phi = closure_residual(system, closing, q, given=constants)
         J = ca.jacobian(phi, q)
-        self._newton = compiled(self._newton_function(ca, q, phi, J))
-        analyse, self.names = self._analyse_function(ca, solver, q, phi, J, points, links, others, spatial)
-        step = self._step_function(ca, q, phi, J)
+        self._newton = compiled(self._newton_function(ca, q, p, phi, J))
+        analyse, self.names = self._analyse_function(ca, q, p, phi, J, points, links, others, spatial)
+        step = self._step_function(ca, q, p, phi, J)
         path = library([analyse, step], self._driver_source(analyse, step))
         self._analyse = external(analyse, path)
         self._driver = self._load_driver(path) if self._analyse is not analyse else None
         self._mapped: dict = {}
+        del self._placements  # it holds the first mechanism's model
 
-    def _newton_function(self, ca, q, phi, J):
+    def _newton_function(self, ca, q, p, phi, J):
         """``newton``: :data:`STEPS` unrolled steps on q_d, as LoopSolver.newton with polish: a step while the
         residual is at or above TOLERANCE, one more (polishing) step at the first iterate below it, none after."""
         dep, act, nq = self.dep, self.act, self.nq
-        residual = ca.Function("residual", [q], [phi, J])
+        residual = ca.Function("residual", [q, p], [phi, J])
         guess = ca.SX.sym("guess", nq)
         qk, done, maps = guess, ca.SX(0), ca.SX.nan(len(dep), len(act))
         for _ in range(STEPS):
-            phi_k, J_k = residual(qk)
+            phi_k, J_k = residual(qk, p)
             inverse = ca.inv(J_k[:, dep])
             step = ca.if_else(done, ca.SX.zeros(len(dep)), ca.mtimes(inverse, phi_k))
             maps = ca.if_else(done, maps, -ca.mtimes(inverse, J_k[:, act]))
             qk = ca.vertcat(*[qk[i] - step[dep.index(i)] if i in dep else qk[i] for i in range(nq)])
             done = ca.logic_or(done, ca.mmax(ca.fabs(phi_k)) < TOLERANCE)
         newton = ca.cse(ca.vertcat(qk, done, ca.vec(maps)))  # sin q of an input is shared by every step
-        return ca.Function("mechatron_newton", [guess], [newton])
+        return ca.Function("mechatron_newton", [guess, p], [newton])
 
-    def _step_function(self, ca, q, phi, J):
+    def _step_function(self, ca, q, p, phi, J):
         """``step``: one Newton step of one sample: q_d − J_d⁻¹ Φ(q), max |Φ(q)| and S_d = −J_d⁻¹ J_a at q (column
         by column), as one step of ``newton``."""
         dep, act = self.dep, self.act
         inverse = ca.inv(J[:, dep])
         after = q[dep] - ca.mtimes(inverse, phi)
         outputs = ca.cse(ca.vertcat(after, ca.mmax(ca.fabs(phi)), ca.vec(-ca.mtimes(inverse, J[:, act]))))
-        return ca.Function("mechatron_step", [q], [outputs])
+        return ca.Function("mechatron_step", [q, p], [outputs])
 
-    def _analyse_function(self, ca, solver, q, phi, J, points, links, others, spatial):
+    def _analyse_function(self, ca, q, p, phi, J, points, links, others, spatial):
         """``analyse`` (velocities, accelerations, max |J_d⁻¹| and the reported frames, see the module docstring)
         and the names of its frame columns."""
-        mech, model, act, dep, nq = solver.mech, solver.mech.model, self.act, self.dep, self.nq
+        act, dep, nq = self.act, self.dep, self.nq
         v, a = ca.SX.sym("v", nq), ca.SX.sym("a", nq)
         rates, accelerations = ca.SX.sym("rates", len(act)), ca.SX.sym("accelerations", len(act))
         Jd_inverse = ca.inv(J[:, dep])
@@ -555,14 +587,13 @@ class LoopKernel:
         acceleration[dep] = -ca.mtimes(Jd_inverse, ca.mtimes(J[:, act], accelerations) + drift)
         names, expressions = [], []
         state, motion = ca.vertcat(q, v), ca.vertcat(v, a)
-        reported = list(dict.fromkeys([*points, *links, *others]))
-        placements = dict(zip(reported, frame_placements(model, [mech.frame_id(n) for n in reported], q)))
+        placements = self._placements(list(dict.fromkeys([*points, *links, *others])), q)
         axes = "xyz" if spatial else "xy"
         for name in points:  # as sweep's frame columns: position, velocity and its size, acceleration and its size
-            p = placements[name][1][:len(axes)]
-            p_dot = ca.jtimes(p, q, v)
+            position = placements[name][1][:len(axes)]
+            p_dot = ca.jtimes(position, q, v)
             p_ddot = ca.jtimes(p_dot, state, motion)
-            for label, value in (("", p), ("v", p_dot), ("a", p_ddot)):
+            for label, value in (("", position), ("v", p_dot), ("a", p_ddot)):
                 names += [f"{name}_{label}{axis}" for axis in axes]
                 expressions += [value[k] for k in range(len(axes))]
                 if label:
@@ -579,7 +610,7 @@ class LoopKernel:
         columns = ca.substitute(ca.substitute(ca.vertcat(*expressions), a, acceleration), v, velocity) \
             if expressions else ca.SX.zeros(0, 1)
         outputs = ca.cse(ca.vertcat(velocity, acceleration, ca.mmax(ca.fabs(Jd_inverse)), columns))
-        return ca.Function("mechatron_analyse", [q, rates, accelerations], [outputs]), names
+        return ca.Function("mechatron_analyse", [q, rates, accelerations, p], [outputs]), names
 
     def _driver_source(self, analyse, step) -> str:
         """:data:`DRIVER` with this kernel's sizes and indices and ``analyse`` on vectors of lanes (:func:`blocked`;
@@ -606,15 +637,58 @@ class LoopKernel:
             return None
         integer, address = ctypes.c_longlong, ctypes.c_void_p
         lib.mechatron_continue.restype = integer
-        lib.mechatron_continue.argtypes = [integer] * 3 + [address] * 13
+        lib.mechatron_continue.argtypes = [integer] * 3 + [address] * 14
         lib.mechatron_analyse_rows.restype = None
-        lib.mechatron_analyse_rows.argtypes = [integer, address, integer] + [address] * 5
+        lib.mechatron_analyse_rows.argtypes = [integer, address, integer] + [address] * 6
+        lib.mechatron_far.restype = ctypes.c_int
+        lib.mechatron_far.argtypes = [address, address]
+        lib.mechatron_maps.restype = None
+        lib.mechatron_maps.argtypes = [integer, address, address, address]
         return lib
+
+    def mapped(self, function, n: int):
+        """``function`` mapped over n samples, its last input (the parameters) the same for all, with its argument
+        buffer and evaluation (kept per size)."""
+        key = (function.name(), n)
+        if key not in self._mapped:
+            mapped = function.map(function.name(), "serial", n, [function.n_in() - 1], [])
+            self._mapped[key] = mapped.buffer()
+        return self._mapped[key]
+
+
+class LoopKernel:
+    """The compiled ``newton``, ``analyse`` and ``step`` of a loop solver's closures (see the module docstring) for
+    one geometry: a :class:`KernelCode`, shared by every mechanism of its structure, with this mechanism's
+    parameters p (:meth:`~mechatron.model.symbolic.Geometry.values`). It reports the columns of a sweep's table: of
+    the frames ``points`` the position (x, y and, when ``spatial``, z; m), velocity and its size (m/s), acceleration
+    and its size (m/s²); of the frames ``links`` the angle about z in (−π, π], its rate and acceleration (rad,
+    rad/s, rad/s²); of the frames ``others`` x and y (m). :meth:`newton`, :meth:`analyse` and :meth:`maps` take and
+    return NumPy arrays of N samples; :meth:`run` runs the driver (where :attr:`driven`) over samples into a table,
+    :meth:`far` Newton's method with halved steps on one sample."""
+
+    def __init__(self, code: KernelCode, parameters: np.ndarray) -> None:
+        self.code = code
+        self.parameters = np.ascontiguousarray(parameters, dtype=float)
+        if self.parameters.shape != (code.size,):
+            raise ValueError(f"the kernel takes {code.size} parameters, got {self.parameters.shape}")
+        self.nq, self.na, self.nd, self.act, self.dep = code.nq, code.na, code.nd, code.act, code.dep
+        self.names, self.others = code.names, code.others
+        self._driver = code._driver
 
     @property
     def driven(self) -> bool:
         """Whether the compiled driver is there (:meth:`run`)."""
         return self._driver is not None
+
+    @property
+    def _newton(self):
+        """The ``newton`` function (compiled, or CasADi's virtual machine)."""
+        return self.code._newton
+
+    @property
+    def _analyse(self):
+        """The ``analyse`` function (compiled, or CasADi's virtual machine)."""
+        return self.code._analyse
 
     def outputs(self) -> int:
         """The number of ``analyse``'s outputs per sample: q̇, q̈, max |J_d⁻¹| and the frame columns."""
@@ -624,25 +698,39 @@ class LoopKernel:
         """The driver over the samples of ``arrays`` (see :class:`DriverRun`)."""
         return DriverRun(self, arrays)
 
-    def _map(self, function, n: int):
-        """``function`` mapped over n samples, with its argument buffer and evaluation (kept per size)."""
-        key = (function.name(), n)
-        if key not in self._mapped:
-            mapped = function.map(n)
-            self._mapped[key] = mapped.buffer()
-        return self._mapped[key]
+    def far(self, q: np.ndarray) -> bool:
+        """Newton's method with halved steps on the dependent coordinates of q (nq,, solved in place: the last
+        iterate), as :meth:`~mechatron.kinematics.loops.LoopSolver.newton` with polish: up to
+        :data:`FIRST_STEPS` steps, each halved while it does not lower max |Φ| (to 1/1024), the polishing step once
+        below :data:`~mechatron.kinematics.loops.TOLERANCE`; whether it converged. Needs the driver."""
+        if q.shape != (self.nq,) or q.dtype != np.float64 or not q.flags.c_contiguous:
+            raise ValueError(f"the kernel's q: {q.dtype} {q.shape}, not ({self.nq},) C-ordered")
+        return bool(self._driver.mechatron_far(q.ctypes.data, self.parameters.ctypes.data))
+
+    def maps(self, Q: np.ndarray) -> np.ndarray:
+        """The velocity maps S_d = −J_d⁻¹ J_a (N, n_dep, n_act) at the assembled configurations Q (N, nq): by the
+        driver's ``step`` at each q (no Newton step taken), else ``newton`` of CasADi's virtual machine."""
+        Q = np.ascontiguousarray(Q, dtype=float)
+        out = np.empty((len(Q), self.na, self.nd))
+        if self._driver is not None:
+            self._driver.mechatron_maps(len(Q), Q.ctypes.data, self.parameters.ctypes.data, out.ctypes.data)
+        else:
+            out[:] = self._evaluate(self._newton, Q)[:, self.nq + 1:].reshape(len(Q), self.na, self.nd)
+        return out.transpose(0, 2, 1)  # vec() is column-major
 
     def _evaluate(self, function, *arrays: np.ndarray) -> np.ndarray:
-        """``function`` at every row of the (N, k) ``arrays``: its outputs (N, m), in chunks of :data:`CHUNK`. The
-        arrays are handed over without copies: a C-ordered (n, k) block is CasADi's column-major (k, n) matrix."""
+        """``function`` at every row of the (N, k) ``arrays`` and these parameters: its outputs (N, m), in chunks of
+        :data:`CHUNK`. The arrays are handed over without copies: a C-ordered (n, k) block is CasADi's column-major
+        (k, n) matrix."""
         arrays = tuple(np.ascontiguousarray(x, dtype=float) for x in arrays)
         n = len(arrays[0])
         out = np.empty((n, function.size1_out(0)))
         for start in range(0, n, CHUNK):
             stop = min(start + CHUNK, n)
-            buffer, evaluate = self._map(function, stop - start)
+            buffer, evaluate = self.code.mapped(function, stop - start)
             for i, x in enumerate(arrays):
                 buffer.set_arg(i, memoryview(x[start:stop]))
+            buffer.set_arg(len(arrays), memoryview(self.parameters))
             buffer.set_res(0, memoryview(out[start:stop]))
             evaluate()
         return out
@@ -679,7 +767,8 @@ class DriverRun:
     steps guessed along the velocity maps, m or rad), ``history`` (4, nq: the last solutions, oldest first),
     ``state`` (2, int64: how many, whether ``maps`` (n_dep · n_act) are the last one's), ``table`` (rows, N),
     ``motion`` (3, N, nq: q, q̇, q̈ of every sample) and ``rows`` (nq + :meth:`LoopKernel.outputs`, int64: the table
-    row of each q_i and each output, −1 for none); floats are float64; all C-ordered."""
+    row of each q_i and each output, −1 for none); floats are float64; all C-ordered. The kernel's parameters go
+    with them."""
 
     ORDER = ("U", "R", "A", "same", "valid", "begin", "reach", "history", "state", "maps", "table", "motion", "rows")
 
@@ -696,7 +785,7 @@ class DriverRun:
         if not arrays["rows"].max(initial=-1) < arrays["table"].shape[0]:
             raise ValueError("the driver's rows reach beyond its table")
         self.kernel, self.arrays, self.n = kernel, arrays, n
-        self.addresses = [arrays[key].ctypes.data for key in self.ORDER]
+        self.addresses = [arrays[key].ctypes.data for key in self.ORDER] + [kernel.parameters.ctypes.data]
 
     def continuation(self, start: int, stop: int) -> int:
         """The driver's continuation over the samples ``start`` … ``stop − 1`` (see :data:`DRIVER`): positions,
@@ -714,19 +803,59 @@ class DriverRun:
             raise ValueError("samples out of range")
         x = self.addresses
         self.kernel._driver.mechatron_analyse_rows(len(index), index.ctypes.data, self.n, x[1], x[2], x[10], x[11],
-                                                   x[12])
+                                                   x[12], x[13])
 
 
-def loop_kernel(solver: LoopSolver, points: list[str], links: list[str], others: list[str], spatial: bool
-                ) -> LoopKernel | None:
-    """The :class:`LoopKernel` of ``solver``'s mechanism and these frames, built once per mechanism and frame lists
-    (kept in the mechanism's cache); None where the joints or closures have no symbolic form or CasADi is
-    missing."""
-    def build() -> LoopKernel | None:
-        try:
-            return LoopKernel(solver, points, links, others, spatial)
-        except (Unsupported, ImportError):
-            return None
+#: The compiled code of the structures met in this process, by signature (:func:`loop_kernel`), the most recent
+#: last; at most :data:`KEPT` of them.
+_CODES: dict[tuple, KernelCode | None] = {}
+#: The geometries met per structure that has no code yet (their parameters' bytes).
+_MET: dict[tuple, set[bytes]] = {}
+KEPT = 32
 
+
+def loop_kernel(solver: LoopSolver, points: list[str], links: list[str], others: list[str], spatial: bool,
+                build: bool = True) -> LoopKernel | None:
+    """The :class:`LoopKernel` of ``solver``'s mechanism and these frames: its structure's :class:`KernelCode`
+    (compiled once per process and structure, the library kept on disk by its source's hash) with the mechanism's
+    parameters, kept in the mechanism's cache; None where the joints or closures have no symbolic form or CasADi is
+    missing. With ``build`` False the code is built only once a second geometry of the structure comes (a design
+    study, an optimiser), else None is returned while it has none."""
+    mech = solver.mech
     key = ("loop_kernel", tuple(points), tuple(links), tuple(others), spatial)
-    return solver.mech.cached(key, build)
+    kept = mech.cached("loop_kernels", dict)
+    if key in kept:
+        return kept[key]
+    try:
+        from ..model.symbolic import Geometry
+
+        names = list(dict.fromkeys([*solver.system.frame_names, *points, *links, *others]))
+        geometry = Geometry(mech.model, [mech.frame_id(n) for n in names], solver.system)
+    except (Unsupported, ImportError):
+        kept[key] = None
+        return None
+    settings = tuple(os.environ.get(v) for v in (COMPILE_VARIABLE, "CC")) + (str(cache_folder()),)
+    signature = (key, tuple(solver.act), tuple(names), geometry.signature, settings)
+    parameters = geometry.values(mech.model, solver.system)
+    if signature not in _CODES:
+        met = _MET.setdefault(signature, set())
+        met.add(parameters.tobytes())
+        if not build and len(met) < 2:
+            return None
+        try:
+            _CODES[signature] = KernelCode(solver, geometry, points, links, others, spatial)
+        except (Unsupported, ImportError):
+            _CODES[signature] = None
+        _MET.pop(signature, None)
+        while len(_CODES) > KEPT:
+            del _CODES[next(iter(_CODES))]
+    code = _CODES[signature]
+    kept[key] = None if code is None else LoopKernel(code, parameters)
+    return kept[key]
+
+
+def kept_kernel(solver: LoopSolver, points: list[str], links: list[str], others: list[str], spatial: bool
+                ) -> LoopKernel | None:
+    """The kernel of :func:`loop_kernel` if the mechanism already has it (a sweep built it), else None."""
+    key = ("loop_kernel", tuple(points), tuple(links), tuple(others), spatial)
+    return solver.mech.cached("loop_kernels", dict).get(key)

@@ -184,11 +184,19 @@ class LoopSolver:
             self.residual = phi
         if error < TOLERANCE:
             return q, J
+        raise self.unreachable(q, phi, max_iterations)
+
+    def unreachable(self, q: Vector, phi: Vector | None = None, iterations: int = 50) -> UnreachableError:
+        """The error of a Newton's method that ended at q without closing the loops (``iterations`` of them): the
+        inputs, the largest closure residual Φ(q) (evaluated here unless given) and its closure row."""
+        if phi is None:
+            phi, _ = self.system.evaluate(q)
+        error = float(np.abs(phi).max(initial=0.0))
         labels = self.system.row_labels()
         worst = labels[int(np.argmax(np.abs(phi)))]
-        raise UnreachableError(f"{self.mech.name}: the loops do not close at {self._describe_inputs(q)} "
-                               f"(closure residual {error:.3g} at {worst} after {max_iterations} Newton iterations)",
-                               inputs=self._input_values(q), residual=float(error), closure=worst)
+        return UnreachableError(f"{self.mech.name}: the loops do not close at {self._describe_inputs(q)} "
+                                f"(closure residual {error:.3g} at {worst} after {iterations} Newton iterations)",
+                                inputs=self._input_values(q), residual=error, closure=worst)
 
     # ------------------------------------------------------------------------------------ velocity, acceleration
     def dependent_inverse(self, q: Vector, J: Vector) -> Vector:

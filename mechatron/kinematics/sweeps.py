@@ -374,16 +374,19 @@ POSITION_SECONDS, BATCHED_POSITION_SECONDS = 1e-3, 1e-6
 
 def position_bytes(mech: Mechanism) -> tuple[float, float]:
     """(fixed bytes, bytes per position) of :func:`sweep`: the working storage of its chunks and anchors, about
-    (0.2 nq + 0.03 nq²) MB, and twice the table's row of 8-byte columns per position — sample, inputs, q, q̇ and q̈ of
-    every joint, 8 columns per point (11 in a spatial loop), 3 per link (all of the mechanism's, an upper bound),
-    one per measure (measured from 400 to 50,000 positions of every shipped closed loop: tests/test_bounded.py)."""
-    def build() -> tuple[float, float]:
+    (0.2 nq + 0.03 nq²) MB — 0.01 nq² MB where the mechanism has its compiled driver already (one block, no
+    chunks) —, and twice the table's row of 8-byte columns per position — sample, inputs, q, q̇ and q̈ of every joint,
+    8 columns per point (11 in a spatial loop), 3 per link (all of the mechanism's, an upper bound), one per measure
+    (measured from 400 to 50,000 positions of every shipped closed loop: tests/test_bounded.py)."""
+    def build() -> float:
         spatial = any(not getattr(c, "planar", True) for c in mech.closures)
         columns = (1 + len(mech.actuated) + 3 * mech.nv + (11 if spatial else 8) * len(mech.points)
                    + 3 * len(mech.link_names) + len(mech.measures))
-        return (0.2 * mech.nq + 0.03 * mech.nq**2) * 1e6, 16.0 * columns
+        return 16.0 * columns
 
-    return mech.cached("position_bytes", build)
+    driven = any(k is not None and k.driven for k in mech.cached("loop_kernels", dict).values())
+    fixed = 0.01 * mech.nq**2 if driven else 0.2 * mech.nq + 0.03 * mech.nq**2
+    return fixed * 1e6, mech.cached("position_bytes", build)
 
 
 def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1,
@@ -408,7 +411,7 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
           rates: Mapping[str, ArrayLike] | None = None, accelerations: Mapping[str, ArrayLike] | None = None,
           frames: Sequence[str] | None = None, links: Sequence[str] | None = None,
           measures: Sequence[Measure] | None = None, guess: ArrayLike | None = None,
-          progress: ProgressCallback | None = None) -> SweepResult:
+          progress: ProgressCallback | None = None, stop_on_failure: bool = False) -> SweepResult:
     """Analyse ``mech`` at N positions along the input values ``inputs`` (name → N values, m or rad; default
     :func:`default_inputs` with ``samples`` values): positions, velocities and accelerations of every joint, point
     and link, the position analysis by continuation on one assembly branch, the velocity analysis
@@ -426,6 +429,9 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
         guess: Start of the continuation, a configuration (nq,) (default the reference configuration: its assembly
             branch).
         progress: Called as progress(done, total) every few hundred samples.
+        stop_on_failure: End the sweep at the first sample that cannot be analysed: the table holds the samples
+            before it, ``failures`` that one with its reason, and no sample after it is tried (a motion that must
+            be whole, such as a task, fails as soon as it leaves the reachable range).
 
     Returns:
         A :class:`SweepResult`; the samples that cannot be analysed (an input out of its range, loops that do not
@@ -453,9 +459,40 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     links = list(links or [])
     measures = list(mech.measures if measures is None else measures)
     failures = _out_of_range(base, U, names)
-    kernel = _kernel(base, points, links, measures) if BATCHED and n >= COMPILED_MIN else None
+    if not stop_on_failure:
+        return _analysed(base, U, R, A, q, failures, progress, names, points, links, measures)
+    end = min(failures, default=n)  # the samples before the first input out of range
+    if end == 0:  # the first sample: a table without rows
+        result = _analysed(base, U[:1], R[:1], A[:1], q, {0: failures[0]}, progress, names, points, links, measures)
+    else:
+        result = _analysed(base, U[:end], R[:end], A[:end], q, {}, progress, names, points, links, measures,
+                           stop=True)
+    failed = [int(k) for k in result.failures["sample"]]
+    if failed or end < n:
+        first = min(failed, default=end)
+        reason = failures[first] if first == end else \
+            result.failures.loc[result.failures["sample"] == first, "reason"].iloc[0]
+        keep = (result.table["sample"] < first).to_numpy()
+        if not keep.all():
+            result.q, result.v, result.a = result.q[keep], result.v[keep], result.a[keep]
+            result.table = result.table[keep].reset_index(drop=True)
+        result.failures = _failure_frame(U, names, {first: reason})
+    return result
+
+
+def _analysed(base: LoopSolver, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: np.ndarray,
+              failures: dict[int, str], progress: ProgressCallback | None, names: list[str], points: list[str],
+              links: list[str], measures: list[Measure], stop: bool = False) -> SweepResult:
+    """The sweep of :func:`sweep` at the inputs U (N, n_act) with rates R and accelerations A, from the
+    configuration q (the samples in ``failures`` out of range): positions by the compiled driver (where the
+    mechanism has a kernel), else batched or by continuation; then velocities, accelerations and the table. With
+    ``stop`` the positions end at the first sample that does not assemble."""
+    mech, n = base.mech, len(U)
+    kernel = _kernel(base, points, links, measures, n) if BATCHED else None
     if kernel is not None and kernel.driven:  # the compiled continuation and analysis, straight into the table
-        return _driven(base, kernel, U, R, A, q, failures, progress, names, points, links, measures)
+        return _driven(base, kernel, U, R, A, q, failures, progress, names, points, links, measures, stop)
+    if kernel is not None and n < COMPILED_MIN:
+        kernel = None  # CasADi's virtual machine: only for long sweeps
     wanted = list(dict.fromkeys(points + [p for m in measures for p in m.points] + links))
     solver = LoopSolver(mech, extra_frames=wanted)  # evaluates the reported frames with the closures' frames
     system = solver.system
@@ -467,9 +504,9 @@ def sweep(mech: Mechanism, inputs: Mapping[str, ArrayLike] | None = None, *, sam
     if (kernel is not None or closing is not None) and n >= BATCH_MIN:
         newton = kernel.newton if kernel is not None else \
             (lambda Q: batch.newton(base.system, closing, Q, base.act, base.dep))
-        Q, ok = _batched_positions(base, newton, U, q, failures, progress, kernel)
+        Q, ok = _batched_positions(base, newton, U, q, failures, progress, kernel, stop)
     else:
-        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=every is None).run(range(n))
+        Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=every is None).run(range(n), stop)
     # velocities q̇ = S q̇_a, accelerations J_d q̈_d = −J_a q̈_a − J̇ q̇ and the reported frames, all samples at once
     reported = [system.index[name] for name in wanted]
     if kernel is not None:
@@ -523,9 +560,10 @@ class _Continuation:
 
     def __init__(self, solver: LoopSolver, U: np.ndarray, q: np.ndarray, failures: dict[int, str],
                  progress: ProgressCallback | None = None, keep: bool = False, polish: bool = True,
-                 kernel: LoopKernel | None = None) -> None:
+                 kernel: LoopKernel | None = None, far: LoopKernel | None = None) -> None:
         self.solver, self.U, self.q, self.failures, self.progress = solver, U, q, failures, progress
         self.kernel = kernel  # with two or more solutions before, a sample is first tried by the compiled Newton
+        self.far = far  # Newton's method with halved steps by this kernel's driver (else the solver's, in NumPy)
         self.keep = keep  # keep every sample's closure Jacobian and frame placements and Jacobians (for Pinocchio)
         self.polish = polish  # one more Newton step after convergence (else the residual is only below TOLERANCE)
         self.history: list[np.ndarray] = []  # last good solutions, each reached by the same step as the next
@@ -544,7 +582,12 @@ class _Continuation:
             J = None
         else:
             try:
-                trial, J = solver.newton(trial, polish=self.polish)  # polished: the residual at rounding level
+                if self.far is not None and self.polish:
+                    J = None
+                    if not self.far.far(trial):
+                        raise solver.unreachable(trial)
+                else:
+                    trial, J = solver.newton(trial, polish=self.polish)  # polished: the residual at rounding level
             except MechatronError as exc:
                 self.failures[k] = str(exc)
                 history.clear()
@@ -566,9 +609,10 @@ class _Continuation:
         trial[:] = row[0]
         return True
 
-    def run(self, samples: Sequence[int]) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...] | None]:
+    def run(self, samples: Sequence[int], stop: bool = False
+            ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...] | None]:
         """Solve ``samples`` in turn: (Q (n, nv), which converged, and with ``keep`` the closure Jacobians,
-        placements and frame Jacobians of every sample)."""
+        placements and frame Jacobians of every sample); with ``stop``, none after the first that fails."""
         samples = list(samples)
         n, nv, states = len(self.U), self.solver.mech.nv, self.solver.system.states
         Q, ok = np.zeros((n, nv)), np.zeros(n, dtype=bool)
@@ -583,6 +627,8 @@ class _Continuation:
                 Q[k], ok[k] = solution[0], True
                 if self.keep:
                     saved[0][k], saved[1][k], saved[2][k] = solution[1], states.homogeneous, states.jacobian
+            elif stop:
+                break
             if self.progress is not None and (i % every == 0 or i == len(samples) - 1):
                 self.progress(i + 1, len(samples))
         return Q, ok, saved if self.keep else None
@@ -599,12 +645,14 @@ def _same_steps(U: np.ndarray) -> np.ndarray:
 
 def _batched_positions(solver: LoopSolver, newton: Callable, U: np.ndarray, q: np.ndarray,
                        failures: dict[int, str], progress: ProgressCallback | None,
-                       kernel: LoopKernel | None = None) -> tuple[np.ndarray, np.ndarray]:
+                       kernel: LoopKernel | None = None, stop: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Positions of all samples (see :mod:`mechatron.kinematics.batch`): anchors by continuation (tried by the
     compiled ``kernel``'s Newton first where there is one; without it a second level of anchors by ``newton``), the
     rest by ``newton`` (the contract of :func:`batch.newton`, on a chunk of samples) from interpolated guesses; the
     doubtful samples again by the sequential continuation, from the last good sample before them until its solution
-    meets the batched one."""
+    meets the batched one. With ``stop`` nothing is solved after the first sample that fails: the batched solve
+    ends at the first anchor that does not assemble, the samples before it are checked as above, and the
+    continuation goes on from there sample by sample up to the first failure."""
     n, dep = len(U), solver.dep
     valid = np.ones(n, dtype=bool)
     valid[list(failures)] = False
@@ -612,11 +660,14 @@ def _batched_positions(solver: LoopSolver, newton: Callable, U: np.ndarray, q: n
     act = solver.act
     coarse = batch.anchor_stride(U, batch.ANCHOR_STEPS * solver.max_step)
     anchors = batch.every(candidates, coarse)
-    Qa, solved, _ = _Continuation(solver, U, q, dict(failures), polish=False, kernel=kernel).run(anchors)
+    Qa, solved, _ = _Continuation(solver, U, q, dict(failures), polish=False, kernel=kernel).run(anchors, stop)
+    end = n  # the samples solved batched: with stop, up to the first anchor that fails
+    if stop and len(anchors) and not solved[anchors].all():
+        end = int(anchors[np.argmin(solved[anchors])]) + 1
     anchors = anchors[solved[anchors]]
     values = Qa[anchors]
     stride = max(batch.FINER, batch.anchor_stride(U, solver.max_step / 50.0))
-    finer = batch.every(candidates, stride)
+    finer = batch.every(candidates[candidates < end], stride)
     if kernel is None and len(anchors) and 4 * stride <= coarse:  # finer anchors by batched Newton from these
         values = batch.interpolate(anchors, values, finer)
         values[:, act] = U[finer]
@@ -630,7 +681,7 @@ def _batched_positions(solver: LoopSolver, newton: Callable, U: np.ndarray, q: n
     previous = np.zeros(0, dtype=int)  # the last sample of the previous chunk, the first one's predecessor
     maps = np.zeros((0, len(dep), len(act)))
     if len(anchors):
-        for part in batch.chunks(n, compiled.CHUNK if kernel is not None else None):
+        for part in batch.chunks(end, compiled.CHUNK if kernel is not None else None):
             rows = np.arange(part.start, part.stop)
             Q[part, dep] = batch.interpolate(anchors, values[:, dep], rows)
             Q[part, act] = U[part]
@@ -642,14 +693,14 @@ def _batched_positions(solver: LoopSolver, newton: Callable, U: np.ndarray, q: n
             previous, maps = rows[-1:], maps[-1:]
             if progress is not None:
                 progress(part.stop, n)
-    doubtful |= valid & ~ok
-    doubtful[1:] |= valid[1:] & ~valid[:-1]  # after an input out of range the continuation starts again
+    doubtful[:end] |= valid[:end] & ~ok[:end]
+    doubtful[1:end] |= valid[1:end] & ~valid[:end - 1]  # after an input out of range the continuation starts again
     trusted = ok & ~doubtful
     redo = _Continuation(solver, U, q, failures)
     equal = _same_steps(U)
     k = 0
     while True:
-        waiting = np.flatnonzero(doubtful[k:])
+        waiting = np.flatnonzero(doubtful[k:end])
         if not len(waiting):
             break
         k += int(waiting[0])
@@ -664,8 +715,18 @@ def _batched_positions(solver: LoopSolver, newton: Callable, U: np.ndarray, q: n
                 Q[k] = solution[0]
                 if meets:
                     break
+            elif stop:
+                return Q, ok
             k += 1
         k += 1
+    if end < n and not ok[end:].all():  # all up to the anchor that failed solved: on to the first failure
+        start = end + int(np.argmin(ok[end:]))
+        redo.q, redo.history = Q[start - 1].copy(), _history(Q, ok, equal, start)
+        for k in range(start, n):
+            solution = redo.solve(k, equal[k])
+            if solution is None:
+                break
+            Q[k], ok[k] = solution[0], True
     return Q, ok
 
 
@@ -776,11 +837,25 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
     return _drop_singular(solver, rows, singular, V, Aq, columns, U, failures)
 
 
-def _kernel(solver: LoopSolver, points: list[str], links: list[str], measures: list[Measure]) -> LoopKernel | None:
-    """The compiled kernel reporting the table's frame columns (the points, the links, the measures' points)."""
+def _kernel(solver: LoopSolver, points: list[str], links: list[str], measures: list[Measure],
+            n: int = COMPILED_MIN) -> LoopKernel | None:
+    """The compiled kernel reporting the table's frame columns (the points, the links, the measures' points) for a
+    sweep of n samples: built for :data:`COMPILED_MIN` samples or more, and for fewer once the mechanism's
+    structure has one (compiled for another geometry, or met with a second one: a design study's, an
+    optimiser's), else None."""
     others = [p for p in dict.fromkeys(p for m in measures for p in m.points) if p not in points]
     spatial = any(not getattr(c, "planar", True) for c in solver.mech.closures)
-    return loop_kernel(solver, points, links, others, spatial)
+    return loop_kernel(solver, points, links, others, spatial, build=n >= COMPILED_MIN)
+
+
+def kept_sweep_kernel(solver: LoopSolver) -> LoopKernel | None:
+    """The compiled kernel of a sweep of ``solver``'s mechanism without frames or measures (the states along a
+    task, :func:`mechatron.dynamics.trajectory.closed_loop_states`) if such a sweep built one, else None."""
+    from .compiled import kept_kernel
+
+    spatial = any(not getattr(c, "planar", True) for c in solver.mech.closures)
+    kernel = kept_kernel(solver, [], [], [], spatial)
+    return kernel if kernel is not None and kernel.driven else None
 
 
 def _analyse_compiled(solver: LoopSolver, kernel: LoopKernel, Q: np.ndarray, ok: np.ndarray, R: np.ndarray,
@@ -804,7 +879,7 @@ _RATIO = "max |J_d⁻¹|"
 
 def _driven(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: np.ndarray,
             failures: dict[int, str], progress: ProgressCallback | None, names: list[str], points: list[str],
-            links: list[str], measures: list[Measure]) -> SweepResult:
+            links: list[str], measures: list[Measure], stop: bool = False) -> SweepResult:
     """The sweep by the kernel's compiled driver (:data:`compiled.DRIVER`): the continuation over the samples with
     every solution's analysis written into the rows of one block, the table's columns (:class:`_Layout`); the
     samples it leaves by the sequential continuation (:func:`_drive`), analysed after; then the singular positions
@@ -820,7 +895,7 @@ def _driven(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray
               "maps": np.zeros(kernel.nd * kernel.na), "table": np.empty((len(layout.where), n)),
               "motion": np.empty((3, n, kernel.nq)), "rows": layout.rows}
     run = kernel.run(arrays)
-    ok, solved = _drive(solver, run, failures, progress)
+    ok, solved = _drive(solver, run, failures, progress, stop)
     if len(solved):
         run.analyse_rows(solved)
     table, motion = arrays["table"], arrays["motion"]
@@ -889,27 +964,29 @@ def _layout(solver: LoopSolver, kernel: LoopKernel, names: list[str], measures: 
     return mech.cached(("sweep_layout", id(kernel), tuple(names), tuple(m.name for m in measures)), build)
 
 
-def _drive(solver: LoopSolver, run: compiled.DriverRun, failures: dict[int, str], progress: ProgressCallback | None
-           ) -> tuple[np.ndarray, np.ndarray]:
+def _drive(solver: LoopSolver, run: compiled.DriverRun, failures: dict[int, str], progress: ProgressCallback | None,
+           stop: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """The positions of all samples into the run's table and motion: the driver's continuation chunk by chunk
     (:meth:`compiled.DriverRun.continuation`), each sample it leaves solved by the sequential continuation from the
-    same history (:meth:`_Continuation.solve`, which records the failures), and the driver on from there. Returns
-    which samples were solved and those solved here (not yet analysed)."""
+    same history (:meth:`_Continuation.solve`, which records the failures; its Newton's method with halved steps
+    by the driver too, :meth:`~mechatron.kinematics.compiled.LoopKernel.far`), and the driver on from there; with
+    ``stop``, up to the first sample that fails. Returns which samples were solved and those solved here (not yet
+    analysed)."""
     arrays = run.arrays
     U, table, rows, history, state, same, begin = (arrays[key] for key in ("U", "table", "rows", "history",
                                                                             "state", "same", "begin"))
     n, joints = len(U), rows[:len(begin)]
     ok, solved = np.zeros(n, dtype=bool), []
-    continuation = _Continuation(solver, U, begin.copy(), failures)
+    continuation = _Continuation(solver, U, begin.copy(), failures, far=run.kernel)
     k = 0
     for part in batch.chunks(n, compiled.CHUNK):
         while k < part.stop:
-            stop = run.continuation(k, part.stop)
-            ok[k:stop] = True
+            reached = run.continuation(k, part.stop)
+            ok[k:reached] = True
             m = int(state[0])
             continuation.history = [history[i].copy() for i in range(m)]
             continuation.q = history[m - 1].copy() if m else continuation.q
-            k = stop
+            k = reached
             if k == part.stop:
                 break
             solution = continuation.solve(k, bool(same[k]))
@@ -917,6 +994,8 @@ def _drive(solver: LoopSolver, run: compiled.DriverRun, failures: dict[int, str]
                 table[joints, k] = arrays["motion"][0, k] = solution[0]
                 ok[k] = True
                 solved.append(k)
+            elif stop:
+                return ok, np.array(solved, dtype=np.int64)
             m = len(continuation.history)
             if m:
                 history[:m] = continuation.history
