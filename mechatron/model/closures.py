@@ -118,6 +118,10 @@ class Closure(ABC):
     @abstractmethod
     def drift(self, s: FrameStates) -> np.ndarray: ...
 
+    def evaluate_one(self, s: FrameStates) -> tuple[np.ndarray, np.ndarray]:
+        """(residual, Jacobian) at one configuration (:class:`FrameStates`)."""
+        return np.atleast_1d(self.residual(s)), np.atleast_2d(self.jacobian(s))
+
     @abstractmethod
     def loads(self, s: FrameStates, multipliers: np.ndarray) -> list[Load]:
         """The closure's generalized force Jᵀλ for its ``multipliers`` λ (its rows of the KKT solution) as forces
@@ -191,13 +195,35 @@ class Slider(Closure):
         return kp, kl, d, n, r
 
     def residual(self, s: FrameStates) -> np.ndarray:
+        if s.position.ndim == 2:  # one configuration: in floats (the Newton iterations of a single sample)
+            return self._one(s)[0]
         kp, kl, d, n, r = self._geometry(s)
         rows = [_dot(n, r)]
         if self.lock_angle:
             rows.append(_wrap(s.angle[..., kp] - s.angle[..., kl] - self.angle_offset))
         return np.stack(rows, axis=-1)
 
+    def evaluate_one(self, s: FrameStates) -> tuple[np.ndarray, np.ndarray]:
+        return self._one(s)
+
+    def _one(self, s: FrameStates) -> tuple[np.ndarray, np.ndarray]:
+        """(Φ, J) of one configuration, the formulas of the class docstring in floats."""
+        kp, kl = self._k
+        theta = float(s.angle[kl])
+        c, sn = math.cos(theta), math.sin(theta)
+        (px, py), (ox, oy) = s.position[kp, :2].tolist(), s.position[kl, :2].tolist()
+        rx, ry = px - ox, py - oy
+        Jp, Jl = s.jacobian[kp], s.jacobian[kl]
+        residual = [c * ry - sn * rx]
+        rows = [c * (Jp[1] - Jl[1]) - sn * (Jp[0] - Jl[0]) - (c * rx + sn * ry) * Jl[5]]
+        if self.lock_angle:
+            residual.append(float(_wrap(s.angle[kp] - theta - self.angle_offset)))
+            rows.append(Jp[5] - Jl[5])
+        return np.array(residual), np.array(rows)
+
     def jacobian(self, s: FrameStates) -> np.ndarray:
+        if s.position.ndim == 2:
+            return self._one(s)[1]
         kp, kl, d, n, r = self._geometry(s)
         Jp, Jl = s.jacobian[..., kp, :, :], s.jacobian[..., kl, :, :]
         normal = (n[..., None, :] @ (Jp[..., :2, :] - Jl[..., :2, :]))[..., 0, :]  # n·(J_p − J_l), rows x and y
@@ -428,6 +454,9 @@ class ClosureSystem:
         lead = s.position.shape[:-2]
         phi = (s.position[..., self._a, :2] - s.position[..., self._b, :2]).reshape(*lead, -1)
         J = (s.jacobian[..., self._a, :2, :] - s.jacobian[..., self._b, :2, :]).reshape(*lead, -1, self.nv)
+        if self._others and not lead:  # one configuration
+            parts = [c.evaluate_one(s) for c in self._others]
+            return np.concatenate([phi, *(p[0] for p in parts)]), np.concatenate([J, *(p[1] for p in parts)])
         if self._others:
             phi = np.concatenate([phi, *(c.residual(s) for c in self._others)], axis=-1)
             J = np.concatenate([J, *(c.jacobian(s) for c in self._others)], axis=-2)

@@ -57,9 +57,12 @@ class Evaluations:
     in this process, or on a Dask client's workers (warmed once: the mechanism and the analyses' files loaded)."""
 
     def __init__(self, spec: DesignSpec, client: Any = None, progress: Any = None):
+        from .pace import Pace
+
         self.spec, self.client, self.progress = spec, client, progress
         self.names = [p.name for p in spec.variables]
         self.rows: dict[tuple, dict[str, Any]] = {}
+        self.pace = Pace(spec.evaluations, progress)
         self._warm = False
 
     def design(self, u: np.ndarray) -> dict[str, Any]:
@@ -80,24 +83,27 @@ class Evaluations:
         keys = [tuple(d[n] for n in self.names) for d in designs]
         missing = list(dict.fromkeys(k for k in keys if k not in self.rows))
         if missing:
-            for key, row in zip(missing, self._evaluate(missing)):
+            rows, seconds = self._evaluate(missing)
+            for key, row in zip(missing, rows):
                 self.rows[key] = row
-            if self.progress is not None:
-                self.progress(len(self.rows), self.spec.evaluations)
+            self.pace.add([r["design"] for r in rows], seconds, [r["status"] for r in rows],
+                          [r["reason"] for r in rows])
         return [self.rows[k] for k in keys]
 
-    def _evaluate(self, keys: list[tuple]) -> list[dict[str, Any]]:
+    def _evaluate(self, keys: list[tuple]) -> tuple[list[dict[str, Any]], list[float]]:
+        """The rows of the designs ``keys`` (their variables' values) and their times (s)."""
         import pandas as pd
 
         from .designs import design_seed
-        from .runner import evaluate
+        from .runner import design_times, evaluate
 
         first = len(self.rows)
         frame = pd.DataFrame([dict(zip(self.names, k)) for k in keys])
         frame.insert(0, "design", np.arange(first, first + len(keys)))
         frame["seed"] = [design_seed(self.spec.seed, first + i) for i in range(len(keys))]
         if self.client is None:
-            return evaluate(self.spec.study, frame).to_dict(orient="records")
+            rows = evaluate(self.spec.study, frame)
+            return rows.to_dict(orient="records"), design_times(rows)
         from .cluster import slots
         from .runner import _warm_worker
 
@@ -107,7 +113,9 @@ class Evaluations:
         size = max(1, math.ceil(len(frame) / (2 * slots(self.client))))
         chunks = [frame.iloc[k:k + size] for k in range(0, len(frame), size)]
         futures = self.client.map(evaluate, [self.spec.study] * len(chunks), chunks, pure=False)
-        return pd.concat(self.client.gather(futures), ignore_index=True).to_dict(orient="records")
+        parts = self.client.gather(futures)
+        seconds = [s for part in parts for s in design_times(part)]
+        return pd.concat(parts, ignore_index=True).to_dict(orient="records"), seconds
 
     # ---------------------------------------------------------------------------------------- judging a row
     def objectives(self, row: dict[str, Any]) -> np.ndarray:

@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import InputError, MechatronWarning
 from ..io.values import number
 from .cluster import connect, disconnect, prestart, slots
+from .pace import Pace
 from .spec import base_mechanism, file_hash, mechanism_content, study_mechanism
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -102,14 +103,27 @@ def _one(spec: Spec, design: dict[str, Any], content: tuple[str | None, ...]) ->
 
 
 def evaluate(spec: Spec, designs: pd.DataFrame) -> pd.DataFrame:
-    """The rows of a chunk of designs: the designs' columns, ``status``, ``reason`` and the analyses' outputs."""
+    """The rows of a chunk of designs: the designs' columns, ``status``, ``reason`` and the analyses' outputs; each
+    design's time (s, wall) in the frame's ``attrs["seconds"]`` (:class:`~mechatron.studies.pace.Pace`)."""
+    import time
+
     import pandas as pd
 
     content = mechanism_content(spec.mechanism)
-    rows = []
+    rows, seconds = [], []
     for design in designs.to_dict(orient="records"):
+        start = time.perf_counter()
         rows.append({**design, **_one(spec, design, content)})
-    return pd.DataFrame(rows)
+        seconds.append(time.perf_counter() - start)
+    frame = pd.DataFrame(rows)
+    frame.attrs["seconds"] = seconds
+    return frame
+
+
+def design_times(rows: pd.DataFrame) -> list[float]:
+    """The designs' times (s) that :func:`evaluate` recorded with ``rows`` (NaN where it did not)."""
+    seconds = rows.attrs.get("seconds")
+    return list(seconds) if seconds is not None and len(seconds) == len(rows) else [math.nan] * len(rows)
 
 
 def _digest(frame: pd.DataFrame) -> str:
@@ -333,7 +347,10 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
         workers: 1: serially in this process; more: an embedded LocalCluster of that many worker processes.
         scheduler: The address of a running Dask scheduler (``tcp://HOST:PORT``); then ``workers`` is ignored.
         chunk_size: Designs per task and per part file (default: n/32, 1 to 64; a resumed study keeps its own).
-        progress: Called as ``progress(done, total)`` with the designs done (those of earlier runs included).
+        progress: Called as ``progress(done, total)`` with the designs done (those of earlier runs included); a
+            callback with a ``status`` attribute (:func:`~mechatron.report.progress.progress_bar`) is given the
+            designs done and failed and the rate first (:class:`~mechatron.studies.pace.Pace`), and a design that
+            takes over ten times the median is named in a warning.
         max_chunks: Stop after this many chunks (the study is then resumed by running it again); returns None.
         restart: Discard the study in ``out_dir`` (its state, parts and tables) and start again.
 
@@ -361,16 +378,17 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
         part = [_part(out_dir, k) for k in range(len(chunks))]
         records = [_record(identity, chunk) for chunk in chunks]
         pending = _pending(part, records)
-        done = len(designs) - sum(len(chunks[k]) for k in pending)
+        pace = Pace(len(designs), progress, len(designs) - sum(len(chunks[k]) for k in pending))
         pending = pending[:max_chunks]
-        if progress is not None:
-            progress(done, len(designs))
+        pace.show()
         rows = {}
         for k, chunk_rows in _results(client, spec, chunks, pending):
+            seconds = design_times(chunk_rows)
+            chunk_rows.attrs.clear()  # the times are not part of the study's rows
             rows[k] = _write_part(chunk_rows, records[k], part[k])
-            done += len(chunk_rows)
-            if progress is not None:
-                progress(done, len(designs))
+            pace.add(chunk_rows["design"].tolist(), seconds, chunk_rows["status"].tolist(),
+                     chunk_rows["reason"].tolist())
+        done = pace.done
     finally:
         if client is not None:
             disconnect(client, scheduler)
