@@ -35,3 +35,18 @@ def interleaved(functions: dict[str, Callable[[], object]], items: int, repeats:
                 function()
             best[key] = min(best[key], (time.perf_counter() - start) / calls)
     return {key: value / items for key, value in best.items()}
+
+
+def cpu_medians(functions: dict[str, Callable[[], object]], repeats: int) -> dict[str, float]:
+    """The median CPU time (s, ``time.process_time``: this process's own work, not the machine's other load) of
+    each ``functions[key]()`` over ``repeats`` rounds; within every round the candidates take turns (interleaved),
+    so a change of the machine's state hits them alike."""
+    import statistics
+
+    times: dict[str, list[float]] = {key: [] for key in functions}
+    for _ in range(repeats):
+        for key, function in functions.items():
+            start = time.process_time()
+            function()
+            times[key].append(time.process_time() - start)
+    return {key: statistics.median(values) for key, values in times.items()}
