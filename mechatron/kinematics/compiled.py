@@ -840,6 +840,8 @@ def loop_kernel(solver: LoopSolver, points: list[str], links: list[str], others:
     if signature not in _CODES:
         met = _MET.setdefault(signature, set())
         met.add(parameters.tobytes())
+        while len(_MET) > 4 * KEPT:
+            del _MET[next(iter(_MET))]
         if not build and len(met) < 2:
             return None
         try:

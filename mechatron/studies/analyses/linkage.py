@@ -15,7 +15,8 @@ the optional ``load`` (Fx, Fy) on the point (closed-loop inverse dynamics at res
 :func:`mechatron.dynamics.trajectory.holding_forces`), its largest magnitude (N), and with a ``cylinders`` table
 (bore, rod in m, count) its largest pressure (Pa: force over the piston or the annulus area).
 
-A design with a position that cannot be assembled fails with the first such position's reason.
+A design with a position that cannot be assembled fails with the first such position's reason (the sweep ends
+there).
 
 **Exact gradients** (:func:`gradients`, for the optimiser's exact-derivative route): the outputs of one sweep and
 their derivatives with respect to named geometric parameters l of the mechanism. Each output is an extreme over the
@@ -165,10 +166,10 @@ def _evaluate(mech, opts: dict[str, Any]) -> tuple[dict[str, float], _Sweep]:
     from ...kinematics.sweeps import sweep
 
     point = opts["point"]
-    result = sweep(mech, samples=opts["samples"], frames=[point])
-    if len(result.failures):
+    result = sweep(mech, samples=opts["samples"], frames=[point], stop_on_failure=True)
+    if len(result.failures):  # the sweep ends there: a design that cannot be assembled fails at once
         first = result.failures.iloc[0]
-        raise MechatronError(f"{len(result.failures)} of {opts['samples']} positions cannot be assembled; first: "
+        raise MechatronError(f"position {int(first['sample']) + 1} of {opts['samples']} cannot be assembled: "
                              f"{first['reason']}")
     x, y = result.table[f"{point}_x"].to_numpy(), result.table[f"{point}_y"].to_numpy()
     if opts["working_range"]:
