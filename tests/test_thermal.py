@@ -2,9 +2,10 @@
 closed form of a constant loss step from cold (the two exponentials of the 2 × 2 network), the periodic steady state
 of a square-wave loss (each mode's own geometric sum), the steady state with the resistance rising with temperature,
 and a time stepping of this test's own (RK4 on the network's equations, the cycle's affine map found from three
-runs); the mean-rise bound the screening uses; the IEC 60034-1 duty type; the sizing deciding by the winding's
-temperature where RMS would decide the other way; bad thermal columns refused naming file, row and field; a motor
-without them checked by RMS, the report saying so; --ambient and the study option."""
+runs); a batch of pairs simulated at once as each alone; the mean-rise bound the screening uses; the IEC 60034-1
+duty type; the sizing deciding by the winding's temperature where RMS would decide the other way; bad thermal
+columns refused naming file, row and field; a motor without them checked by RMS, the report saying so; --ambient
+and the study option."""
 
 from __future__ import annotations
 
@@ -26,6 +27,7 @@ from mechatron.drives.thermal import (
     ThermalData,
     duty_text,
     duty_type,
+    highest_rise,
     periodic_rise,
     winding_temperature,
 )
@@ -176,6 +178,83 @@ def test_the_model_against_an_own_time_stepping_with_resistance_and_speed_losses
     model = periodic_rise(t, (current**2)[None], loss[None], *network, 1.0, ALPHA_COPPER, AMBIENT)[0]
     assert np.max(np.abs(model - stepped)) < 1e-6
     assert 20 < model[:, 0].max() < 200
+
+
+def random_rows(count: int, samples: int, seed: int) -> tuple[np.ndarray, ...]:
+    """A batch of ``count`` motors on a cycle of ``samples`` uneven samples: (t, I², speed loss, R_wh, R_ha, τ_w,
+    τ_h, R₂₅, α, T_max), the networks and limits as columns (count, 1)."""
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(np.concatenate([[0.0], rng.uniform(0.01, 0.4, samples - 1)]))
+    i2 = rng.uniform(0.0, 3.0, (count, samples)) ** 2
+    loss = rng.uniform(0.0, 5.0, (count, samples)) * (rng.uniform(size=(count, 1)) < 0.7)
+    network = [rng.uniform(lo, hi, (count, 1)) for lo, hi in ((0.2, 1.5), (0.5, 3.0), (2.0, 40.0), (60.0, 900.0),
+                                                               (0.5, 3.0), (0.0, 0.006), (390.0, 450.0))]
+    return (t, i2, loss, *network)
+
+
+def test_the_batched_winding_simulation_equals_each_pair_alone():
+    """One simulation of a batch of pairs (thermal.highest_rise, vectorised over the rows) gives each row's highest
+    winding rise as the single-row simulation does (1e-12), the first row also as this test's RK4 stepping (1e-6
+    K); a row whose losses run away (I² R₂₅ α R_tot ≥ 1: no steady state) takes the rise at the resistance held
+    at R(T_max), above the allowed rise."""
+    t, i2, loss, r_wh, r_ha, tau_w, tau_h, r25, alpha, limit = random_rows(9, 37, seed=3)
+    i2[4] = 400.0  # 20 A: a runaway
+    alpha[4] = ALPHA_COPPER
+    batched = highest_rise(t, i2, loss, r_wh, r_ha, tau_w, tau_h, r25, alpha, AMBIENT, limit)
+    for k in range(len(i2)):
+        one = periodic_rise(t, i2[k:k + 1], loss[k:k + 1], r_wh[k], r_ha[k], tau_w[k], tau_h[k], r25[k],
+                            alpha[k], AMBIENT)[0, :, 0]
+        if k == 4:
+            assert np.isnan(one).all()
+            held = r25[k] * (1 + alpha[k] * (limit[k] - ZERO - 25))
+            one = periodic_rise(t, i2[k:k + 1], loss[k:k + 1], r_wh[k], r_ha[k], tau_w[k], tau_h[k], held, 0.0,
+                                AMBIENT)[0, :, 0]
+            assert batched[k] > limit[k, 0] - AMBIENT
+        assert batched[k] == pytest.approx(one.max(), rel=1e-12)
+    network = (r_wh[0, 0], r_ha[0, 0], tau_w[0, 0], tau_h[0, 0])
+    stepped = stepped_periodic(t, np.sqrt(i2[0]), loss[0], network=network, r25=r25[0, 0], alpha=alpha[0, 0])
+    assert batched[0] == pytest.approx(stepped[:, 0].max(), abs=1e-6)
+    # the rows in another company, or alone, give the same numbers
+    order = np.arange(len(i2))[::-1]
+    again = highest_rise(t, i2[order], loss[order], *(x[order] for x in (r_wh, r_ha, tau_w, tau_h, r25, alpha)),
+                         AMBIENT, limit[order])
+    assert again[::-1] == pytest.approx(batched, rel=1e-12)
+
+
+def test_the_sizing_simulates_a_block_of_pairs_as_each_alone():
+    """PairChecks.winding of a block of random motor × gearbox pairs of the shipped catalogs on a robot-like duty
+    equals each pair simulated alone by periodic_rise with this test's own motor torque T_m = (J_m + J_c) u ω̇ +
+    τ*/u (τ* = τ/η motoring, τ η braking) and current I = T_m/k_t (1e-12)."""
+    from mechatron.drives.catalogs import default_catalog
+    from mechatron.drives.checks import PairChecks
+    from mechatron.drives.converters import converters_for
+
+    t = np.linspace(0.0, 3.0, 301)
+    speed = 1.5 * np.sin(2 * np.pi * t / 3)
+    acceleration = np.pi * np.cos(2 * np.pi * t / 3)
+    torque = 20 * acceleration / np.pi + 15 * np.cos(t) + 3
+    duty = JointDuty("q1", "revolute", t, speed, acceleration, torque, 15 * np.cos(t) + 3, 0.5, 1.0)
+    motors, conv = default_catalog("motors"), converters_for(duty, default_catalog("gearboxes"))
+    rng = np.random.default_rng(5)
+    m, c = rng.integers(0, len(motors), 12), rng.integers(0, len(conv), 12)
+    block = PairChecks(duty, motors, conv).winding(m, c)
+    th, runaways = ThermalData.of(motors), 0
+    for k in range(len(m)):
+        i, g = m[k], c[k]
+        u, eta = conv.ratio[g], conv.efficiency[g]
+        load = np.where(torque * speed >= 0, torque / eta, torque * eta) / u
+        current = ((motors["rotor_inertia"].iloc[i] + conv.inertia[g]) * u * acceleration + load) / th.kt[i]
+        r25, alpha = th.resistance[i], th.alpha[i]
+        alone = periodic_rise(t, current[None] ** 2, th.loss_torque[i] * np.abs(u * speed)[None], th.r_wh[i],
+                              th.r_ha[i], th.tau_w[i], th.tau_h[i], r25, alpha, DEFAULT_AMBIENT)
+        if np.isnan(alone).all():  # a runaway: the rise at the resistance held at R(T_max)
+            runaways += 1
+            alone = periodic_rise(t, current[None] ** 2, th.loss_torque[i] * np.abs(u * speed)[None], th.r_wh[i],
+                                  th.r_ha[i], th.tau_w[i], th.tau_h[i], r25 * (1 + alpha * (th.limit[i] - ZERO - 25)),
+                                  0.0, DEFAULT_AMBIENT)
+        assert block[k] == pytest.approx(alone[0, :, 0].max(), rel=1e-12)
+        assert PairChecks(duty, motors, conv).winding([i], [g])[0] == pytest.approx(block[k], rel=1e-12)
+    assert 0 < runaways < len(m)  # both kinds in the block
 
 
 def test_a_cold_start_settles_on_the_periodic_state():

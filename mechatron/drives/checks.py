@@ -76,10 +76,9 @@ from .thermal import (
     AMBIENT_RANGE,
     BATCH_ELEMENTS,
     DEFAULT_AMBIENT,
-    REFERENCE,
     ZERO_CELSIUS,
     ThermalData,
-    periodic_rise,
+    highest_rise,
 )
 
 #: The checks of a motor and a gearbox (each applies to a motor with a gearbox).
@@ -535,40 +534,34 @@ class PairChecks:
 
     def winding(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """The winding's highest rise above the ambient (K) of the pairs (m[i], c[i]) over the task repeated to its
-        periodic steady state (:func:`~mechatron.drives.thermal.periodic_rise`, every sample of the task), simulated
-        once per pair (then kept); 0 for a motor without the thermal data. Where the losses run away (no steady
-        state) the rise with the resistance held at its value at the limit temperature: finite, above the allowed
-        rise (the winding cannot stay below its limit, else that resistance would bound its losses) and above the
-        mean-rise bound, so that a margin says how far the pair is from passing."""
+        periodic steady state (:func:`~mechatron.drives.thermal.highest_rise`, every sample of the task): the pairs
+        not simulated yet all at once, one simulation vectorised over them (in batches of
+        :data:`~mechatron.drives.thermal.BATCH_ELEMENTS` pairs × samples), then kept; 0 for a motor without the
+        thermal data. Where the losses run away (no steady state) the rise with the resistance held at its value at
+        the limit temperature: finite, above the allowed rise (the winding cannot stay below its limit, else that
+        resistance would bound its losses) and above the mean-rise bound, so that a margin says how far the pair is
+        from passing."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
-        out = np.zeros(len(m))
-        todo = [i for i in range(len(m)) if self.heated[m[i]] and (int(m[i]), int(c[i])) not in self._rises]
+        pairs = list(zip(m.tolist(), c.tolist()))
+        heated = self.heated[m].tolist()
+        todo = [i for i, pair in enumerate(pairs) if heated[i] and pair not in self._rises]
         if todo:
-            duty, th = self._duty, self.thermal
-            todo_m, todo_c = m[todo], c[todo]
-            batch = max(1, BATCH_ELEMENTS // len(duty.t))
-            for start in range(0, len(todo), batch):
-                mb, cb = todo_m[start:start + batch], todo_c[start:start + batch]
-                used, where = np.unique(cb, return_inverse=True)
-                n, accel, base = motor_side(duty, self._u[used], self._eta[used], self._Jc[used])
-                current = (self.rotor[mb, None] * accel[where] + base[where]) / th.kt[mb, None]
-                loss = th.loss_torque[mb, None] * np.abs(n[where])
-                rise = periodic_rise(duty.t, current * current, loss, *(x[mb, None] for x in (
-                    th.r_wh, th.r_ha, th.tau_w, th.tau_h, th.resistance, th.alpha)), self.ambient)[..., 0]
-                top = rise.max(axis=1, initial=0.0)
-                runaway = np.flatnonzero(np.isnan(top))
-                if len(runaway):  # no steady state: the rise at the resistance held at its limit's (finite, failing)
-                    mr = mb[runaway]
-                    held = th.resistance[mr] * (1 + th.alpha[mr] * (th.limit[mr] - REFERENCE))
-                    top[runaway] = periodic_rise(
-                        duty.t, (current * current)[runaway], loss[runaway], *(x[mr, None] for x in (
-                            th.r_wh, th.r_ha, th.tau_w, th.tau_h)), held[:, None], 0.0, self.ambient)[..., 0].max(
-                        axis=1)
-                self._rises.update(zip(zip(mb.tolist(), cb.tolist()), top.tolist()))
-        for i in range(len(m)):
-            if self.heated[m[i]]:
-                out[i] = self._rises[int(m[i]), int(c[i])]
-        return out
+            self._simulate(m[todo], c[todo])
+        return np.array([self._rises[pair] if hot else 0.0 for pair, hot in zip(pairs, heated)])
+
+    def _simulate(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> None:
+        """The winding's highest rise of the pairs (m[i], c[i]) (motors with the thermal data), into the kept ones."""
+        duty, th = self._duty, self.thermal
+        batch = max(1, BATCH_ELEMENTS // len(duty.t))
+        for start in range(0, len(m), batch):
+            mb, cb = m[start:start + batch], c[start:start + batch]
+            used, where = np.unique(cb, return_inverse=True)
+            n, accel, base = motor_side(duty, self._u[used], self._eta[used], self._Jc[used])
+            current = (self.rotor[mb, None] * accel[where] + base[where]) / th.kt[mb, None]
+            loss = th.loss_torque[mb, None] * np.abs(n[where])
+            top = highest_rise(duty.t, current * current, loss, *(x[mb, None] for x in (
+                th.r_wh, th.r_ha, th.tau_w, th.tau_h, th.resistance, th.alpha)), self.ambient, th.limit[mb, None])
+            self._rises.update(zip(zip(mb.tolist(), cb.tolist()), top.tolist()))
 
 
 def _passes(value: ArrayLike, limit: ArrayLike) -> NDArray[np.bool_]:

@@ -198,16 +198,22 @@ def periodic_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.f
     maps = np.broadcast_arrays(*maps)
     n = maps[0].shape[-1]
     size = 1 << max(0, (n - 1).bit_length())
-    batch = maps[0].shape[:-1]
     if size > n:  # pad with identity maps
-        pad = np.zeros(batch + (size - n,))
-        maps = [np.concatenate([x, pad + (1.0 if k in (0, 3) else 0.0)], axis=-1) for k, x in enumerate(maps)]
+        padded = []
+        for k, x in enumerate(maps):
+            full = np.empty(x.shape[:-1] + (size,))
+            full[..., :n] = x
+            full[..., n:] = 1.0 if k in (0, 3) else 0.0
+            padded.append(full)
+        maps = padded
     with np.errstate(over="ignore", invalid="ignore"):  # a runaway: inf and NaN, then NaN states
-        return _periodic_states(maps, n, batch)
+        w, c = _descend(_tree(maps))
+    return w[..., :n], c[..., :n]
 
 
-def _periodic_states(maps: list[NDArray[np.float64]], n: int, batch: tuple[int, ...]
-                     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _tree(maps: list[NDArray[np.float64]]) -> list[list[NDArray[np.float64]]]:
+    """The levels of the pairwise composition of the interval maps (six arrays (..., S), S a power of two): level 0
+    the maps, each next one B ∘ A of every pair (A the first, B the second map), down to the whole cycle's."""
     levels = [maps]
     while maps[0].shape[-1] > 1:
         a11, a12, a21, a22, a1, a2 = (x[..., 0::2] for x in maps)  # the first map of each pair
@@ -215,7 +221,15 @@ def _periodic_states(maps: list[NDArray[np.float64]], n: int, batch: tuple[int, 
         maps = [b11 * a11 + b12 * a21, b11 * a12 + b12 * a22, b21 * a11 + b22 * a21, b21 * a12 + b22 * a22,
                 b11 * a1 + b12 * a2 + b1, b21 * a1 + b22 * a2 + b2]
         levels.append(maps)
-    m11, m12, m21, m22, g1, g2 = (x[..., 0] for x in maps)
+    return levels
+
+
+def _descend(levels: list[list[NDArray[np.float64]]]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The periodic steady state (θ_w, θ_h), each (..., S), at the start of every interval of level 0 of
+    ``levels`` (:func:`_tree`): the fixed point of the cycle's map at the top, then down the levels, each pair's
+    second interval starting where its first map takes the pair's start. NaN (a whole row) where the cycle's map
+    has an eigenvalue of modulus ≥ 1."""
+    m11, m12, m21, m22, g1, g2 = (x[..., 0] for x in levels[-1])
     i11, i22 = 1.0 - m11, 1.0 - m22
     det = i11 * i22 - m12 * m21
     with np.errstate(divide="ignore"):
@@ -227,12 +241,14 @@ def _periodic_states(maps: list[NDArray[np.float64]], n: int, batch: tuple[int, 
         radius = np.where(disc >= 0, np.abs(tr) / 2 + np.sqrt(np.maximum(disc, 0.0)), np.sqrt(np.abs(dm)))
     runaway = ~(radius < 1.0) | ~np.isfinite(w) | ~np.isfinite(c)
     w, c = np.where(runaway, np.nan, w)[..., None], np.where(runaway, np.nan, c)[..., None]
-    for a11, a12, a21, a22, a1, a2 in ((x[..., 0::2] for x in level) for level in reversed(levels[:-1])):
-        right_w = a11 * w + a12 * c + a1
-        right_c = a21 * w + a22 * c + a2
-        w = np.stack([w, right_w], axis=-1).reshape(batch + (-1,))
-        c = np.stack([c, right_c], axis=-1).reshape(batch + (-1,))
-    return w[..., :n], c[..., :n]
+    for level in reversed(levels[:-1]):
+        a11, a12, a21, a22, a1, a2 = (x[..., 0::2] for x in level)
+        inner_w, inner_c = np.empty(level[0].shape), np.empty(level[0].shape)
+        inner_w[..., 0::2], inner_c[..., 0::2] = w, c
+        inner_w[..., 1::2] = a11 * w + a12 * c + a1
+        inner_c[..., 1::2] = a21 * w + a22 * c + a2
+        w, c = inner_w, inner_c
+    return w, c
 
 
 def periodic_rise(t: ArrayLike, current_sq: ArrayLike, speed_loss: ArrayLike, r_wh: ArrayLike, r_ha: ArrayLike,
@@ -243,18 +259,48 @@ def periodic_rise(t: ArrayLike, current_sq: ArrayLike, speed_loss: ArrayLike, r_
     ``speed_loss`` (W) at the samples (..., N), the network of each row (..., 1): thermal resistances (K/W), time
     constants (s), R₂₅ (Ω) and α (1/K); ``ambient`` T_a (K). The loss is constant over each interval, the mean of
     its ends. NaN (a whole row) where the losses run away (no steady state)."""
-    t = np.asarray(t, dtype=float)
-    i2, loss = np.broadcast_arrays(np.asarray(current_sq, dtype=float), np.asarray(speed_loss, dtype=float))
-    samples = len(t)
-    if samples < 2:  # one sample: a constant load, its steady state
-        i2, loss, t = np.concatenate([i2, i2], axis=-1), np.concatenate([loss, loss], axis=-1), np.array([0.0, 1.0])
-    resistance, alpha = np.asarray(resistance, dtype=float), np.asarray(alpha, dtype=float)
-    w, c = periodic_states(interval_maps(
-        np.diff(t), 0.5 * (i2[..., 1:] + i2[..., :-1]), 0.5 * (loss[..., 1:] + loss[..., :-1]), r_wh, r_ha, tau_w,
-        tau_h, resistance * (1 + alpha * (ambient - REFERENCE)), resistance * alpha))
+    samples = len(np.asarray(t))
+    w, c = _interval_starts(t, current_sq, speed_loss, r_wh, r_ha, tau_w, tau_h, resistance, alpha, ambient)
     # the states at the start of every interval; the last sample's is the first's
     return np.stack([np.concatenate([w, w[..., :1]], axis=-1), np.concatenate([c, c[..., :1]], axis=-1)],
                     axis=-1)[..., :samples, :]
+
+
+def _interval_starts(t: ArrayLike, current_sq: ArrayLike, speed_loss: ArrayLike, r_wh: ArrayLike, r_ha: ArrayLike,
+                     tau_w: ArrayLike, tau_h: ArrayLike, resistance: ArrayLike, alpha: ArrayLike, ambient: float
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(θ_w, θ_h) (K), each (..., max(N − 1, 1)), at the start of every interval of :func:`periodic_rise` (its
+    arguments): the rises at the samples but the last, whose is the first's."""
+    t = np.asarray(t, dtype=float)
+    i2, loss = np.broadcast_arrays(np.asarray(current_sq, dtype=float), np.asarray(speed_loss, dtype=float))
+    if len(t) < 2:  # one sample: a constant load, its steady state
+        i2, loss, t = np.concatenate([i2, i2], axis=-1), np.concatenate([loss, loss], axis=-1), np.array([0.0, 1.0])
+    resistance, alpha = np.asarray(resistance, dtype=float), np.asarray(alpha, dtype=float)
+    return periodic_states(interval_maps(
+        np.diff(t), 0.5 * (i2[..., 1:] + i2[..., :-1]), 0.5 * (loss[..., 1:] + loss[..., :-1]), r_wh, r_ha, tau_w,
+        tau_h, resistance * (1 + alpha * (ambient - REFERENCE)), resistance * alpha))
+
+
+def highest_rise(t: ArrayLike, current_sq: ArrayLike, speed_loss: ArrayLike, r_wh: ArrayLike, r_ha: ArrayLike,
+                 tau_w: ArrayLike, tau_h: ArrayLike, resistance: ArrayLike, alpha: ArrayLike, ambient: float,
+                 limit: ArrayLike) -> NDArray[np.float64]:
+    """The winding's highest rise above the ambient (K) over the periodic steady state, max_k θ_w(t_k) (at least
+    0), of every row of a batch — one simulation for all of them, vectorised over the rows: the arguments of
+    :func:`periodic_rise` (rows (..., N), networks (..., 1)) and each row's winding limit temperature ``limit``
+    T_max (K, (..., 1)). Where the losses run away (no steady state) the highest rise with the resistance held at
+    R(T_max) = R₂₅ (1 + α (T_max − 25 °C)) instead: finite, and above the allowed rise T_max − T_a (the check's
+    value of a winding that cannot stay below its limit; the module docstring)."""
+    w, _ = _interval_starts(t, current_sq, speed_loss, r_wh, r_ha, tau_w, tau_h, resistance, alpha, ambient)
+    top = np.max(w, axis=-1, initial=0.0)
+    runaway = np.isnan(top)
+    if runaway.any():
+        i2, loss = np.broadcast_arrays(np.asarray(current_sq, dtype=float), np.asarray(speed_loss, dtype=float))
+        network = [np.broadcast_to(np.asarray(x, dtype=float), top.shape + (1,))[runaway]
+                   for x in (r_wh, r_ha, tau_w, tau_h, resistance, alpha, limit)]
+        held = network[4] * (1 + network[5] * (network[6] - REFERENCE))
+        w, _ = _interval_starts(t, i2[runaway], loss[runaway], *network[:4], held, 0.0, ambient)
+        top[runaway] = np.max(w, axis=-1, initial=0.0)
+    return top
 
 
 def winding_temperature(t: ArrayLike, torque: ArrayLike, speed: ArrayLike, thermal: ThermalData, motor: int,
