@@ -41,12 +41,19 @@ def cpu_medians(functions: dict[str, Callable[[], object]], repeats: int) -> dic
     """The median CPU time (s, ``time.process_time``: this process's own work, not the machine's other load) of
     each ``functions[key]()`` over ``repeats`` rounds; within every round the candidates take turns (interleaved),
     so a change of the machine's state hits them alike."""
+    return cpu_medians_and_results(functions, repeats)[0]
+
+
+def cpu_medians_and_results(functions: dict[str, Callable[[], object]], repeats: int
+                            ) -> tuple[dict[str, float], dict[str, object]]:
+    """:func:`cpu_medians` and the last result of each function."""
     import statistics
 
     times: dict[str, list[float]] = {key: [] for key in functions}
+    results: dict[str, object] = {}
     for _ in range(repeats):
         for key, function in functions.items():
             start = time.process_time()
-            function()
+            results[key] = function()
             times[key].append(time.process_time() - start)
-    return {key: statistics.median(values) for key, values in times.items()}
+    return {key: statistics.median(values) for key, values in times.items()}, results
