@@ -198,38 +198,35 @@ def periodic_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.f
     maps = np.broadcast_arrays(*maps)
     n = maps[0].shape[-1]
     size = 1 << max(0, (n - 1).bit_length())
-    if size > n:  # pad with identity maps
-        padded = []
-        for k, x in enumerate(maps):
-            full = np.empty(x.shape[:-1] + (size,))
-            full[..., :n] = x
-            full[..., n:] = 1.0 if k in (0, 3) else 0.0
-            padded.append(full)
-        maps = padded
+    packed = np.zeros((2, 3, *maps[0].shape[:-1], size))  # [[E₁₁, E₁₂, g₁], [E₂₁, E₂₂, g₂]]
+    for (row, column), x in zip(((0, 0), (0, 1), (1, 0), (1, 1), (0, 2), (1, 2)), maps):
+        packed[row, column, ..., :n] = x
+    packed[0, 0, ..., n:] = packed[1, 1, ..., n:] = 1.0  # identities after the last interval
     with np.errstate(over="ignore", invalid="ignore"):  # a runaway: inf and NaN, then NaN states
-        w, c = _descend(_tree(maps))
+        w, c = _descend(_tree(packed))
     return w[..., :n], c[..., :n]
 
 
-def _tree(maps: list[NDArray[np.float64]]) -> list[list[NDArray[np.float64]]]:
-    """The levels of the pairwise composition of the interval maps (six arrays (..., S), S a power of two): level 0
-    the maps, each next one B ∘ A of every pair (A the first, B the second map), down to the whole cycle's."""
+def _tree(maps: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+    """The levels of the pairwise composition of the interval maps, each level one array (2, 3, ..., S) of affine
+    maps [[E₁₁, E₁₂, g₁], [E₂₁, E₂₂, g₂]] (S a power of two): level 0 the maps, each next one B ∘ A of every pair
+    (A the first, B the second map: C₍ᵢⱼ₎ = B₍ᵢ₁₎ A₍₁ⱼ₎ + B₍ᵢ₂₎ A₍₂ⱼ₎, g_C += g_B), down to the whole cycle's; a
+    few array operations a level, on every row of the batch at once."""
     levels = [maps]
-    while maps[0].shape[-1] > 1:
-        a11, a12, a21, a22, a1, a2 = (x[..., 0::2] for x in maps)  # the first map of each pair
-        b11, b12, b21, b22, b1, b2 = (x[..., 1::2] for x in maps)  # then the second
-        maps = [b11 * a11 + b12 * a21, b11 * a12 + b12 * a22, b21 * a11 + b22 * a21, b21 * a12 + b22 * a22,
-                b11 * a1 + b12 * a2 + b1, b21 * a1 + b22 * a2 + b2]
+    while maps.shape[-1] > 1:
+        a, b = maps[..., 0::2], maps[..., 1::2]  # the first map of each pair, then the second
+        maps = b[:, 0:1] * a[0] + b[:, 1:2] * a[1]
+        maps[:, 2] += b[:, 2]
         levels.append(maps)
     return levels
 
 
-def _descend(levels: list[list[NDArray[np.float64]]]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _descend(levels: list[NDArray[np.float64]]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The periodic steady state (θ_w, θ_h), each (..., S), at the start of every interval of level 0 of
     ``levels`` (:func:`_tree`): the fixed point of the cycle's map at the top, then down the levels, each pair's
-    second interval starting where its first map takes the pair's start. NaN (a whole row) where the cycle's map
-    has an eigenvalue of modulus ≥ 1."""
-    m11, m12, m21, m22, g1, g2 = (x[..., 0] for x in levels[-1])
+    second interval starting where its first map takes the pair's start (E θ + g). NaN (a whole row) where the
+    cycle's map has an eigenvalue of modulus ≥ 1."""
+    (m11, m12, g1), (m21, m22, g2) = levels[-1][..., 0]
     i11, i22 = 1.0 - m11, 1.0 - m22
     det = i11 * i22 - m12 * m21
     with np.errstate(divide="ignore"):
@@ -240,15 +237,14 @@ def _descend(levels: list[list[NDArray[np.float64]]]) -> tuple[NDArray[np.float6
         disc = tr * tr / 4 - dm
         radius = np.where(disc >= 0, np.abs(tr) / 2 + np.sqrt(np.maximum(disc, 0.0)), np.sqrt(np.abs(dm)))
     runaway = ~(radius < 1.0) | ~np.isfinite(w) | ~np.isfinite(c)
-    w, c = np.where(runaway, np.nan, w)[..., None], np.where(runaway, np.nan, c)[..., None]
+    state = np.stack([np.where(runaway, np.nan, w), np.where(runaway, np.nan, c)])[..., None]
     for level in reversed(levels[:-1]):
-        a11, a12, a21, a22, a1, a2 = (x[..., 0::2] for x in level)
-        inner_w, inner_c = np.empty(level[0].shape), np.empty(level[0].shape)
-        inner_w[..., 0::2], inner_c[..., 0::2] = w, c
-        inner_w[..., 1::2] = a11 * w + a12 * c + a1
-        inner_c[..., 1::2] = a21 * w + a22 * c + a2
-        w, c = inner_w, inner_c
-    return w, c
+        first = level[..., 0::2]
+        inner = np.empty((2, *level.shape[2:]))
+        inner[..., 0::2] = state
+        inner[..., 1::2] = first[:, 0] * state[0] + first[:, 1] * state[1] + first[:, 2]
+        state = inner
+    return state[0], state[1]
 
 
 def periodic_rise(t: ArrayLike, current_sq: ArrayLike, speed_loss: ArrayLike, r_wh: ArrayLike, r_ha: ArrayLike,
