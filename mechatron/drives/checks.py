@@ -322,6 +322,8 @@ class PairChecks:
         self.heated = self.thermal.given  # the motors checked by the thermal model
         self.allowed_rise = np.where(self.heated, self.thermal.allowed_rise(self.ambient), math.inf)
         self._rises: dict[tuple[int, int], float] = {}  # the exact rise of the pairs simulated
+        # the exact (values, limits) of the pairs found to pass every check (:meth:`passes_exactly`)
+        self._passing: dict[tuple[int, int], tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
 
         # thermal: ⟨T_m²⟩ = J_m² ⟨a²⟩ + 2 J_m ⟨a b⟩ + ⟨b²⟩ and the mean and top motor speeds of each converter:
         # exact (sums over the samples) for the converters asked for (:meth:`_means`); in closed form from moments
@@ -404,12 +406,16 @@ class PairChecks:
         if len(sharp):
             values[sharp, _WINDING] = self.winding(m[sharp], c[sharp])
             ok[sharp] = _load_factor(values[sharp], lim[sharp]).max(axis=1) <= 1 + PASS_TOLERANCE
+        for i in np.flatnonzero(ok).tolist():  # kept: the chosen pair's checks are these
+            self._passing[int(m[i]), int(c[i])] = values[i], lim[i]
         return ok
 
     def checks(self, m: int, c: int) -> list[Check]:
-        """The checks of one pair that apply (finite limit), exact."""
-        values, lim = self.table([m], [c])
-        return _check_list(values[0], lim[0], self.conv.emergency_stops[c])
+        """The checks of one pair that apply (finite limit), exact (those :meth:`passes_exactly` found, where it
+        did: the same numbers)."""
+        row = self._passing.get((int(m), int(c)))
+        values, lim = row if row is not None else (x[0] for x in self.table([m], [c]))
+        return _check_list(values, lim, self.conv.emergency_stops[c])
 
     def screen(self, m: NDArray[np.intp], c: NDArray[np.intp]) -> NDArray[np.bool_]:
         """Whether the pairs (m, c) — index arrays that broadcast, e.g. a column of motors and a row of converters
