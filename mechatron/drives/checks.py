@@ -124,11 +124,11 @@ class Check:
 
     @property
     def margin(self) -> float:
-        return 1.0 - _load_factor(self.value, self.limit)
+        return 1.0 - _factor(self.value, self.limit)
 
     @property
     def passed(self) -> bool:
-        return _load_factor(self.value, self.limit) <= 1 + PASS_TOLERANCE
+        return _factor(self.value, self.limit) <= 1 + PASS_TOLERANCE
 
     def as_dict(self) -> dict:
         """name, value, limit, unit, margin, pass, and count where the limit has one."""
@@ -257,6 +257,13 @@ def _load_factor(value: ArrayLike, limit: ArrayLike) -> NDArray[np.float64] | fl
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.where(value <= 0, 0.0, np.where(limit > 0, value / limit, np.inf))
     return out if out.ndim else float(out)
+
+
+def _factor(value: float, limit: float) -> float:
+    """:func:`_load_factor` of one value and limit (numbers): value / limit, 0/0 = 0, x/0 = inf, x/inf = 0."""
+    if value <= 0:
+        return 0.0
+    return value / limit if limit > 0 else math.inf
 
 
 def motor_side(duty: JointDuty, u: ArrayLike, eta: ArrayLike, inertia: ArrayLike,

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -75,6 +76,8 @@ class AxisPower:
         t: the sample times (s).
         speed, torque: motor speed n (rad/s) and torque T_m (N·m).
         torque_constant, resistance: k_t (N·m/A) and R (Ω), NaN where the catalog does not give them.
+
+    Its current, copper loss and power are computed when first read, then kept.
     """
 
     axis: str
@@ -85,19 +88,19 @@ class AxisPower:
     torque_constant: float = math.nan
     resistance: float = math.nan
 
-    @property
+    @cached_property
     def current(self) -> NDArray[np.float64]:
         """I = T_m / k_t (A); NaN without a torque constant."""
         return self.torque / self.torque_constant
 
-    @property
+    @cached_property
     def copper_loss(self) -> NDArray[np.float64]:
         """R I² (W); 0 without a torque constant and resistance."""
         if not (math.isfinite(self.torque_constant) and math.isfinite(self.resistance)):
             return np.zeros_like(self.torque)
         return self.resistance * self.current**2
 
-    @property
+    @cached_property
     def power(self) -> NDArray[np.float64]:
         """P = T_m n + R I² (W), > 0 drawn from the supply, < 0 given back."""
         return self.torque * self.speed + self.copper_loss
@@ -133,7 +136,7 @@ class ElectricalBalance(Result):
     axes: list[AxisPower]
     t: NDArray[np.float64] = field(repr=False)
 
-    @property
+    @cached_property
     def bus_power(self) -> NDArray[np.float64]:
         """P_bus = Σ P_i (W)."""
         return np.sum([a.power for a in self.axes], axis=0)
@@ -200,10 +203,9 @@ class ElectricalBalance(Result):
 def axis_power(sizing: DriveSizing) -> AxisPower:
     """The :class:`AxisPower` of a motor-driven joint's sizing (its chosen motor and converter)."""
     n, torque = sizing.operating_points()
-    motor = sizing.motor_data
 
     def number(name: str) -> float:
-        value = motor.get(name)
+        value = sizing.motor_number(name)
         return math.nan if value is None else float(value)
 
     return AxisPower(sizing.joint, sizing.motor, np.asarray(sizing.duty.t, dtype=float), n, torque,

@@ -48,7 +48,7 @@ from .checks import (
 from .converters import Converters, converters_for
 from .duty import JointDuty
 from .motor import continuous_torque, peak_torque_limit
-from .report import REPORTED, RPM, DriveSizing
+from .report import REPORTED, RPM, Deferred, DriveSizing, Later
 from .search import _growing, _motor_blocks, fastest_scale, feasible_pairs, first_in_order, motor_passes, smallest_worst
 from .thermal import DEFAULT_AMBIENT, ZERO_CELSIUS, ThermalData, duty_text, duty_type, winding_temperature
 
@@ -95,12 +95,15 @@ class JointSizing(DriveSizing):
         closest: the pairs with the smallest worst load factor and the checks they fail (empty when a pair is
             feasible).
         duty: the joint's duty (:class:`~mechatron.drives.duty.JointDuty`), replayed at ``time_scale``.
-        motor_data, converter_data: the chosen pair's catalog data (SI).
+        motor_data, converter_data: the chosen pair's catalog data (SI; the motor's catalog row made when first
+            read).
         time_scale: the task's moves were replayed this many times slower (``time`` objective; < 1: faster), its
             dwells as they are.
         alternatives: the ranking and the rivals (:class:`Alternatives`), found when first asked for.
         ambient: the ambient temperature of the thermal check (K; :attr:`DriveLimits.ambient
             <mechatron.drives.checks.DriveLimits.ambient>`).
+        motor_figures: the numbers of the motor's catalog row the totals read (:meth:`motor_number`), known
+            without the row.
 
     Properties :attr:`ranking` and :attr:`rivals`: the best feasible pairs and the pairs that come before the chosen
     one by the objective but fail a check (:class:`Alternatives`).
@@ -115,13 +118,14 @@ class JointSizing(DriveSizing):
     converter_kind: str
     ratio: float
     checks: list[Check]
-    closest: pd.DataFrame
+    closest: pd.DataFrame = Deferred()
     duty: JointDuty
-    motor_data: dict = field(default_factory=dict)
+    motor_data: dict = Deferred(Later(dict))
     converter_data: dict = field(default_factory=dict)
     time_scale: float = 1.0
     alternatives: Alternatives | None = field(default=None, repr=False)
     ambient: float = DEFAULT_AMBIENT
+    motor_figures: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def ranking(self) -> pd.DataFrame:
@@ -142,15 +146,21 @@ class JointSizing(DriveSizing):
         with the chosen pair (:func:`~mechatron.drives.checks.motor_side`)."""
         c = self.converter_data
         n, accel, base = motor_side(self.duty, c["ratio"], c["efficiency"], c["inertia"])
-        return n, self.motor_data["rotor_inertia"] * accel + base
+        return n, self.motor_number("rotor_inertia") * accel + base
+
+    def motor_number(self, name: str) -> float | None:
+        """The motor's catalog number ``name`` (SI; ``None`` or NaN where the catalog lacks it): from
+        :attr:`motor_figures` where known there, else from its catalog row :attr:`motor_data`."""
+        figures = self.motor_figures
+        return figures[name] if name in figures else self.motor_data.get(name)
 
     def drive_mass(self) -> float:
         """Motor + converter mass (kg) from the catalogs (a missing mass counts 0)."""
-        return _known(self.motor_data.get("mass")) + _known(self.converter_data.get("mass"))
+        return _known(self.motor_number("mass")) + _known(self.converter_data.get("mass"))
 
     def drive_price(self) -> float:
         """Motor + converter price (the catalogs' currency; a missing price counts 0)."""
-        return _known(self.motor_data.get("price")) + _known(self.converter_data.get("price"))
+        return _known(self.motor_number("price")) + _known(self.converter_data.get("price"))
 
     def shaft_power(self) -> NDArray[np.float64]:
         """The motor's shaft power T_m n (W) at every sample: > 0 motoring, < 0 braking."""
@@ -378,16 +388,24 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         first = first_m, first_c
         alternatives.before = tuple(before) if len(first_m) else None
     feasible = bool(len(first[0]))
-    closest = pd.DataFrame() if feasible else _closest(checks, table)
+    closest = Later(pd.DataFrame) if feasible else _closest(checks, table)  # empty, made if asked for
     if feasible:
         m, c = int(first[0][0]), int(first[1][0])
     else:
         m = int(np.flatnonzero(arrays.key == closest["motor"].iloc[0])[0])
         c = int(np.flatnonzero(conv.key == closest["converter"].iloc[0])[0])
+    figures = {"rotor_inertia": arrays.rotor[m], "mass": arrays.mass[m], "price": arrays.price[m],
+               "torque_constant": arrays.kt[m], "resistance": arrays.resistance[m]}
     return JointSizing(duty.name, duty.kind, objective, feasible, str(arrays.key[m]), str(conv.key[c]),
                        str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c), closest, duty,
-                       motors.iloc[m].to_dict(), {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__},
-                       scale, alternatives, (limits or DriveLimits()).ambient)
+                       Later(_catalog_row, motors, m),
+                       {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale, alternatives,
+                       (limits or DriveLimits()).ambient, {k: float(v) for k, v in figures.items()})
+
+
+def _catalog_row(catalog: pd.DataFrame, row: int) -> dict:
+    """Row ``row`` of a catalog as a dict (column → value)."""
+    return catalog.iloc[row].to_dict()
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,9 @@ from __future__ import annotations
 
 import math
 from abc import abstractmethod
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from dataclasses import MISSING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,6 +42,42 @@ RUNNERS_UP = 2
 #: The columns of a chart's data (:meth:`DriveSizing.chart_frame`) by the kind of coordinate: speed, force.
 CHART_COLUMNS = {"revolute": ("speed_rad_s", "torque_Nm"), "prismatic": ("speed_m_s", "force_N"),
                  "cylinder": ("speed_m_s", "force_N")}
+
+
+class Later:
+    """A value made when first read: ``function(*args)`` (a module-level function and picklable arguments, so that
+    a result holding it pickles)."""
+
+    def __init__(self, function: Callable[..., Any], *args: Any):
+        self.function, self.args = function, args
+
+    def __call__(self) -> Any:
+        return self.function(*self.args)
+
+
+class Deferred:
+    """A dataclass field that may be given a :class:`Later`: its value is made when the field is first read, then
+    kept, so that a result builds the tables (DataFrames, catalog rows) no caller asks for never. Without
+    ``default`` the field is a required one."""
+
+    def __init__(self, default: Any = MISSING):
+        self.default = default
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, obj: Any, owner: type | None = None) -> Any:
+        if obj is None:  # the dataclass asks for the default
+            if self.default is MISSING:
+                raise AttributeError(self.name)
+            return self.default
+        value = obj.__dict__[self.name]
+        if isinstance(value, Later):
+            value = obj.__dict__[self.name] = value()
+        return value
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        obj.__dict__[self.name] = value
 
 
 def shown(check: Check) -> tuple[str, str, str]:
