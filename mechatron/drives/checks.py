@@ -70,7 +70,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from .converters import Converters
 from .duty import JointDuty
-from .motor import continuous_torque, electrical_data, peak_torque_limit
+from .motor import catalog_column, continuous_torque, electrical_data, peak_torque_limit
 from .screws import SCREW_CHECKS, SCREW_LIFE, SCREW_UNITS, screw_checks
 from .thermal import (
     AMBIENT_RANGE,
@@ -216,13 +216,10 @@ class MotorArrays:
         if isinstance(motors, MotorArrays):
             return motors
 
-        def known(name: str) -> NDArray[np.float64]:
-            return motors[name].to_numpy(dtype=float, na_value=0.0) if name in motors else np.zeros(len(motors))
-
         kt, resistance, voltage = electrical_data(motors)
         return cls(motors["key"].to_numpy(dtype=str), *(motors[name].to_numpy(dtype=float) for name in (
             "rotor_inertia", "rated_torque", "peak_torque", "rated_speed", "max_speed")), kt, resistance, voltage,
-            known("mass"), known("price"), ThermalData.of(motors))
+            catalog_column(motors, "mass", 0.0), catalog_column(motors, "price", 0.0), ThermalData.of(motors))
 
     def __len__(self) -> int:
         return len(self.key)
@@ -285,6 +282,11 @@ def motor_side(duty: JointDuty, u: ArrayLike, eta: ArrayLike, inertia: ArrayLike
 #: Elements of the largest (converters × samples) array of an evaluation (8 bytes each): the per-sample work goes
 #: a block of samples (or of pairs) at a time, so that its memory does not grow with the length of the task.
 SAMPLE_BLOCK = 1 << 22
+
+
+#: Elements (converters × samples) of the motor-side arrays over every sample kept per joint
+#: (:meth:`PairChecks._full_side`): those of the few candidate converters checked exactly.
+KEPT_SIDES = 1 << 14
 
 
 def _blocks(samples: int, converters: int) -> list[slice]:
@@ -359,6 +361,7 @@ class PairChecks:
         self._strong = motor_side(duty, u, eta, Jc, duty.strong_samples(2))
         self._keep: NDArray[np.intp] | None = None  # the envelope's samples, when many pairs are checked
         self._checked = 0  # pairs checked sample by sample so far
+        self._sides: dict[int, tuple[NDArray[np.float64], ...]] = {}  # kept by :meth:`_full_side`
 
     def table(self, m: ArrayLike, c: ArrayLike, level: int = 2, thermal: bool = True
               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -461,8 +464,9 @@ class PairChecks:
             return self._exact
         u, eta, Jc, weights = self._u[todo], self._eta[todo], self._Jc[todo], self._weights
         m_aa, m_ab, m_bb, mean_speed, top_speed = (np.zeros(len(todo)) for _ in range(5))
-        for block in _blocks(len(weights), len(todo)):
-            n, accel, base = motor_side(self._duty, u, eta, Jc, block)  # (converters, samples of the block)
+        blocks = _blocks(len(weights), len(todo))
+        for block in blocks:  # (converters, samples of the block)
+            n, accel, base = self._full_side(todo) if len(blocks) == 1 else motor_side(self._duty, u, eta, Jc, block)
             w = weights[block]
             m_aa += (accel**2) @ w
             m_ab += (accel * base) @ w
@@ -540,10 +544,27 @@ class PairChecks:
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
             used = np.unique(cb)  # the converters of the batch, at the samples that can decide
-            side = motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], samples)
+            side = self._full_side(used) if self._keep is None else \
+                motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], samples)
             out[start:start + batch] = np.column_stack(self._per_sample(mb, np.searchsorted(used, cb), *side))
         return out
 
+
+    def _full_side(self, used: NDArray[np.intp]) -> tuple[NDArray[np.float64], ...]:
+        """(n, a, b) of :func:`motor_side` over every sample for the converters ``used`` (sorted, distinct), each
+        (len(used), samples); those of the first converters asked for kept (at most :data:`KEPT_SIDES` elements
+        each), so that the exact means, the per-sample checks and the winding of a candidate take one pass."""
+        kept = self._sides
+        missing = [k for k in used.tolist() if k not in kept]
+        if missing:
+            index = np.array(missing)
+            side = motor_side(self._duty, self._u[index], self._eta[index], self._Jc[index])
+            if (len(kept) + len(missing)) * len(self._duty.t) > KEPT_SIDES:
+                return side if len(missing) == len(used) else \
+                    motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used])
+            kept.update((k, tuple(x[i] for x in side)) for i, k in enumerate(missing))
+        rows = [kept[k] for k in used.tolist()]
+        return tuple(np.stack([row[j] for row in rows]) for j in range(3))
 
     def winding(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """The winding's highest rise above the ambient (K) of the pairs (m[i], c[i]) over the task repeated to its
@@ -569,7 +590,7 @@ class PairChecks:
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
             used, where = np.unique(cb, return_inverse=True)
-            n, accel, base = motor_side(duty, self._u[used], self._eta[used], self._Jc[used])
+            n, accel, base = self._full_side(used)
             current = (self.rotor[mb, None] * accel[where] + base[where]) / th.kt[mb, None]
             loss = th.loss_torque[mb, None] * np.abs(n[where])
             top = highest_rise(duty.t, current * current, loss, *(x[mb, None] for x in (

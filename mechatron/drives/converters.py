@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from .duty import JointDuty
+from .motor import catalog_column
 from .shafts import fixing_factors
 
 #: Length of a screw or rack beyond the stroke, for bearings and nut (m): its inertia and mass per length count
@@ -101,23 +102,17 @@ def _direct() -> dict:
 
 def _gearboxes(catalog: pd.DataFrame) -> dict:
     """:func:`_gearbox` of every row of a gearbox catalog at once, as arrays (a missing mass or price counts 0)."""
-    def known(name: str) -> np.ndarray:
-        return catalog[name].to_numpy(dtype=float, na_value=0.0) if name in catalog else np.zeros(len(catalog))
-
     def column(name: str) -> np.ndarray:
         return catalog[name].to_numpy(dtype=float)
-
-    def rating(name: str, default: float) -> np.ndarray:
-        return catalog[name].to_numpy(dtype=float, na_value=default) if name in catalog else \
-            np.full(len(catalog), default)
 
     out = dict(key=catalog["key"].to_numpy(dtype=str), kind=catalog["type"].to_numpy(dtype=str),
                ratio=column("ratio"), efficiency=column("efficiency"), inertia=column("input_inertia"),
                rated_torque=column("rated_torque"), peak_torque=column("peak_torque"),
                emergency_torque=column("emergency_torque"), max_input_speed=column("max_input_speed"),
-               rated_input_speed=column("rated_input_speed"), mass=known("mass"), price=known("price"),
-               cycle_rating=rating("cycle_rating", CYCLE_RATING),
-               emergency_stops=rating("emergency_stops", EMERGENCY_STOPS))
+               rated_input_speed=column("rated_input_speed"), mass=catalog_column(catalog, "mass", 0.0),
+               price=catalog_column(catalog, "price", 0.0),
+               cycle_rating=catalog_column(catalog, "cycle_rating", CYCLE_RATING),
+               emergency_stops=catalog_column(catalog, "emergency_stops", EMERGENCY_STOPS))
     return {**out, **{name: np.full(len(catalog), value) for name, value in _ROTARY.items()}}
 
 

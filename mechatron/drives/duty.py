@@ -94,8 +94,7 @@ class JointDuty:
     def friction_torque(self, speed: NDArray[np.float64]) -> NDArray[np.float64]:
         """The friction torque τ_f = B_q q̇ + C± (N·m or N) at the joint speeds ``speed`` (rad/s or m/s):
         :attr:`friction`, with the sign of the speed, 0 at rest."""
-        viscous, positive, negative = self.friction
-        return viscous * speed + np.where(speed > 0, positive, np.where(speed < 0, negative, 0.0))
+        return friction_torque(self.friction, speed)
 
     @property
     def duration(self) -> float:
@@ -211,6 +210,13 @@ class DriveMount:
     carrier: str
 
 
+def friction_torque(friction: tuple[float, float, float], speed: NDArray[np.float64]) -> NDArray[np.float64]:
+    """τ_f = B_q q̇ + C± (N·m or N) of the friction (B_q, C+, C−) (:attr:`JointDuty.friction`) at the joint speeds
+    ``speed`` (rad/s or m/s), with the sign of the speed, 0 at rest."""
+    viscous, positive, negative = friction
+    return viscous * speed + np.where(speed > 0, positive, np.where(speed < 0, negative, 0.0))
+
+
 def _largest(scores: NDArray[np.float64], count: int) -> NDArray[np.intp]:
     """Row indices of the ``count`` largest values of every column of ``scores`` (N, k), ≥ 0 and finite, ties in
     row order (as a stable sort of −score): ``count`` passes of argmax, O(count · N · k)."""
@@ -252,7 +258,7 @@ def mount_drives(mech: Mechanism, mounts: list[DriveMount]) -> Mechanism:
 
 
 def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *,
-                 kinematics: Mechanism | None = None) -> list[JointDuty]:
+                 kinematics: Mechanism | None = None, moving: NDArray[np.bool_] | None = None) -> list[JointDuty]:
     """The duty of every driven coordinate along a :class:`~mechatron.dynamics.motion.Trajectory` (``loads``:
     external :class:`~mechatron.model.Load` s, N and N·m, as in :func:`mechatron.dynamics.tree.inverse_dynamics`),
     from the model with its drive inertia (armature) removed and the friction of its file's drives added at the
@@ -267,7 +273,8 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
     hydraulic cylinder. Joints of more than one coordinate (spherical, free-flyer) cannot be sized. Every duty knows
     the trajectory's moves and dwells (:func:`~mechatron.dynamics.task.moving_intervals`). ``kinematics``: a
     mechanism of the same linkage whose loops to solve (``mech`` with its drives mounted changes only masses; the
-    loops' compiled kernels are kept by the mechanism that built them), default ``mech``."""
+    loops' compiled kernels are kept by the mechanism that built them), default ``mech``; ``moving``: the
+    trajectory's moves (:func:`~mechatron.dynamics.task.moving_intervals`), when already known."""
     from ..dynamics.task import moving_intervals
 
     model = pin.Model(mech.model)
@@ -303,15 +310,14 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         names = mech.joint_names
         kinds = [mech.joint_kind(n) for n in names]
         columns = [mech.model.joints[mech.joint_id(n)].idx_v for n in names]
-    moving = moving_intervals(trajectory)
+    moving = moving_intervals(trajectory) if moving is None else moving
+    strokes = np.ptp(positions, axis=0)
     duties = []
     for name, kind, j in zip(names, kinds, columns):
         friction, efficiency = drive_losses(mech, name)
-        duty = JointDuty(name, kind, t, V[:, j], A[:, j], tau[:, j], static.column(j), float(inertia[j]),
-                         float(np.ptp(positions[:, j])), moving, friction, efficiency)
-        if any(friction):
-            duty = replace(duty, torque=tau[:, j] + duty.friction_torque(V[:, j]))
-        duties.append(duty)
+        torque = tau[:, j] + friction_torque(friction, V[:, j]) if any(friction) else tau[:, j]
+        duties.append(JointDuty(name, kind, t, V[:, j], A[:, j], torque, static.column(j), float(inertia[j]),
+                                float(strokes[j]), moving, friction, efficiency))
     return duties
 
 

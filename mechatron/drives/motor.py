@@ -30,6 +30,14 @@ if TYPE_CHECKING:  # pragma: no cover
 ELECTRICAL_COLUMNS = ("torque_constant", "resistance", "voltage")
 
 
+def catalog_column(catalog: pd.DataFrame, name: str, default: float = math.nan) -> NDArray[np.float64]:
+    """The numbers of column ``name`` of a catalog (float), ``default`` where the column or a cell is missing."""
+    if name not in catalog:
+        return np.full(len(catalog), default)
+    values = catalog[name].to_numpy(dtype=float)
+    return values if math.isnan(default) else np.where(np.isnan(values), default, values)
+
+
 def continuous_torque(speed: ArrayLike, rated_torque: ArrayLike, rated_speed: ArrayLike,
                       max_speed: ArrayLike) -> NDArray[np.float64]:
     """S1 torque (N·m) available at |speed| (rad/s): T_r up to n_r, T_r n_r / n up to n_max, 0 beyond; torques in
@@ -54,10 +62,7 @@ def electrical_data(motors: pd.DataFrame, voltage: float | None = None
                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(k_t in N·m/A, R in Ω, U in V) of every motor of a catalog, NaN where the catalog does not give them;
     ``voltage`` (V) replaces the catalog's supply voltage of the motors with k_t and R."""
-    def column(name: str) -> NDArray[np.float64]:
-        return motors[name].to_numpy(dtype=float) if name in motors else np.full(len(motors), math.nan)
-
-    kt, resistance, supply = (column(name) for name in ELECTRICAL_COLUMNS)
+    kt, resistance, supply = (catalog_column(motors, name) for name in ELECTRICAL_COLUMNS)
     if voltage is not None:
         supply = np.where(np.isfinite(kt) & np.isfinite(resistance), voltage, math.nan)
     return kt, resistance, supply

@@ -219,7 +219,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
             return bare
         if key not in known:
             known.clear()
-            loaded = joint_duties(mount_drives(mech, moving), trajectory, loads, kinematics=mech)
+            loaded = joint_duties(mount_drives(mech, moving), trajectory, loads, kinematics=mech,
+                                  moving=bare[names[0]].moving)
             known[key] = {d.name: d for d in loaded if d.name in bare}
         return known[key]
 

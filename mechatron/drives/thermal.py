@@ -62,12 +62,13 @@ de-energised); x is the cyclic duration factor, the time moving over the cycle t
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from .motor import catalog_column
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -116,15 +117,9 @@ class ThermalData:
     @classmethod
     def of(cls, motors: pd.DataFrame) -> ThermalData:
         """The thermal data of a motor catalog read by :func:`~mechatron.drives.catalogs.read_catalog`."""
-        def column(name: str, default: float = math.nan) -> NDArray[np.float64]:
-            if name not in motors:
-                return np.full(len(motors), default)
-            values = motors[name].to_numpy(dtype=float, na_value=math.nan)
-            return np.where(np.isnan(values), default, values)
-
-        return cls(*(column(name) for name in (*THERMAL_COLUMNS, "resistance")),
-                   column("temperature_coefficient", ALPHA_COPPER), column("torque_constant"),
-                   column("loss_torque", 0.0))
+        return cls(*(catalog_column(motors, name) for name in (*THERMAL_COLUMNS, "resistance")),
+                   catalog_column(motors, "temperature_coefficient", ALPHA_COPPER),
+                   catalog_column(motors, "torque_constant"), catalog_column(motors, "loss_torque", 0.0))
 
     def allowed_rise(self, ambient: float) -> NDArray[np.float64]:
         """T_max − T_a (K) of every motor: the rise the winding may take at the ambient ``ambient`` (K)."""
