@@ -8,11 +8,12 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 import pytest
+from every_pair import passes, worst_load_factors
 from reference import file_friction_at_joints
 
 import mechatron
 from mechatron.drives.catalogs import default_catalog
-from mechatron.drives.checks import CHECKS, evaluate
+from mechatron.drives.checks import CHECKS, PairChecks, evaluate
 from mechatron.drives.converters import converters_for
 from mechatron.drives.cylinders import BUCKLING_SAFETY, STEEL_MODULUS, size_cylinder
 from mechatron.drives.duty import JointDuty, joint_duties
@@ -148,17 +149,28 @@ def random_duty(rng, n=600):
                      0.8, 1.0)
 
 
+def every_exact_check(duty, motors, gearboxes):
+    """(values, limits) of every check of every pair, exact (the per-sample checks through the envelope once more
+    than BEFORE_ENVELOPE pairs are checked, as in the sizing) but the winding's rise at its mean-rise bound."""
+    checks = PairChecks(duty, motors, converters_for(duty, gearboxes))
+    m, c = (x.ravel() for x in np.indices(checks.shape))
+    return checks.table(m, c, level=2, thermal=False)
+
+
 def test_envelope_is_exact(monkeypatch, puma_sizing, rng):
     """The per-sample checks over the envelope's samples equal those over every sample, for every pair of a third
-    of the motors (rotor inertias and speed–torque curves across the catalog's range) and every converter."""
+    of the motors (rotor inertias and speed–torque curves across the catalog's range) and every converter: every
+    value and limit of every check of every pair, float for float. The winding's rise is compared at its bound: its
+    simulation runs over every sample of the task whatever the envelope (PairChecks.winding, against the test's own
+    motor torque and simulation in tests/test_thermal.py), and was 95 % of this test's time when simulated twice."""
     motors, gearboxes = default_catalog("motors").iloc[::3].reset_index(drop=True), default_catalog("gearboxes")
     duties = [j.duty for j in puma_sizing.joints] + [random_duty(rng) for _ in range(3)]
-    pruned = [evaluate(d, motors, converters_for(d, gearboxes)) for d in duties]
+    pruned = [every_exact_check(d, motors, gearboxes) for d in duties]
     assert any(len(d.envelope()) < len(d.t) / 10 for d in duties)
     monkeypatch.setattr(JointDuty, "envelope", lambda self: np.arange(len(self.t)))
     for d, fast in zip(duties, pruned):
-        full = evaluate(d, motors, converters_for(d, gearboxes))
-        assert np.array_equal(fast.values, full.values)
+        full = every_exact_check(d, motors, gearboxes)
+        assert np.array_equal(fast[0], full[0]) and np.array_equal(fast[1], full[1])
 
 
 def test_matrix_evaluation_equals_one_pair_at_a_time(puma_sizing, rng):
@@ -173,13 +185,21 @@ def test_matrix_evaluation_equals_one_pair_at_a_time(puma_sizing, rng):
 
 
 # --------------------------------------------------------------------------------------- ranking
-@pytest.mark.parametrize("objective", ["mass", "cost", "margin"])
-def test_objective_picks_the_best_feasible_pair(puma_sizing, objective):
-    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+@pytest.fixture(scope="module")
+def third_joint(puma_sizing):
+    """The third joint's duty and the worst load factor of each of its pairs (every check of every pair, exact for
+    every pair that passes, tests/every_pair.py: all that the ranking's checks read), computed once for the three
+    objectives."""
     duty = puma_sizing.joints[2].duty
+    return duty, worst_load_factors(duty, default_catalog("motors"), converters_for(duty, default_catalog("gearboxes")))
+
+
+@pytest.mark.parametrize("objective", ["mass", "cost", "margin"])
+def test_objective_picks_the_best_feasible_pair(third_joint, objective):
+    motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
+    duty, worst = third_joint
     result = size_joint(duty, motors, gearboxes, objective=objective)
     conv = converters_for(duty, gearboxes)
-    worst = evaluate(duty, motors, conv).worst()
     feasible = worst <= 1 + 1e-9
     mass = motors["mass"].to_numpy()[:, None] + conv.mass[None, :]
     price = motors["price"].to_numpy()[:, None] + conv.price[None, :]
@@ -210,6 +230,10 @@ def test_objectives_trade_off(puma_sizing):
 
 
 def test_time_objective_finds_the_fastest_feasible_pace(puma_task):
+    """The fastest pace of the time objective is that of every pair checked: at it some pair of every joint passes,
+    0.3 % faster some joint has none. Every pair of the example catalogs is checked at both paces by every check,
+    the winding simulated for the pairs that pass every other check (tests/every_pair.py): the pass or fail of every
+    pair of the dense evaluation, without its windings of the pairs that fail anyway."""
     motors, gearboxes = default_catalog("motors"), default_catalog("gearboxes")
     result = size_mechanism(puma_task.mechanism, puma_task.trajectory, motors, gearboxes, objective="time",
                             loads=puma_task.loads, single_pass=True)
@@ -218,8 +242,8 @@ def test_time_objective_finds_the_fastest_feasible_pace(puma_task):
     assert result.feasible and all(j.time_scale == k for j in result.joints)
     duties = joint_duties(puma_task.mechanism, puma_task.trajectory)
 
-    def anything_passes(duty, scale):
-        return (evaluate(duty.scaled(scale), motors, converters_for(duty, gearboxes)).worst() <= 1 + 1e-9).any()
+    def anything_passes(duty, scale):  # every check of every pair (tests/every_pair.py)
+        return passes(worst_load_factors(duty.scaled(scale), motors, converters_for(duty, gearboxes))).any()
 
     assert all(anything_passes(d, k) for d in duties)
     assert not all(anything_passes(d, k / 1.003) for d in duties)  # a little faster and some joint fails
