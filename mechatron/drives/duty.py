@@ -220,7 +220,7 @@ def friction_torque(friction: tuple[float, float, float], speed: NDArray[np.floa
 def _largest(scores: NDArray[np.float64], count: int) -> NDArray[np.intp]:
     """Row indices of the ``count`` largest values of every column of ``scores`` (N, k), ≥ 0 and finite, ties in
     row order (as a stable sort of −score): ``count`` passes of argmax, O(count · N · k)."""
-    scores = scores.copy()
+    scores = np.array(scores, order="F")  # a copy, each column contiguous for argmax
     columns, found = np.arange(scores.shape[1]), []
     for _ in range(min(count, len(scores))):
         best = scores.argmax(axis=0)  # the first of the largest: ties in row order

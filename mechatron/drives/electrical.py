@@ -222,7 +222,8 @@ def electrical(sizing: SizingResult | Sequence[DriveSizing]) -> ElectricalBalanc
         raise InputError("no motor-driven joint to take the electrical power of")
     t = axes[0].t
     for a in axes[1:]:
-        if a.t.shape != t.shape or not np.allclose(a.t, t, rtol=0, atol=1e-12 * max(1.0, abs(t[-1]))):
+        if a.t is not t and (a.t.shape != t.shape or not np.allclose(a.t, t, rtol=0,
+                                                                     atol=1e-12 * max(1.0, abs(t[-1])))):
             raise InputError(f"axis {a.axis} is sampled at other times than {axes[0].axis}: a common bus needs "
                              "one time base")
     return ElectricalBalance(axes, t)
