@@ -459,7 +459,7 @@ class PairChecks:
         """(⟨a²⟩, ⟨a b⟩, ⟨b²⟩, ⟨|n|⟩, max |n|) of every converter (5, N_c) (a, b, n of :func:`motor_side`;
         trapezoidal time means), computed now for those of ``c`` not computed yet, all of them together, a block of
         samples at a time (memory bounded by :data:`SAMPLE_BLOCK`, whatever the length of the task)."""
-        todo = np.unique(c[np.isnan(self._exact[0, c])])
+        todo = _distinct(c[np.isnan(self._exact[0, c])])[0]
         if len(todo) == 0:
             return self._exact
         u, eta, Jc, weights = self._u[todo], self._eta[todo], self._Jc[todo], self._weights
@@ -543,10 +543,10 @@ class PairChecks:
         batch = max(1, min(batch, SAMPLE_BLOCK // max(1, len(self._duty.t[samples]))))
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
-            used = np.unique(cb)  # the converters of the batch, at the samples that can decide
+            used, where = _distinct(cb)  # the converters of the batch, at the samples that can decide
             side = self._full_side(used) if self._keep is None else \
                 motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used], samples)
-            out[start:start + batch] = np.column_stack(self._per_sample(mb, np.searchsorted(used, cb), *side))
+            out[start:start + batch] = np.column_stack(self._per_sample(mb, where, *side))
         return out
 
 
@@ -562,9 +562,11 @@ class PairChecks:
             if (len(kept) + len(missing)) * len(self._duty.t) > KEPT_SIDES:
                 return side if len(missing) == len(used) else \
                     motor_side(self._duty, self._u[used], self._eta[used], self._Jc[used])
-            kept.update((k, tuple(x[i] for x in side)) for i, k in enumerate(missing))
+            kept.update((k, tuple(x[i:i + 1] for x in side)) for i, k in enumerate(missing))
+        if len(used) == 1:
+            return kept[int(used[0])]
         rows = [kept[k] for k in used.tolist()]
-        return tuple(np.stack([row[j] for row in rows]) for j in range(3))
+        return tuple(np.concatenate([row[j] for row in rows]) for j in range(3))
 
     def winding(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """The winding's highest rise above the ambient (K) of the pairs (m[i], c[i]) over the task repeated to its
@@ -589,13 +591,21 @@ class PairChecks:
         batch = max(1, BATCH_ELEMENTS // len(duty.t))
         for start in range(0, len(m), batch):
             mb, cb = m[start:start + batch], c[start:start + batch]
-            used, where = np.unique(cb, return_inverse=True)
+            used, where = _distinct(cb)
             n, accel, base = self._full_side(used)
             current = (self.rotor[mb, None] * accel[where] + base[where]) / th.kt[mb, None]
             loss = th.loss_torque[mb, None] * np.abs(n[where])
             top = highest_rise(duty.t, current * current, loss, *(x[mb, None] for x in (
                 th.r_wh, th.r_ha, th.tau_w, th.tau_h, th.resistance, th.alpha)), self.ambient, th.limit[mb, None])
             self._rises.update(zip(zip(mb.tolist(), cb.tolist()), top.tolist()))
+
+
+def _distinct(index: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """(the distinct values of ``index``, sorted; where each entry of ``index`` is among them): ``np.unique`` with
+    its inverse, at once for one entry."""
+    if len(index) == 1:
+        return index.copy(), np.zeros(1, dtype=np.intp)
+    return np.unique(index, return_inverse=True)
 
 
 def _passes(value: ArrayLike, limit: ArrayLike) -> NDArray[np.bool_]:

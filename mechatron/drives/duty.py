@@ -294,7 +294,8 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
     else:
         from ..dynamics.tree import inverse_dynamics, mass_matrix
 
-        for name in mech.joint_names:
+        names = mech.joint_names
+        for name in names:
             joint = mech.model.joints[mech.joint_id(name)]
             if joint.nv != 1:
                 raise InputError(f"joint {name}: cannot size a {mech.joint_kind(name)} joint (only revolute and "
@@ -307,7 +308,6 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         static = _Columns(lambda: inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads))
         step = max(1, len(Q) // 200)
         inertia = np.max(np.diagonal(mass_matrix(bare, Q[::step]), axis1=1, axis2=2), axis=0)
-        names = mech.joint_names
         kinds = [mech.joint_kind(n) for n in names]
         columns = [mech.model.joints[mech.joint_id(n)].idx_v for n in names]
     moving = moving_intervals(trajectory) if moving is None else moving
