@@ -243,3 +243,18 @@ def test_a_study_shows_its_pace_and_its_failed_design(tmp_path, monkeypatch):
     assert seen[-1] == (6, 6) and any(isinstance(x, str) and x.startswith("6 done, 1 failed") for x in seen)
     slow = [str(w.message) for w in caught if issubclass(w.category, MechatronWarning)]
     assert len(slow) == 1 and slow[0].startswith("design 1 took 50 s, 50× the median design's 1 s; it failed: ")
+
+
+def test_a_toml_file_read_again_is_parsed_once_and_changes_are_seen(tmp_path, monkeypatch):
+    from mechatron.io import toml
+
+    path = tmp_path / "task.toml"
+    path.write_text("dt = 0.005\nwaypoints = [[0.1], [0.2]]\n")
+    first = toml.read_toml(path)
+    first["waypoints"].append([9.9])  # the caller's own copy
+    parsed = []
+    loads = toml.tomllib.loads
+    monkeypatch.setattr(toml.tomllib, "loads", lambda text: parsed.append(text) or loads(text))
+    assert toml.read_toml(path) == {"dt": 0.005, "waypoints": [[0.1], [0.2]]} and not parsed
+    path.write_text("dt = 0.007\nwaypoints = [[0.1], [0.2]]\n")  # the same size, at once
+    assert toml.read_toml(path)["dt"] == 0.007 and len(parsed) == 1
