@@ -192,11 +192,9 @@ def periodic_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.f
     steps."""
     maps = np.broadcast_arrays(*maps)
     n = maps[0].shape[-1]
-    size = 1 << max(0, (n - 1).bit_length())
-    packed = np.zeros((2, 3, *maps[0].shape[:-1], size))  # [[E₁₁, E₁₂, g₁], [E₂₁, E₂₂, g₂]]
+    packed = np.empty((2, 3, *maps[0].shape))  # [[E₁₁, E₁₂, g₁], [E₂₁, E₂₂, g₂]]
     for (row, column), x in zip(((0, 0), (0, 1), (1, 0), (1, 1), (0, 2), (1, 2)), maps):
-        packed[row, column, ..., :n] = x
-    packed[0, 0, ..., n:] = packed[1, 1, ..., n:] = 1.0  # identities after the last interval
+        packed[row, column] = x
     with np.errstate(over="ignore", invalid="ignore"):  # a runaway: inf and NaN, then NaN states
         w, c = _descend(_tree(packed))
     return w[..., :n], c[..., :n]
@@ -204,14 +202,20 @@ def periodic_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.f
 
 def _tree(maps: NDArray[np.float64]) -> list[NDArray[np.float64]]:
     """The levels of the pairwise composition of the interval maps, each level one array (2, 3, ..., S) of affine
-    maps [[E₁₁, E₁₂, g₁], [E₂₁, E₂₂, g₂]] (S a power of two): level 0 the maps, each next one B ∘ A of every pair
-    (A the first, B the second map: C₍ᵢⱼ₎ = B₍ᵢ₁₎ A₍₁ⱼ₎ + B₍ᵢ₂₎ A₍₂ⱼ₎, g_C += g_B), down to the whole cycle's; a
-    few array operations a level, on every row of the batch at once."""
+    maps [[E₁₁, E₁₂, g₁], [E₂₁, E₂₂, g₂]]: level 0 the maps, each next one B ∘ A of every pair (A the first, B the
+    second map: C₍ᵢⱼ₎ = B₍ᵢ₁₎ A₍₁ⱼ₎ + B₍ᵢ₂₎ A₍₂ⱼ₎, g_C += g_B) and the last map of an odd level as it is, down to the
+    whole cycle's; a few array operations a level, on every row of the batch at once. (Carrying the odd one up is
+    its composition with an identity, I ∘ A = A to the bit: the tree of the intervals padded to a power of two.)"""
     levels = [maps]
     while maps.shape[-1] > 1:
-        a, b = maps[..., 0::2], maps[..., 1::2]  # the first map of each pair, then the second
-        maps = b[:, 0:1] * a[0] + b[:, 1:2] * a[1]
-        maps[:, 2] += b[:, 2]
+        pairs = maps.shape[-1] // 2
+        a, b = maps[..., 0:2 * pairs:2], maps[..., 1:2 * pairs:2]  # the first map of each pair, then the second
+        upper = np.empty((*maps.shape[:-1], maps.shape[-1] - pairs))
+        upper[..., :pairs] = b[:, 0:1] * a[0] + b[:, 1:2] * a[1]
+        upper[:, 2, ..., :pairs] += b[:, 2]
+        if maps.shape[-1] % 2:
+            upper[..., pairs] = maps[..., -1]
+        maps = upper
         levels.append(maps)
     return levels
 
@@ -234,10 +238,11 @@ def _descend(levels: list[NDArray[np.float64]]) -> tuple[NDArray[np.float64], ND
     runaway = ~(radius < 1.0) | ~np.isfinite(w) | ~np.isfinite(c)
     state = np.stack([np.where(runaway, np.nan, w), np.where(runaway, np.nan, c)])[..., None]
     for level in reversed(levels[:-1]):
-        first = level[..., 0::2]
+        pairs = level.shape[-1] // 2
+        first = level[..., 0:2 * pairs:2]
         inner = np.empty((2, *level.shape[2:]))
-        inner[..., 0::2] = state
-        inner[..., 1::2] = first[:, 0] * state[0] + first[:, 1] * state[1] + first[:, 2]
+        inner[..., 0::2] = state  # each pair's first interval (and an odd last one) starts where the pair does
+        inner[..., 1::2] = first[:, 0] * state[0, ..., :pairs] + first[:, 1] * state[1, ..., :pairs] + first[:, 2]
         state = inner
     return state[0], state[1]
 
