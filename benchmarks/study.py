@@ -27,8 +27,12 @@ Measured (2026-11-27, this project's two-core machine, other work sharing it —
 Measured with this script (2026-11-27, the same machine, 320 designs, ``--workers 1 2 --repeat 2``; two helpers'
 test runs sharing it): serial fixed cost 0.70 s, 25.3 ms per design; 2 workers 6.06 s against 8.80 s serial,
 speed-up 1.45x, efficiency 0.73 (on two cores the second worker shares its core with the scheduler and this
-process). A serial study of 10,000 designs ran in 255.5 s (4.3 min, peak memory 220 MB). No 16-core machine was
-lent to this task: the 1, 2, 4, 8 and 16 worker table is still to be measured there.
+process). A serial study of 10,000 designs ran in 255.5 s (4.3 min, peak memory 220 MB), before the winding
+thermal model. With it (2026-12-02, ``mechatron study`` of a2, a3, d4 ± 10 %, 10,000 designs, the robot's task and
+the shipped catalogs, this machine quiet): 329 s of CPU (327 s user, 2.6 s system; peak memory 245 MB), 34 ms a
+design in every chunk alike; 1,000 designs of the same spec 30.6 s, 600 designs 18.6 s (29-30 ms a design: this
+two-core virtual machine's speed varies by some 15 % from hour to hour). No 16-core machine was lent to this task:
+the 1, 2, 4, 8 and 16 worker table is still to be measured there.
 """
 
 from __future__ import annotations
