@@ -149,10 +149,11 @@ def _forces(mech: Mechanism, kinematics: Mechanism, Q: Array, V: Array, A: Array
     from .tree import inverse_dynamics, load_forces
 
     solver = loop_solver(kinematics)
-    frames = _batched_frames(solver)
+    kernel = kept_sweep_kernel(solver)  # its closures determine the dependent coordinates: S_d from its maps
+    frames = _batched_frames(solver) if kernel is None else None
     rest = np.zeros_like(V)
     states = [(rest, rest) if still else (V, A) for still in at_rest]
-    if frames is None or not len(Q):
+    if (kernel is None and frames is None) or not len(Q):
         return [np.array([[f[n] for n in mech.actuated] for f in
                           (inverse(mech, q, v, a, load)[0] for q, v, a in zip(Q, Vs, As))]).reshape(len(Q), -1)
                 for load, (Vs, As) in zip(loads, states)]
@@ -171,7 +172,6 @@ def _forces(mech: Mechanism, kinematics: Mechanism, Q: Array, V: Array, A: Array
 
     needs = np.stack([need(load, Vs, As) for load, (Vs, As) in zip(loads, states)], axis=-1)  # (N, nv, cases)
     act, dep = solver.act, solver.dep
-    kernel = kept_sweep_kernel(solver)
     out = np.empty((len(Q), len(act), len(loads)))
     for part in batch.chunks(len(Q)):
         if kernel is not None:

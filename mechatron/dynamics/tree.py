@@ -77,8 +77,7 @@ def _load_frames(mech: Mechanism, loads: tuple[Load, ...]):
         except NotImplementedError:
             return None
 
-    built = mech.cached(("load_frames", names), build)
-    return None if built is None else built
+    return mech.cached(("load_frames", names), build)
 
 
 def load_forces(mech: Mechanism, Q: ArrayLike, loads: Loads) -> Array:
