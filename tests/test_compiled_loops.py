@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mechatron
-from mechatron.kinematics import compiled
+from mechatron.io import native
 from mechatron.kinematics.loops import LoopSolver
 
 sweep_module = importlib.import_module("mechatron.kinematics.sweeps")
@@ -116,7 +116,7 @@ def test_a_compiled_library_is_kept_and_reused(monkeypatch, tmp_path):
     def no_compiler(*args, **kwargs):
         raise AssertionError("compiled again")
 
-    monkeypatch.setattr(compiled.subprocess, "run", no_compiler)
+    monkeypatch.setattr(native.subprocess, "run", no_compiler)
     _, again = kernel_of(mechatron.load("crank_slider"))
     assert again._newton.class_name() == "External"
     assert sorted(p.name for p in tmp_path.iterdir()) == libraries  # no temporary left behind

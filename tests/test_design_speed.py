@@ -29,7 +29,7 @@ import mechatron
 from mechatron.dynamics.constrained import inverse
 from mechatron.dynamics.tree import external_forces, inverse_dynamics, load_forces
 from mechatron.errors import InputError, MechatronWarning
-from mechatron.kinematics import compiled
+from mechatron.io import native
 from mechatron.kinematics.loops import LoopSolver, loop_solver
 from mechatron.model.loads import Load
 
@@ -73,10 +73,10 @@ def test_loads_on_joints_the_batched_kinematics_does_not_know_go_state_by_state(
 
 # ------------------------------------------------------------------------------------- parametric kernels
 def test_every_geometry_of_a_structure_shares_one_compiled_code(monkeypatch, tmp_path):
-    monkeypatch.setenv(compiled.CACHE_VARIABLE, str(tmp_path))
+    monkeypatch.setenv(native.CACHE_VARIABLE, str(tmp_path))
     runs = []
-    real = compiled.subprocess.run
-    monkeypatch.setattr(compiled.subprocess, "run", lambda *a, **k: runs.append(a) or real(*a, **k))
+    real = native.subprocess.run
+    monkeypatch.setattr(native.subprocess, "run", lambda *a, **k: runs.append(a) or real(*a, **k))
     monkeypatch.setattr(sweeps, "COMPILED_MIN", 16)
     base = mechatron.load(SCISSOR)
     codes = set()
@@ -152,7 +152,7 @@ def test_a_design_that_cannot_assemble_fails_at_once_with_its_reason(monkeypatch
     from mechatron.dynamics.trajectory import closed_loop_states
 
     if path == "numpy":
-        monkeypatch.setenv(compiled.COMPILE_VARIABLE, "0")
+        monkeypatch.setenv(native.COMPILE_VARIABLE, "0")
     base = mechatron.load(SCISSOR)
     for values in ({"P_x": 0.5}, {"P_x": 0.51}):  # two geometries: the structure gets its compiled code
         closed_loop_states(base.with_parameters(values), read_task("examples/design/scissor_lift_task.toml",

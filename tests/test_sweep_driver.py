@@ -16,6 +16,7 @@ import pytest
 
 import mechatron
 from mechatron.errors import InputError
+from mechatron.io import native
 from mechatron.kinematics import compiled
 from mechatron.kinematics.loops import loop_solver
 
@@ -53,7 +54,7 @@ class Runs(list):
 def driver(spy):
     """As :func:`spy`; the driver needs a C compiler (.ci/run's machine has one): without it the test fails, unless
     compiling is switched off on purpose (``MECHATRON_COMPILE=0``: skipped)."""
-    if os.environ.get(compiled.COMPILE_VARIABLE) == "0":  # only when asked: by default the driver must be tested
+    if os.environ.get(native.COMPILE_VARIABLE) == "0":  # only when asked: by default the driver must be tested
         pytest.skip("MECHATRON_COMPILE=0: no compiled driver")
     if shutil.which(os.environ.get("CC", "cc")) is None:
         pytest.fail("no C compiler to build the compiled driver (cc, or the one CC names)")
@@ -221,9 +222,9 @@ def test_out_of_reach_fails_as_in_the_python_path(monkeypatch, driver):
             sweeps.sweep(bucket, bad)
 
 
-@pytest.mark.parametrize("variable", ["CC", compiled.COMPILE_VARIABLE])
+@pytest.mark.parametrize("variable", ["CC", native.COMPILE_VARIABLE])
 def test_without_a_compiler(monkeypatch, spy, tmp_path, variable):
-    monkeypatch.setenv(compiled.CACHE_VARIABLE, str(tmp_path / "cache"))  # no library compiled before
+    monkeypatch.setenv(native.CACHE_VARIABLE, str(tmp_path / "cache"))  # no library compiled before
     monkeypatch.setenv(variable, str(tmp_path / "no-such-cc") if variable == "CC" else "0")
     mech = mechatron.load("crank_slider")  # a fresh one: kernels are kept per mechanism
     angles = np.linspace(0.0, 6.0, 400)

@@ -221,6 +221,37 @@ def test_the_batched_winding_simulation_equals_each_pair_alone():
     assert again[::-1] == pytest.approx(batched, rel=1e-12)
 
 
+@pytest.mark.parametrize("samples", [1, 2, 3, 37, 1114])
+def test_the_compiled_periodic_state_equals_the_numpy_tree(samples):
+    """The periodic steady state in machine code (periodic_kernel: the cycle's map composed interval by interval)
+    equals the NumPy tree of pairwise compositions (thermal.tree_states) to 1e-11 relative on random batches of
+    uneven cycles — the same fixed point, summed in another order — and gives NaN on exactly the same rows: a
+    runaway (I² R₂₅ α R_tot ≥ 1) and a row with an infinite loss. Without a C compiler the tree is the path; the
+    kernel must be there by default (only MECHATRON_COMPILE=0 switches it off)."""
+    import os
+
+    from mechatron.drives.periodic_kernel import available, native_states
+    from mechatron.drives.thermal import REFERENCE, interval_maps, tree_states
+
+    if os.environ.get("MECHATRON_COMPILE") == "0":
+        assert not available()
+        return
+    assert available()
+    t, i2, loss, r_wh, r_ha, tau_w, tau_h, r25, alpha, _ = random_rows(8, samples + 1, seed=samples)
+    i2[2] = 400.0  # a runaway
+    alpha[2] = ALPHA_COPPER
+    loss[5, -1] = np.inf
+    maps = interval_maps(np.diff(t), 0.5 * (i2[:, 1:] + i2[:, :-1]), 0.5 * (loss[:, 1:] + loss[:, :-1]), r_wh, r_ha,
+                         tau_w, tau_h, r25 * (1 + alpha * (AMBIENT - REFERENCE)), r25 * alpha)
+    for tree, native in zip(tree_states(maps), native_states(maps)):
+        assert native.shape == tree.shape == (8, samples)
+        np.testing.assert_array_equal(np.isnan(native), np.isnan(tree))
+        assert np.isnan(tree[2]).all() and np.isnan(tree[5]).all() and np.isfinite(np.delete(tree, [2, 5], 0)).all()
+        np.testing.assert_allclose(native, tree, rtol=1e-11, atol=0.0)
+    one = native_states(tuple(m[0] for m in maps))  # one row as a 1-d array
+    np.testing.assert_allclose(one[0], tree_states(tuple(m[0] for m in maps))[0], rtol=1e-11, atol=0.0)
+
+
 def test_the_sizing_simulates_a_block_of_pairs_as_each_alone():
     """PairChecks.winding of a block of random motor × gearbox pairs of the shipped catalogs on a robot-like duty
     equals each pair simulated alone by periodic_rise with this test's own motor torque T_m = (J_m + J_c) u ω̇ +

@@ -35,10 +35,11 @@ resistance's rise with temperature is exact too.
 
 **The periodic steady state** of the task repeated for ever is the fixed point of the cycle's map, the affine map
 θ ↦ M θ + G composed of the intervals' maps: θ(0) = (1 − M)⁻¹ G, solved directly (no simulation of cycle after
-cycle). The maps are composed pairwise (a balanced tree: log₂ N levels of vectorised 2 × 2 products), then the states
-at every sample come down the same tree from θ(0). When the cycle map has an eigenvalue ≥ 1 — the copper loss
-growing with temperature faster than the network sheds it — there is no steady state (thermal runaway): NaN, an
-infinite rise. The winding's highest temperature over the cycle is taken at the samples (the task's resolution).
+cycle). The maps are composed interval by interval in machine code (or, without a C compiler, pairwise up a balanced
+tree: log₂ N levels of vectorised 2 × 2 products), then the states at every sample follow from θ(0). When the cycle
+map has an eigenvalue ≥ 1 — the copper loss growing with temperature faster than the network sheds it — there is no
+steady state (thermal runaway): NaN, an infinite rise. The winding's highest temperature over the cycle is taken at
+the samples (the task's resolution).
 
 The check (:mod:`~mechatron.drives.checks`, "winding temperature rise"): max θ_w ≤ T_max − T_a, the allowed rise of
 the winding's limit temperature T_max above the ambient (``mechatron size --ambient``, default 40 °C): the ambient
@@ -187,9 +188,19 @@ def periodic_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.f
     the first one (the fixed point θ₀ = (1 − M)⁻¹ G of the cycle map M θ + G). NaN (all of a batch row) where the
     cycle map has an eigenvalue of modulus ≥ 1: no steady state (thermal runaway).
 
-    The maps are composed pairwise up a balanced tree (the intervals padded with identities to a power of two), the
-    cycle's map solved at its top, and the start states brought down the tree: O(N) work in log₂ N vectorised
-    steps."""
+    Machine code where a C compiler is at hand (:mod:`~mechatron.drives.periodic_kernel`: the cycle's map composed
+    interval by interval, its fixed point, the states interval by interval; a few floating-point operations an
+    interval), else :func:`tree_states`; the two agree to rounding."""
+    from .periodic_kernel import native_states
+
+    states = native_states(maps)
+    return states if states is not None else tree_states(maps)
+
+
+def tree_states(maps: tuple[NDArray[np.float64], ...]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`periodic_states` in NumPy: the maps composed pairwise up a balanced tree (the intervals padded with
+    identities to a power of two), the cycle's map solved at its top, and the start states brought down the tree:
+    O(N) work in log₂ N vectorised steps."""
     maps = np.broadcast_arrays(*maps)
     n = maps[0].shape[-1]
     packed = np.empty((2, 3, *maps[0].shape))  # [[E₁₁, E₁₂, g₁], [E₂₁, E₂₂, g₂]]

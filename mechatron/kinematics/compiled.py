@@ -16,7 +16,7 @@ CasADi functions of one sample:
   the angular acceleration α_z = ω̇_z (J̇ q̇ as the second directional derivative of the expressions along q̇).
 
 They are generated as C (``casadi.CodeGenerator``), compiled once with the system's C compiler (``cc``, or the one
-in ``CC``; :data:`FLAGS`) into shared libraries kept in a cache folder (``MECHATRON_CACHE``, else
+in ``CC``; :data:`mechatron.io.native.FLAGS`) into shared libraries kept in a cache folder (``MECHATRON_CACHE``, else
 ``$XDG_CACHE_HOME/mechatron`` or ``~/.cache/mechatron``) under the hash of their source and options, and evaluated
 over chunks of samples by ``Function.map`` (:meth:`LoopKernel.newton`, :meth:`LoopKernel.analyse`).
 
@@ -42,15 +42,13 @@ returns None) and the NumPy path of :mod:`mechatron.kinematics.batch` is used.
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import os
-import subprocess
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..io.native import compiling, settings, shared_library
 from ..model.symbolic import Unsupported, angle_about_z, closure_residual, frame_placements, joint_placements
 from .loops import TOLERANCE
 
@@ -68,10 +66,6 @@ FIRST_STEPS = 50
 #: Samples per call of a mapped function, per chunk of the sweep's batched solve with a kernel (its working
 #: storage is ~100 B a sample) and per call of the driver (the sweep's progress is reported between them).
 CHUNK = 16384
-#: The C compiler's options (portable code: the cache folder may be shared by machines of one architecture).
-FLAGS = ("-O3", "-fno-math-errno", "-ffp-contract=off", "-shared", "-fPIC")
-#: Environment variables: the cache folder, and 0 to run the kernels in CasADi's virtual machine.
-CACHE_VARIABLE, COMPILE_VARIABLE = "MECHATRON_CACHE", "MECHATRON_COMPILE"
 #: A solution the driver accepts moved from its guess by at most this fraction of the change it predicted, plus
 #: :data:`SLACK` (m or rad): as :meth:`mechatron.kinematics.sweeps._Continuation._compiled_newton`.
 ACCEPT, SLACK = 0.5, 1e-9
@@ -445,51 +439,29 @@ def _trigonometric_pairs(function) -> dict[int, int]:
     return pairs
 
 
-def cache_folder() -> Path:
-    """Where compiled kernels are kept: ``MECHATRON_CACHE``, else ``$XDG_CACHE_HOME/mechatron/kernels`` or
-    ``~/.cache/mechatron/kernels``."""
-    if os.environ.get(CACHE_VARIABLE):
-        return Path(os.environ[CACHE_VARIABLE])
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "mechatron" / "kernels"
-
-
 def library(functions: list, extra: str = "") -> Path | None:
     """The shared library of ``functions`` (CasADi ``Function``\\ s, the first naming it) with the C text ``extra``
-    appended to their generated code: compiled into the :func:`cache_folder` (reused when the same source was
-    compiled before); None when compiling is switched off or fails."""
+    appended to their generated code (:func:`mechatron.io.native.shared_library`: compiled once into the cache
+    folder); None when compiling is switched off or fails."""
     import casadi as ca
 
-    if os.environ.get(COMPILE_VARIABLE, "1").strip() == "0":
+    if not compiling():
         return None
     name = functions[0].name()
-    try:
-        folder = cache_folder()
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(dir=folder) as work:
-            source = Path(work) / f"{name}.c"
-            generator = ca.CodeGenerator(source.name, {"with_header": False})
-            for function in functions:
-                generator.add(function)
-            generator.generate(work + os.sep)
-            text = source.read_bytes() + extra.encode()
-            source.write_bytes(text)
-            digest = hashlib.sha256(text + " ".join(FLAGS).encode()).hexdigest()[:20]
-            path = folder / f"{name}_{digest}.so"
-            if not path.exists():
-                partial = Path(work) / path.name
-                compiler = os.environ.get("CC", "cc")
-                subprocess.run([compiler, *FLAGS, "-o", str(partial), str(source), "-lm"], check=True,
-                               capture_output=True, timeout=300)
-                os.replace(partial, path)  # whole or not at all: concurrent runs may race, both write the same
-        return path
-    except (OSError, subprocess.SubprocessError, RuntimeError):
-        return None
+
+    def write(work: Path) -> bytes:
+        generator = ca.CodeGenerator(f"{name}.c", {"with_header": False})
+        for function in functions:
+            generator.add(function)
+        generator.generate(str(work) + os.sep)
+        return (work / f"{name}.c").read_bytes() + extra.encode()
+
+    return shared_library(name, write)
 
 
 def compiled(function):
     """``function`` (a CasADi ``Function``) as machine code: its generated C compiled into a shared library in the
-    :func:`cache_folder` (reused when the same source was compiled before) and loaded with ``casadi.external``;
+    cache folder (reused when the same source was compiled before) and loaded with ``casadi.external``;
     the function itself (CasADi's virtual machine) when compiling is switched off or fails."""
     return external(function, library([function]))
 
@@ -834,8 +806,7 @@ def loop_kernel(solver: LoopSolver, points: list[str], links: list[str], others:
     except (Unsupported, ImportError):
         kept[key] = None
         return None
-    settings = tuple(os.environ.get(v) for v in (COMPILE_VARIABLE, "CC")) + (str(cache_folder()),)
-    signature = (key, tuple(solver.act), tuple(names), geometry.signature, settings)
+    signature = (key, tuple(solver.act), tuple(names), geometry.signature, settings())
     parameters = geometry.values(mech.model, solver.system)
     if signature not in _CODES:
         met = _MET.setdefault(signature, set())
