@@ -9,10 +9,11 @@ matrix); per joint, every motor × converter pair at once as (N_m, N_c) arrays �
 moments of the duty (T = (J_m + J_c) u ω̇ + τ*/u, τ* = τ/η where the load takes power, τη where it gives it back,
 so ⟨T²⟩ = (J u)² ⟨ω̇²⟩ + 2J(⟨ω̇τ₊⟩/η + ⟨ω̇τ₋⟩η) + (⟨τ₊²⟩/η² + ⟨τ₋²⟩η²)/u²), for a motor with thermal data its
 winding's mean rise in place of RMS, the speed, inertia-ratio, emergency-torque and gearbox checks (the peak torque
-derated above the cycle rating) —, then the passing pairs in mass order (then price), each checked sample by sample
-(peak torque, the speed–torque curve, the voltage limit, then the winding's temperature over the periodic steady
-state) until one passes; the same distal-to-proximal fixed point, the drives as point masses on the bodies that
-carry them (Pinocchio's ``appendBodyToJoint``), the duties recomputed when the drives on the links change.
+over the catalog's shock factor at the task's load peaks per hour) —, then the passing pairs in mass order (then
+price), each checked sample by sample (peak torque, the speed–torque curve, the voltage limit, then the winding's
+temperature over the periodic steady state) until one passes; the same distal-to-proximal fixed point, the drives
+as point masses on the bodies that carry them (Pinocchio's ``appendBodyToJoint``), the duties recomputed when the
+drives on the links change.
 
 Every figure is a ratio of CPU times (``time.process_time``) measured side by side in this process, the medians of
 repeats in which the candidates take turns (:func:`timing.cpu_medians_and_results`): the PUMA's default sizing (its
@@ -40,14 +41,14 @@ from timing import cpu_medians_and_results
 
 import mechatron
 from mechatron.drives.catalogs import default_catalog
-from mechatron.drives.thermal import ALPHA_COPPER, DEFAULT_AMBIENT, REFERENCE, periodic_rise
+from mechatron.drives.thermal import ALPHA_COPPER, DEFAULT_AMBIENT, MAGNET_COEFFICIENT, REFERENCE, periodic_rise
 from mechatron.dynamics.task import read_task, task_file
 
 TOLERANCE = 1 + 1e-9  # a check passes at value ≤ limit (1 + 1e-9), as mechatron's
 MOTOR_COLUMNS = ["rated_torque", "peak_torque", "rotor_inertia", "mass", "price"]
 GEARBOX_COLUMNS = ["ratio", "rated_torque", "peak_torque", "mass", "price"]
-#: The gearbox makers' default cycle rating (1/s) and the ISO 6336-3 life-factor slope of the peak-torque derating.
-CYCLE_RATING, CYCLE_EXPONENT = 1000 / 3600, math.log(2.5) / math.log(3000.0)
+#: A load peak of a gearbox: a run of samples with |ω̇| beyond this fraction of the task's largest (docs/catalogs.md).
+PEAK_FRACTION = 0.5
 
 
 # ------------------------------------------------------------------------------------------------ the floor
@@ -64,6 +65,7 @@ def motor_arrays(motors: pd.DataFrame) -> dict[str, np.ndarray]:
                            "rth_housing_ambient", "tau_winding", "tau_housing", "max_winding_temperature"])
     out.update(columns(motors, ["mass", "price", "loss_torque"], 0.0))
     out["alpha"] = columns(motors, ["temperature_coefficient"], ALPHA_COPPER)["temperature_coefficient"]
+    out["magnet"] = columns(motors, ["torque_constant_coefficient"], MAGNET_COEFFICIENT)["torque_constant_coefficient"]
     out["key"] = motors["key"].to_numpy(dtype=str)
     out["heated"] = np.isfinite(sum(out[n] for n in ("rth_winding_housing", "rth_housing_ambient", "tau_winding",
                                                      "tau_housing", "max_winding_temperature", "resistance",
@@ -81,9 +83,10 @@ def converter_arrays(gearboxes: pd.DataFrame) -> dict[str, np.ndarray]:
     g = columns(gearboxes, ["ratio", "efficiency", "input_inertia", "rated_torque", "peak_torque",
                             "emergency_torque", "max_input_speed", "rated_input_speed"])
     g.update(columns(gearboxes, ["mass", "price"], 0.0))
-    g["cycle_rating"] = columns(gearboxes, ["cycle_rating"], CYCLE_RATING)["cycle_rating"]
     direct = dict(ratio=1.0, efficiency=1.0, input_inertia=0.0, mass=0.0, price=0.0)
     out = {n: np.concatenate([[direct.get(n, math.inf)], x]) for n, x in g.items()}
+    tables = gearboxes["shock_factors"] if "shock_factors" in gearboxes else [()] * len(gearboxes)
+    out["shock"] = [()] + [tuple(x) if isinstance(x, tuple) else () for x in tables]  # ((rate 1/s, f_s), …)
     out["key"] = np.concatenate([["direct"], gearboxes["key"].to_numpy(dtype=str)])
     return out
 
@@ -124,6 +127,24 @@ def time_weights(t: np.ndarray) -> np.ndarray:
     return w / (t[-1] - t[0])
 
 
+def load_peaks(a: np.ndarray) -> int:
+    """The runs of |ω̇| ≥ PEAK_FRACTION max |ω̇| of one sign over the repeated task (a lone sample below between two
+    of one sign does not end a run), each an acceleration or a braking."""
+    top = np.abs(a).max()
+    if top == 0:
+        return 0
+    side = np.where(a >= PEAK_FRACTION * top, 1, np.where(a <= -PEAK_FRACTION * top, -1, 0))
+    side = np.where((side == 0) & (np.roll(side, 1) == np.roll(side, -1)), np.roll(side, 1), side)
+    return max(1, int(np.count_nonzero((side != 0) & (side != np.roll(side, 1)))))
+
+
+def shock_factors(rate: float, tables: list[tuple]) -> np.ndarray:
+    """f_s of every converter at ``rate`` load peaks per second: its table interpolated (the first factor below it),
+    inf above its last rate (no rating), 1 without a table."""
+    return np.array([1.0 if not table else math.inf if rate > table[-1][0] else np.interp(rate, *zip(*table))
+                     for table in tables])
+
+
 def floor_joint(t: np.ndarray, w: np.ndarray, duty: tuple, motors: dict, conv: dict, inertia_ratio_max: float = 10.0
                 ) -> tuple[int, int]:
     """(motor, converter) of the lightest, then cheapest, pair passing every check; (−1, −1) if none (``w``: the
@@ -134,7 +155,7 @@ def floor_joint(t: np.ndarray, w: np.ndarray, duty: tuple, motors: dict, conv: d
     # with the converters that pass them
     motion = speed * w if speed.any() else w
     equivalent = (motion @ np.abs(tau) ** 3 / motion.sum()) ** (1 / 3)
-    derating = np.minimum(1.0, (conv["cycle_rating"] * (t[-1] - t[0])) ** CYCLE_EXPONENT)
+    derating = 1 / shock_factors(load_peaks(a) / (t[-1] - t[0]), conv["shock"])
     mean_speed, top_speed = w @ speed, speed.max()
     usable = np.flatnonzero((equivalent <= conv["rated_torque"] * TOLERANCE)
                             & (np.abs(tau).max() <= conv["peak_torque"] * derating * TOLERANCE)
@@ -178,7 +199,8 @@ def floor_joint(t: np.ndarray, w: np.ndarray, duty: tuple, motors: dict, conv: d
         if motors["heated"][i]:  # the winding over the repeated task (the two-node network's periodic steady state)
             rise = periodic_rise(t, (torque / kt)[None] ** 2, motors["loss_torque"][i] * n[None],
                                  *(motors[x][i] for x in ("rth_winding_housing", "rth_housing_ambient", "tau_winding",
-                                                          "tau_housing", "resistance", "alpha")), DEFAULT_AMBIENT)
+                                                          "tau_housing", "resistance", "alpha")), DEFAULT_AMBIENT,
+                                 motors["magnet"][i])
             if not rise[0, :, 0].max() <= motors["allowed"][i, 0] * TOLERANCE:  # NaN: runaway
                 continue
         return int(i), int(g)

@@ -15,6 +15,8 @@ import math
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+#: k_t's temperature coefficient of the example motors (1/K): NdFeB magnets (mechatron.drives.thermal).
+MAGNET_COEFFICIENT = -0.0011
 
 
 def motors() -> list[dict]:
@@ -53,17 +55,28 @@ def thermal(size: float, rated: float, rated_speed: float, power: float, current
     0.16 · size^-0.12 of the rated power — are the copper loss I_r² R(155 °C) and, the rest, the speed loss
     T_f · n_r with the share 1 − (rated / 1.08 size)²; the thermal resistances sum to (155 − 40) K over them, 35 %
     winding → housing, 65 % housing → ambient; the time constants grow with size, τ_w = 15 s · size^0.3,
-    τ_h = 600 s · size^0.3."""
+    τ_h = 600 s · size^0.3. The current I_r = T_r / k_t(T_m) of the torque constant at the magnets' temperature,
+    the housing's T_m = 40 °C + 0.65 · 115 K (k_t(T) = k_t₂₅ (1 + β (T − 25 °C)), β = −0.11 %/K: NdFeB, the
+    catalog's ``torque_constant_coefficient``), k_t₂₅ = T_r / ``current``."""
     losses = 0.16 * size**-0.12 * power
     speed_share = 1 - (rated / (1.08 * size)) ** 2
     copper = (1 - speed_share) * losses
     total = (155 - 40) / losses
-    return {"resistance_ohm": float(f"{copper / (current**2 * (1 + 0.0039 * (155 - 25))):.4g}"),
+    magnets = 1 + MAGNET_COEFFICIENT * (40 + 0.65 * (155 - 40) - 25)  # k_t(T_m) / k_t₂₅
+    return {"resistance_ohm": float(f"{copper * magnets**2 / (current**2 * (1 + 0.0039 * (155 - 25))):.4g}"),
             "loss_torque_Nm": float(f"{speed_share * losses / rated_speed:.4g}"),
             "rth_winding_housing_K_W": float(f"{0.35 * total:.4g}"),
             "rth_housing_ambient_K_W": float(f"{0.65 * total:.4g}"),
             "tau_winding_s": round(15 * size**0.3, 1), "tau_housing_s": round(600 * size**0.3),
-            "max_winding_temperature_degC": 155}
+            "max_winding_temperature_degC": 155, "torque_constant_coefficient_percent_K": 100 * MAGNET_COEFFICIENT}
+
+
+#: The planetary gearheads' shock factors by cycles per hour (maker-style, illustrative; docs/catalogs.md, "Gearbox
+#: duty"), and the count of the harmonic gears' momentary peak torque.
+SHOCK_FACTORS = "1000:1;2000:1.1;3000:1.2;4000:1.3;6000:1.4;10000:1.6"
+MOMENTARY_PEAKS = 10000
+#: The end of the gearboxes' first line: their peak-torque rules (catalogs/README.md describes them).
+GEARBOX_NOTE = "; peak-torque rules maker-style, illustrative (catalogs/README.md)\n"
 
 
 def gearboxes() -> list[dict]:
@@ -78,7 +91,8 @@ def gearboxes() -> list[dict]:
             rows.append({
                 "key": f"PG{frame}-{ratio}", "maker": "example", "type": "planetary", "stages": stages,
                 "ratio": ratio, "rated_torque": round(rated), "peak_torque": round(1.8 * rated),
-                "emergency_torque": round(2.5 * rated), "max_input_speed_rpm": n_max,
+                "emergency_torque": round(2.5 * rated), "peak_rule": "shock_factors",
+                "shock_factors_per_h": SHOCK_FACTORS, "emergency_stops": "", "max_input_speed_rpm": n_max,
                 "rated_input_speed_rpm": n_rated, "efficiency": 0.97 if stages == 1 else 0.94,
                 "input_inertia_kgcm2": round(inertia * (1.0 if stages == 1 else 0.45) * (1.2 - ratio / 100), 4),
                 "backlash_arcmin": 5 if stages == 1 else 7, "mass": round(mass * (1.0 if stages == 1 else 1.3), 1),
@@ -92,7 +106,8 @@ def gearboxes() -> list[dict]:
             rows.append({
                 "key": f"HD{size}-{ratio}", "maker": "example", "type": "harmonic", "stages": 1, "ratio": ratio,
                 "rated_torque": round(rated, 1), "peak_torque": round(2.8 * rated, 1),
-                "emergency_torque": round(5.0 * rated, 1), "max_input_speed_rpm": n_max,
+                "emergency_torque": round(5.0 * rated, 1), "peak_rule": "repeated_peak", "shock_factors_per_h": "",
+                "emergency_stops": MOMENTARY_PEAKS, "max_input_speed_rpm": n_max,
                 "rated_input_speed_rpm": n_rated, "efficiency": 0.78 if ratio < 100 else 0.72,
                 "input_inertia_kgcm2": inertia, "backlash_arcmin": 0.5, "mass": mass,
                 "price_eur": round(400 + 25 * size),
@@ -101,7 +116,8 @@ def gearboxes() -> list[dict]:
         for ratio in (59, 89, 119):
             rows.append({
                 "key": f"CY{size}-{ratio}", "maker": "example", "type": "cycloidal", "stages": 2, "ratio": ratio,
-                "rated_torque": torque, "peak_torque": 2 * torque, "emergency_torque": 5 * torque,
+                "rated_torque": torque, "peak_torque": 2 * torque, "emergency_torque": 5 * torque, "peak_rule": "",
+                "shock_factors_per_h": "", "emergency_stops": "",
                 "max_input_speed_rpm": 4500, "rated_input_speed_rpm": 2000, "efficiency": 0.85,
                 "input_inertia_kgcm2": round(0.02 * size, 3), "backlash_arcmin": 1, "mass": round(0.15 * size, 1),
                 "price_eur": 600 + 30 * size,
@@ -175,6 +191,6 @@ def write(name: str, rows: list[dict], header: str) -> None:
 if __name__ == "__main__":
     note = "# example data from catalogs/make_examples.py (scaling laws, not one maker's data)\n"
     write("servo_motors.csv", motors(), note)
-    write("gearboxes.csv", gearboxes(), note)
+    write("gearboxes.csv", gearboxes(), note.rstrip("\n") + GEARBOX_NOTE)
     write("linear_drives.csv", linear_drives(), note)
     write("hydraulic_cylinders.csv", cylinders(), note)

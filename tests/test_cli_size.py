@@ -29,6 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 REQUIRED_CHECKS = {"peak torque", "max speed", "inertia ratio"}
 #: The thermal check: RMS torque, or the winding temperature of a motor with the thermal data (the shipped ones).
 THERMAL_CHECKS = {"RMS torque", "winding temperature rise"}
+#: The IEC 60034-1 duty types mechatron gives but S9 (x: the cyclic duration factor, in whole percent).
+DUTY_TYPES = {"S1", "S7"} | {f"S{k} {x} %" for k in (3, 4, 5, 6) for x in range(101)}
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +54,8 @@ def test_size_puma_json_contract(puma_json):
         assert isinstance(j["motor"], str) and isinstance(j["gearbox"], str) and j["ratio"] > 0
         names = {c["name"] for c in j["checks"]}
         assert REQUIRED_CHECKS <= names and len(THERMAL_CHECKS & names) == 1
-        assert j["thermal"]["check"] in names and j["thermal"]["duty_type"].startswith(("S1", "S3", "S6"))
+        assert j["thermal"]["check"] in names and j["thermal"]["duty_type"] in DUTY_TYPES | {"S9"}
+        assert j["thermal"]["duty_clause"].startswith("4.2.") and j["thermal"]["duty_reason"]
         for c in j["checks"]:
             assert {"name", "value", "limit", "margin", "pass"} <= set(c)
             assert c["pass"] is (c["value"] <= c["limit"] * (1 + 1e-9))

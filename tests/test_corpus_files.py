@@ -279,7 +279,8 @@ def catalog_cases():
                                               "inertia_per_length_kgcm2_m", "root_diameter_mm",
                                               "emergency_torque_Nm", "rated_input_speed_rpm", "input_inertia_kgcm2",
                                               "efficiency_percent", "efficiency", "inertia_kgcm2",
-                                              "dynamic_load_kN", "max_speed_rpm", "max_stroke_mm", "loss_torque_Nm"):
+                                              "dynamic_load_kN", "max_speed_rpm", "max_stroke_mm", "loss_torque_Nm",
+                                              "peak_rule", "shock_factors_per_h", "emergency_stops"):
                     continue  # optional columns: empty is allowed
                 yield pytest.param(name, option, j, value, id=f"{name}-{column}-{value or 'empty'}")
 

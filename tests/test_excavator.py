@@ -261,7 +261,7 @@ def test_excavator_report(shovel):
     assert data["cylinders"]["L2"]["k"] == pytest.approx(1.0)  # equal lever arms at both ends (k = 1)
     assert data["loads"]["tooth_force"] == [-40e3, 0.0]
     text = str(report)
-    assert "[ISO 6015]" in text and "[Shovel]" in text and "report's numbers" not in text
+    assert "[ISO 6015, 5.2.1–5.2.2]" in text and "[Shovel]" in text and "report's numbers" not in text
     with pytest.raises(mechatron.InputError, match="two finite numbers"):
         ex.excavator_report(samples=5, tooth_force=(1.0,))
 

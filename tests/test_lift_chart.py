@@ -249,13 +249,13 @@ def test_command_prints_the_lift_chart_and_the_digging_forces(tmp_path, capsys):
 
     assert main(["excavator", "--lift-chart", "--samples", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {"lift_chart", "digging_forces"}
+    assert set(out) == {"lift_chart", "rated_tool_forces", "digging_capability"}
     assert {tuple(row) for row in out["lift_chart"]} == {("radius_m", "height_m", "over", "rated_kg", "tipping_kg",
                                                          "hydraulic_kg", "limit")}
     assert {row["over"] for row in out["lift_chart"]} == {"front", "side"}
     assert {row["limit"] for row in out["lift_chart"]} == {"tipping", "hydraulic"}
-    assert set(out["digging_forces"]) == {"bucket", "arm"}
-    for tool in out["digging_forces"].values():
+    assert set(out["rated_tool_forces"]) == set(out["digging_capability"]) == {"bucket", "arm"}
+    for tool in out["digging_capability"].values():
         assert {"force_N", "position_m", "limit"} <= set(tool) and tool["limit"] in ("hydraulic", "tipping",
                                                                                     "slipping")
         assert len(tool["position_m"]) == 2 and tool["force_N"] > 0
@@ -264,7 +264,8 @@ def test_command_prints_the_lift_chart_and_the_digging_forces(tmp_path, capsys):
     assert main(["excavator", "--lift-chart", "--samples", "3", "--csv", str(tmp_path / "l.csv"),
                  "--plot", str(tmp_path / "l.png")]) == 0
     text = capsys.readouterr().out
-    assert text.startswith(str(report)) and "[ISO 10567]" in text and "[ISO 6015]" in text
+    assert text.startswith(str(report)) and "[ISO 10567]" in text and "[ISO 6015, 5.2.1–5.2.2]" in text
+    assert "digging capability at the bucket lip (mechatron's estimate, not [ISO 6015]" in text
     assert "bucket" in text and "arm" in text and "*" in text
     import pandas as pd
 

@@ -121,10 +121,17 @@ def test_large_catalog_equals_brute_force(large, duties, worst_of, objective):
             return [(keys[k // len(conv)], conv.key[k % len(conv)]) for k in flat]
 
         assert result.feasible == bool(ranking)
-        assert list(zip(result.ranking["motor"], result.ranking["converter"])) == pairs(ranking)
+        ranked = list(zip(result.ranking["motor"], result.ranking["converter"]))
         np.testing.assert_allclose(result.ranking["smallest_margin"], [1 - worst.flat[k] for k in ranking],
                                    rtol=1e-12)
-        assert (result.motor, result.converter) == pairs(ranking)[0]
+        if objective == "margin":  # pairs of exactly equal worst load factors (a check of the converter alone, as
+            # its input speed) come in an order of convention: the same load factors, each that of its pair
+            index = {pair: k for k, pair in enumerate(pairs(range(worst.size)))}
+            assert [worst.flat[index[pair]] for pair in ranked] == [worst.flat[k] for k in ranking]
+            assert len(set(ranked)) == len(ranked)
+        else:
+            assert ranked == pairs(ranking)
+            assert (result.motor, result.converter) == pairs(ranking)[0]
         assert list(zip(result.rivals.get("motor", []), result.rivals.get("converter", []))) == pairs(rivals)
         chosen = worst[np.flatnonzero(keys == result.motor)[0], np.flatnonzero(conv.key == result.converter)[0]]
         assert result.smallest_margin() == pytest.approx(1 - chosen, rel=1e-12, abs=1e-15)
@@ -154,9 +161,10 @@ def test_time_objective_pass_test_equals_brute_force(large, duties):
     conv = converters_for(duty, gearboxes)
     passes = motor_passes(duty, motors, conv, 10.0)
     found = []
-    # the fastest pace is k ≈ 0.12293 here with the winding model (it was ≈ 0.1223 by RMS): 0.1229 and 0.123 bracket
-    # it within 0.1 %, where a single pair passes, decided by its peak torque (load factor 0.999)
-    for k in (0.1, 0.1222, 0.1225, 0.1229, 0.123, 0.13):
+    # the fastest pace is k ≈ 0.19308 here with the gearbox makers' peak-torque rules of the shipped catalog (it was
+    # ≈ 0.12293 with the power-law derating of before issue 31): 0.193 and 0.1931 bracket it within 0.05 %, where
+    # 39 pairs start to pass at once
+    for k in (0.1, 0.19, 0.193, 0.1931, 0.194, 0.25):
         brute = bool(every_check_passes(worst_load_factors(duty.scaled(k), motors, conv)).any())
         assert passes(k) == brute, k
         found.append(brute)

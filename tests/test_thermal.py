@@ -2,10 +2,12 @@
 closed form of a constant loss step from cold (the two exponentials of the 2 × 2 network), the periodic steady state
 of a square-wave loss (each mode's own geometric sum), the steady state with the resistance rising with temperature,
 and a time stepping of this test's own (RK4 on the network's equations, the cycle's affine map found from three
-runs); a batch of pairs simulated at once as each alone; the mean-rise bound the screening uses; the IEC 60034-1
-duty type; the sizing deciding by the winding's temperature where RMS would decide the other way; bad thermal
-columns refused naming file, row and field; a motor without them checked by RMS, the report saying so; --ambient
-and the study option."""
+runs); a batch of pairs simulated at once as each alone; the mean-rise bound the screening uses; the magnets heating
+too (issue 31 item 4: k_t at the housing's temperature, against a hand fixed point by brentq, the own stepping
+iterated by substitution, and a hand case without a steady state); the IEC 60034-1 duty types from the standard's
+definitions (issue 31 item 2: S1, S3, S4, S5, S6, S7 and the PUMA's S9 with its reasons); the sizing deciding by the
+winding's temperature where RMS would decide the other way; bad thermal columns refused naming file, row and field; a
+motor without them checked by RMS, the report saying so; --ambient and the study option."""
 
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import mechatron
 from mechatron.cli import main
 from mechatron.drives.catalogs import read_catalog
 from mechatron.drives.checks import DriveLimits
@@ -25,7 +28,6 @@ from mechatron.drives.thermal import (
     ALPHA_COPPER,
     DEFAULT_AMBIENT,
     ThermalData,
-    duty_text,
     duty_type,
     highest_rise,
     periodic_rise,
@@ -223,11 +225,13 @@ def test_the_batched_winding_simulation_equals_each_pair_alone():
 
 @pytest.mark.parametrize("samples", [1, 2, 3, 37, 1114])
 def test_the_compiled_periodic_state_equals_the_numpy_tree(samples):
-    """The periodic steady state in machine code (periodic_kernel: the cycle's map composed interval by interval)
-    equals the NumPy tree of pairwise compositions (thermal.tree_states) to 1e-11 relative on random batches of
-    uneven cycles — the same fixed point, summed in another order — and gives NaN on exactly the same rows: a
-    runaway (I² R₂₅ α R_tot ≥ 1) and a row with an infinite loss. Without a C compiler the tree is the path; the
-    kernel must be there by default (only MECHATRON_COMPILE=0 switches it off)."""
+    """The periodic steady state in machine code (periodic_kernel: each interval's map made and composed in one
+    pass) equals the NumPy maps (thermal.interval_maps) composed up the tree of pairwise compositions
+    (thermal.tree_states) to 1e-11 relative on random batches of uneven cycles with a random scale s of I² — the
+    same fixed point, summed in another order —, its housing mean equals NumPy's trapezoid of those states over the
+    cycle, and it gives NaN on exactly the same rows: a runaway (I² R₂₅ α R_tot ≥ 1) and a row with an infinite
+    loss. Without a C compiler the tree is the path; the kernel must be there by default (only MECHATRON_COMPILE=0
+    switches it off)."""
     import os
 
     from mechatron.drives.periodic_kernel import available, native_states
@@ -241,21 +245,28 @@ def test_the_compiled_periodic_state_equals_the_numpy_tree(samples):
     i2[2] = 400.0  # a runaway
     alpha[2] = ALPHA_COPPER
     loss[5, -1] = np.inf
-    maps = interval_maps(np.diff(t), 0.5 * (i2[:, 1:] + i2[:, :-1]), 0.5 * (loss[:, 1:] + loss[:, :-1]), r_wh, r_ha,
-                         tau_w, tau_h, r25 * (1 + alpha * (AMBIENT - REFERENCE)), r25 * alpha)
-    for tree, native in zip(tree_states(maps), native_states(maps)):
-        assert native.shape == tree.shape == (8, samples)
-        np.testing.assert_array_equal(np.isnan(native), np.isnan(tree))
-        assert np.isnan(tree[2]).all() and np.isnan(tree[5]).all() and np.isfinite(np.delete(tree, [2, 5], 0)).all()
-        np.testing.assert_allclose(native, tree, rtol=1e-11, atol=0.0)
-    one = native_states(tuple(m[0] for m in maps))  # one row as a 1-d array
-    np.testing.assert_allclose(one[0], tree_states(tuple(m[0] for m in maps))[0], rtol=1e-11, atol=0.0)
+    scale = np.random.default_rng(samples).uniform(0.8, 1.3, (8, 1))
+    r_amb, dr = r25 * (1 + alpha * (AMBIENT - REFERENCE)), r25 * alpha
+    maps = interval_maps(np.diff(t), 0.5 * (i2[:, 1:] + i2[:, :-1]) * scale, 0.5 * (loss[:, 1:] + loss[:, :-1]), r_wh,
+                         r_ha, tau_w, tau_h, r_amb, dr)
+    tree = tree_states(maps)
+    native = native_states(t, i2, loss, np.hstack([r_wh, r_ha, tau_w, tau_h, r_amb, dr, scale]))
+    for a, b in zip(tree, native[:2]):
+        assert b.shape == a.shape == (8, samples)
+        np.testing.assert_array_equal(np.isnan(b), np.isnan(a))
+        assert np.isnan(a[2]).all() and np.isnan(a[5]).all() and np.isfinite(np.delete(a, [2, 5], 0)).all()
+        np.testing.assert_allclose(b, a, rtol=1e-11, atol=0.0)
+    housing = np.concatenate([tree[1], tree[1][:, :1]], axis=1)  # the last sample's state is the first's
+    mean = np.trapezoid(housing, t, axis=1) / (t[-1] - t[0])
+    np.testing.assert_array_equal(np.isnan(native[2]), np.isnan(mean))
+    np.testing.assert_allclose(native[2], mean, rtol=1e-11, atol=0.0)
 
 
 def test_the_sizing_simulates_a_block_of_pairs_as_each_alone():
     """PairChecks.winding of a block of random motor × gearbox pairs of the shipped catalogs on a robot-like duty
     equals each pair simulated alone by periodic_rise with this test's own motor torque T_m = (J_m + J_c) u ω̇ +
-    τ*/u (τ* = τ/η motoring, τ η braking) and current I = T_m/k_t (1e-12)."""
+    τ*/u (τ* = τ/η motoring, τ η braking) and current I = T_m/k_t₂₅, the catalog's magnet coefficient (the NdFeB
+    default) given (1e-12); a runaway's with R and k_t held at T_max (k_t(T_max) = k_t₂₅ (1 + β (T_max − 25 °C)))."""
     from mechatron.drives.catalogs import default_catalog
     from mechatron.drives.checks import PairChecks
     from mechatron.drives.converters import converters_for
@@ -277,10 +288,11 @@ def test_the_sizing_simulates_a_block_of_pairs_as_each_alone():
         current = ((motors["rotor_inertia"].iloc[i] + conv.inertia[g]) * u * acceleration + load) / th.kt[i]
         r25, alpha = th.resistance[i], th.alpha[i]
         alone = periodic_rise(t, current[None] ** 2, th.loss_torque[i] * np.abs(u * speed)[None], th.r_wh[i],
-                              th.r_ha[i], th.tau_w[i], th.tau_h[i], r25, alpha, DEFAULT_AMBIENT)
-        if np.isnan(alone).all():  # a runaway: the rise at the resistance held at R(T_max)
+                              th.r_ha[i], th.tau_w[i], th.tau_h[i], r25, alpha, DEFAULT_AMBIENT, th.magnet[i])
+        if np.isnan(alone).all():  # a runaway: the rise with R and k_t held at their values at T_max
             runaways += 1
-            alone = periodic_rise(t, current[None] ** 2, th.loss_torque[i] * np.abs(u * speed)[None], th.r_wh[i],
+            hot = current / (1 + th.magnet[i] * (th.limit[i] - ZERO - 25))  # I = T_m / k_t(T_max)
+            alone = periodic_rise(t, hot[None] ** 2, th.loss_torque[i] * np.abs(u * speed)[None], th.r_wh[i],
                                   th.r_ha[i], th.tau_w[i], th.tau_h[i], r25 * (1 + alpha * (th.limit[i] - ZERO - 25)),
                                   0.0, DEFAULT_AMBIENT)
         assert block[k] == pytest.approx(alone[0, :, 0].max(), rel=1e-12)
@@ -318,13 +330,138 @@ def test_the_mean_rise_bounds_the_highest_rise_from_below():
         bound = float(thermal.mean_bound(0, rms, mean_speed, AMBIENT))
         hottest = winding_temperature(t, torque, speed, thermal, 0, AMBIENT)[0].max() - AMBIENT
         assert bound <= hottest * (1 + 1e-12)
-    flat = ThermalData(*(np.array([x]) for x in (*NETWORK, 428.15, 0.7, 0.0, 0.9, 0.0)))
+    flat = ThermalData(*(np.array([x]) for x in (*NETWORK, 428.15, 0.7, 0.0, 0.9, 0.0, 0.0)))  # R and k_t constant
     t = np.linspace(0, 10, 2001)
     torque = 3 * np.sin(t) ** 2
     w = np.full(2001, t[1] - t[0]) / 10
     w[[0, -1]] /= 2
     mean = np.trapezoid(winding_temperature(t, torque, 0 * t, flat, 0, AMBIENT)[0] - AMBIENT, t) / 10
     assert flat.mean_bound(0, math.sqrt(w @ torque**2), 0.0, AMBIENT) == pytest.approx(mean, rel=1e-5)
+
+
+# ------------------------------------------------------------------------------------------------ magnets
+BETA = -0.0011  # 1/K: NdFeB
+
+
+def hand_steady_state(current: float, r25: float, alpha: float, beta: float, network=NETWORK,
+                      ambient=AMBIENT) -> tuple[float, float]:
+    """This test's own steady state (θ_w, θ_h) (K) of a constant current I (T_m/k_t₂₅) with k_t at the housing's
+    temperature: the loss P solves P = I² R₂₅ (1 + α (T_a + R_tot P − 25 °C)) / (1 + β (T_a + R_ha P − 25 °C))²
+    (θ_w = R_tot P, θ_h = R_ha P at a constant load), its smallest root by brentq (the first sign change of a scan)."""
+    from scipy.optimize import brentq
+
+    r_wh, r_ha, *_ = network
+    total, base = r_wh + r_ha, ambient - ZERO - 25
+
+    def excess(p):
+        return current**2 * r25 * (1 + alpha * (base + total * p)) / (1 + beta * (base + r_ha * p)) ** 2 - p
+
+    grid = np.linspace(0.0, 200.0, 20001)
+    upper = grid[np.argmax([excess(p) < 0 for p in grid])]
+    power = brentq(excess, 0.0, upper, xtol=1e-14)
+    return total * power, r_ha * power
+
+
+def test_a_hot_winding_with_magnets_runs_hotter_by_the_hand_fixed_point():
+    """7 A at constant torque through R₂₅ = 0.5 Ω: without magnet coefficient the winding rises to the closed form
+    I² R_a R_tot / (1 − I² R₂₅ α R_tot) = 85.2 K; with NdFeB's β = −0.11 %/K and the magnets at the housing's
+    temperature, to the hand fixed point (brentq on P = I² R(T_w) / (1 + β (T_h − 25 °C))²) 114.2 K, 29 K
+    hotter (the magnets at 117.7 °C have lost 10.2 % of k_t₂₅) — the model's winding and housing equal it to 1e-3 K
+    (the magnet iteration's tolerance), through periodic_rise and through the sizing, whose report gives the
+    magnets' temperature T_a + R_ha P."""
+    r_wh, r_ha, *_ = NETWORK
+    current, r25 = 7.0, 0.5
+    t = np.linspace(0.0, 5.0, 11)
+    cold = rise(t, np.full(11, current), resistance=r25, alpha=ALPHA_COPPER)[:, 0]
+    r_ambient = r25 * (1 + ALPHA_COPPER * (AMBIENT - ZERO - 25))
+    closed = current**2 * r_ambient * (r_wh + r_ha) / (1 - current**2 * r25 * ALPHA_COPPER * (r_wh + r_ha))
+    assert cold == pytest.approx(np.full(11, closed), abs=1e-9) and closed == pytest.approx(85.2, abs=0.05)
+    winding, housing = hand_steady_state(current, r25, ALPHA_COPPER, BETA)
+    model = periodic_rise(t, np.full((1, 11), current**2), np.zeros((1, 11)), *NETWORK, r25, ALPHA_COPPER, AMBIENT,
+                          BETA)[0]
+    assert np.max(np.abs(model[:, 0] - winding)) < 1e-3 and np.max(np.abs(model[:, 1] - housing)) < 1e-3
+    assert winding == pytest.approx(114.2, abs=0.05) and winding - closed > 28.0
+    # the same through the sizing: a motor of this network at k_t₂₅ = 1 N·m/A holding 7 N·m at standstill
+    motor = pd.DataFrame([{**MOTORS.iloc[0].to_dict(), "resistance": r25, "rth_winding_housing": r_wh,
+                           "rth_housing_ambient": r_ha, "tau_winding": NETWORK[2], "tau_housing": NETWORK[3],
+                           "temperature_coefficient": ALPHA_COPPER, "torque_constant_coefficient": BETA}])
+    sized = size_joint(_duty(t, np.full(11, current)), motor, direct=True)
+    check = next(c for c in sized.checks if c.name == "winding temperature rise")
+    assert check.value == pytest.approx(winding, abs=1e-3)
+    assert sized.thermal()["magnet_K"] == pytest.approx(AMBIENT + housing, abs=1e-3)
+    assert "the magnets 117.7 °C" in str(sized) and sized.as_dict()["thermal"]["duty_type"] == "S1"
+
+
+def test_the_magnet_fixed_point_of_a_robot_like_cycle_against_the_own_stepping():
+    """The robot-like cycle of the RK4 test above with NdFeB magnets: this test's own RK4 stepping at the scale s =
+    1/(1 + β (T_a + x − 25 °C))² of I², x taken by plain substitution x ← ⟨θ_h⟩ (the trapezoidal mean of the
+    stepped housing at the samples) until it moves less than 1e-9 K, equals the model to 1e-3 K (the magnet
+    iteration's tolerance; 4e-7 K here); 31 K hotter than the model without magnet coefficient."""
+    t = np.concatenate([np.linspace(0, 4, 81), np.linspace(4.05, 6, 20)])
+    current = np.where(t < 4, 9 * np.sin(np.pi * t / 4) ** 2 + 2 * np.sin(3 * t), 1.5)
+    loss = np.where(t < 4, 12 * np.abs(np.sin(np.pi * t / 4)), 0.0)
+    network = (0.8, 1.7, 5.0, 60.0)
+    x = 0.0
+    for _ in range(40):
+        scale = 1 / (1 + BETA * (AMBIENT - ZERO - 25 + x)) ** 2
+        stepped = stepped_periodic(t, current * math.sqrt(scale), loss, sub=8, network=network)
+        x, before = np.trapezoid(stepped[:, 1], t) / (t[-1] - t[0]), x
+        if abs(x - before) < 1e-9:
+            break
+    assert abs(x - before) < 1e-9
+    model = periodic_rise(t, (current**2)[None], loss[None], *network, 1.0, ALPHA_COPPER, AMBIENT, BETA)[0]
+    assert np.max(np.abs(model - stepped)) < 1e-3
+    plain = periodic_rise(t, (current**2)[None], loss[None], *network, 1.0, ALPHA_COPPER, AMBIENT)[0]
+    assert model[:, 0].max() - plain[:, 0].max() > 30.0
+
+
+def test_magnets_that_weaken_faster_than_the_cooling_leave_no_steady_state():
+    """β = −0.5 %/K (allowed: k_t(155 °C) = 0.35 k_t₂₅ > 0): at a current where the copper alone has a steady state
+    at every magnet temperature below some x_r, the housing's steady rise at the magnet rise x, F(x) = R_ha P(x),
+    P(x) = I² s(x) R_a / (1 − I² s(x) R₂₅ α R_tot), stays above x on [0, x_r) (this test's scan): no fixed point,
+    no steady state (periodic_rise NaN); the check takes the rise with R and k_t held at T_max, I² s(T_max − T_a)
+    R(T_max) R_tot by hand, above the allowed rise. The same current without magnet coefficient has one."""
+    r_wh, r_ha, *_ = NETWORK
+    total, r25, beta, limit = r_wh + r_ha, 0.5, -0.005, ZERO + 155
+    base = AMBIENT - ZERO - 25
+    r_ambient = r25 * (1 + ALPHA_COPPER * base)
+
+    def housing(x, current):
+        s = 1 / (1 + beta * (base + x)) ** 2
+        room = 1 - current**2 * s * r25 * ALPHA_COPPER * total
+        return np.where(room > 0, r_ha * current**2 * s * r_ambient / np.where(room > 0, room, 1.0), np.inf)
+
+    x = np.linspace(0.0, -1 / beta - base - 1e-6, 200001)
+    current = 6.0
+    assert np.all(housing(x, current) > x) and np.isfinite(housing(0.0, current))  # no fixed point; stable at x = 0
+    t = np.linspace(0.0, 3.0, 7)
+    i2 = np.full((1, 7), current**2)
+    assert np.isnan(periodic_rise(t, i2, np.zeros((1, 7)), *NETWORK, r25, ALPHA_COPPER, AMBIENT, beta)).all()
+    assert np.isfinite(periodic_rise(t, i2, np.zeros((1, 7)), *NETWORK, r25, ALPHA_COPPER, AMBIENT)).all()
+    top = highest_rise(t, i2, np.zeros((1, 7)), *NETWORK, r25, ALPHA_COPPER, AMBIENT, limit, beta)[0]
+    held = current**2 / (1 + beta * (limit - ZERO - 25)) ** 2 * r25 * (1 + ALPHA_COPPER * 130) * total
+    assert top == pytest.approx(held, rel=1e-9) and top > limit - AMBIENT
+
+
+def test_the_magnet_coefficient_column(tmp_path):
+    """``torque_constant_coefficient`` in %/K: −0.11 %/K read as −0.0011 1/K, empty as the NdFeB default, absent as
+    the default too; a positive coefficient, one below −1 %/K and one that leaves no k_t at the limit temperature
+    (−0.8 %/K at 155 °C: 1 − 0.008 · 130 < 0) refused naming file, row and field."""
+    from mechatron.drives.thermal import MAGNET_COEFFICIENT
+
+    header = HEADER + ",torque_constant_coefficient_percent_K"
+    path = tmp_path / "motors.csv"
+    path.write_text(f"{header}\n{GOOD},-0.11\n{GOOD.replace('M1', 'M2')},\n")
+    assert ThermalData.of(read_catalog(path, "motors")).magnet.tolist() == pytest.approx([-0.0011, MAGNET_COEFFICIENT])
+    assert MAGNET_COEFFICIENT == -0.0011
+    path.write_text(f"{HEADER}\n{GOOD}\n")
+    assert ThermalData.of(read_catalog(path, "motors")).magnet.tolist() == [MAGNET_COEFFICIENT]
+    for value, message in (("0.05", "must be between"), ("-1.5", "must be between"), ("-0.8", "must stay > 0")):
+        path.write_text(f"{header}\n{GOOD},-0.11\n{GOOD.replace('M1', 'M2')},{value}\n")
+        with pytest.raises(InputError, match=message) as info:
+            read_catalog(path, "motors")
+        assert (info.value.row, info.value.field) == (3, "torque_constant_coefficient_percent_K")
+        assert str(info.value).count("\n") == 0
 
 
 # --------------------------------------------------------------------------------------------- duty type
@@ -336,26 +473,130 @@ def _duty(t, torque, speed=None, moving=None, acceleration=None):
     return JointDuty("q1", "revolute", t, speed, acceleration, torque, torque.copy(), 1e-4, 0.0, moving)
 
 
-def test_the_duty_type_from_the_moves_and_dwells():
-    t = np.array([0.0, 1.0, 2.0, 3.0, 7.0])
-    moving = np.array([True, True, True, False])
-    assert duty_type(_duty(t, [1, 2, 3, 1, 1])) == ("S1", 1.0)
-    assert duty_type(_duty(t, [1, 2, 3, 0, 0], moving=moving)) == ("S3", 3 / 7)
-    kind, factor = duty_type(_duty(t, [1, 2, 3, 1, 1], moving=moving))  # holds 1 N·m at rest: energised
-    assert (kind, factor) == ("S6", 3 / 7) and duty_text(kind, factor) == "S6 43 %" and duty_text("S1", 1) == "S1"
+def test_constant_load_running_continuously_is_s1():
+    """IEC 60034-1, 4.2.1: S1 is operation at a constant load: 2 N·m at 30 rad/s the whole cycle, and 2 N·m held at
+    standstill the whole cycle (a load at zero speed, energised), are S1; the same with the load varying by 20 %
+    is not (S9, the load varying: from 1.6 to 2.4 N·m, a third of its largest)."""
+    t = np.linspace(0.0, 10.0, 101)
+    running = duty_type(_duty(t, np.full(101, 2.0), speed=np.full(101, 30.0)))
+    assert (running.kind, running.factor, str(running), running.clause) == ("S1", 1.0, "S1", "4.2.1")
+    assert duty_type(_duty(t, np.full(101, 2.0))).kind == "S1"
+    varying = duty_type(_duty(t, 2.0 + 0.4 * np.sin(t), speed=np.full(101, 30.0)))
+    assert varying.kind == "S9" and "the load spans 33 %" in varying.reason
+
+
+def on_off(t_on: float, t_off: float, torque: float, speed: float, dt: float = 0.05) -> JointDuty:
+    """``torque`` at ``speed`` for t_on, then no torque at standstill for t_off (the steps within 1e-9 s)."""
+    on = np.arange(0.0, t_on + dt / 2, dt)
+    t = np.concatenate([on, np.linspace(t_on + 1e-9, t_on + t_off, int(round(t_off / dt)) + 1)])
+    loaded = t <= t_on
+    return _duty(t, np.where(loaded, torque, 0.0), speed=np.where(loaded, speed, 0.0))
+
+
+def test_a_constant_load_switched_on_and_off_is_s3():
+    """IEC 60034-1, 4.2.3: S3 is identical cycles of a constant load and a rest de-energised (at standstill, no
+    torque), the starting not affecting the temperature: 3 N·m at 50 rad/s for 1 s in every 4 s is S3 25 % (x the
+    time under load over the cycle's, 1/4), at standstill too (a load pushed and released); holding the load in
+    the rest instead is no rest (S9: the speed under load varies)."""
+    duty = on_off(1.0, 3.0, 3.0, 50.0)
+    kind = duty_type(duty)
+    assert (kind.kind, str(kind), kind.clause) == ("S3", "S3 25 %", "4.2.3")
+    assert kind.factor == pytest.approx(0.25, abs=1e-8)
+    assert str(duty_type(on_off(1.0, 3.0, 3.0, 0.0))) == "S3 25 %"
+    held = _duty(duty.t, np.full(len(duty.t), 3.0), speed=duty.speed)
+    assert duty_type(held).kind == "S9"
+
+
+def test_holding_a_load_at_rest_is_not_no_load_running():
+    """IEC 60034-1, 4.2.6: S6 is a constant load and no-load running (at speed, no torque), no rest: 2 N·m at 20
+    rad/s for 1 s, then 20 rad/s without torque for 3 s, is S6 25 %; the same load held at standstill for those 3 s
+    (energised, at zero speed) is a load at another speed, not S6's no-load: S9."""
+    t = np.concatenate([np.linspace(0.0, 1.0, 21), np.linspace(1.0 + 1e-9, 4.0, 61)])
+    loaded = t <= 1.0
+    idle = duty_type(_duty(t, np.where(loaded, 2.0, 0.0), speed=np.full(len(t), 20.0)))
+    assert (str(idle), idle.clause) == ("S6 25 %", "4.2.6") and idle.factor == pytest.approx(0.25, abs=1e-8)
+    holding = duty_type(_duty(t, np.full(len(t), 2.0), speed=np.where(loaded, 20.0, 0.0)))
+    assert holding.kind == "S9" and "the speed spans 100 %" in holding.reason
+
+
+def servo_moves(friction: float, rest: float, reverse: bool = False) -> JointDuty:
+    """Trapezoidal moves of a rotor J = 0.01 kg·m²: 50 rad/s² for 0.2 s up to 10 rad/s, 0.6 s at it, 0.2 s braking,
+    then ``rest`` s at standstill (the next move the other way where ``reverse``); torque J ω̇ + ``friction`` with
+    the speed's sign while moving (a constant load), none at rest."""
+    dt = 0.005
+    move = np.arange(0.0, 1.0 + dt / 2, dt)
+    acceleration = np.where(move < 0.2, 50.0, np.where(move > 0.8, -50.0, 0.0))
+    speed = np.minimum(np.minimum(50 * move, 10.0), 50 * (1.0 - move)).clip(0.0)
+    parts_t, parts_w, parts_a = [move], [speed], [acceleration]
+    if rest:
+        parts_t.append(np.linspace(1.0 + dt, 1.0 + rest, int(round(rest / dt))))
+        parts_w.append(np.zeros(len(parts_t[-1])))
+        parts_a.append(np.zeros(len(parts_t[-1])))
+    t, w, a = (np.concatenate(p) for p in (parts_t, parts_w, parts_a))
+    if reverse:
+        t, w, a = np.concatenate([t, t[-1] + dt + t]), np.concatenate([w, -w]), np.concatenate([a, -a])
+    torque = 0.01 * a + friction * np.sign(w)
+    return _duty(t, torque, speed=w, acceleration=a)
+
+
+def test_servo_moves_with_rests_are_s5_braked_by_the_motor_s4_by_the_load_and_s7_without_rest():
+    """IEC 60034-1, 4.2.4/4.2.5/4.2.7: starting (0.5 N·m of acceleration), a constant load (the friction, at
+    constant speed) and braking, then a rest de-energised, is S5 where the motor brakes (friction 0.2 N·m: −0.3
+    N·m against the speed) and S4 where the friction does (0.8 N·m: the torque stays with the speed); x the time
+    energised (starting, load, braking: 1 s) over the cycle (2 s). Reversing moves without a rest, braked by the
+    motor: S7 (no cyclic duration factor)."""
+    electric = duty_type(servo_moves(0.2, 1.0))
+    assert (electric.kind, electric.clause) == ("S5", "4.2.5") and electric.factor == pytest.approx(0.5, abs=0.01)
+    assert str(electric) == "S5 50 %" and "electric braking" in electric.reason
+    by_load = duty_type(servo_moves(0.8, 1.0))
+    assert (by_load.kind, str(by_load)) == ("S4", "S4 50 %") and "braked by the load" in by_load.reason
+    reversing = duty_type(servo_moves(0.2, 0.0, reverse=True))
+    assert (reversing.kind, reversing.factor, str(reversing)) == ("S7", 1.0, "S7")
+
+
+def test_the_puma_pick_and_place_is_s9_and_says_why():
+    """IEC 60034-1, 4.2.9: the PUMA 560's own task (mechatron.load("puma560"), robots/tasks/puma560.toml: moves
+    between waypoints and 0.2 s dwells) gives every joint's motor, sized, S9 — none of S1 … S8, each by the
+    definitions, read off the motor's own torque T and speed n here: five joints carry a load under load that is
+    not constant (outside the joint's starting and braking, |T| ≥ 5 % of its largest, |T| spreads more than 5 %
+    of its largest: gravity and inertia change along the path); joint 5 carries a constant load but is never at
+    rest de-energised (its wrist's gravity held in every dwell) and never brakes electrically (T n ≥ 0 wherever
+    it decelerates): neither S3 … S5 (a rest) nor S7 (electric braking). The report and JSON say why."""
+    result = mechatron.size(mechatron.load("puma560"))
+    for joint in result.joints:
+        n, torque = joint.operating_points()
+        duty = joint.duty
+        kind = duty_type(duty, n, torque)
+        assert (kind.kind, str(kind), kind.clause) == ("S9", "S9", "4.2.9"), joint.joint
+        info = joint.as_dict()["thermal"]
+        assert info["duty_type"] == "S9" and info["duty_reason"] == kind.reason
+        assert f"duty type S9 [IEC 60034-1, 4.2.9]: {kind.reason}" in str(joint)
+        top = np.abs(torque).max()
+        steady = np.abs(duty.acceleration) <= 0.05 * np.abs(duty.acceleration).max()
+        loaded = steady & (np.abs(torque) > 0.05 * top)
+        spread = np.ptp(np.abs(torque[loaded])) / top
+        if joint.joint != "q5":
+            assert spread > 0.05 and "load and speed vary over the cycle" in kind.reason, joint.joint
+            continue
+        assert spread <= 0.05 and not np.any((np.abs(torque) <= 0.05 * top) & (np.abs(n) <= 0.05 * np.abs(n).max()))
+        assert np.all(torque[duty.acceleration * duty.speed < 0] * n[duty.acceleration * duty.speed < 0] >= 0)
+        assert kind.reason.startswith("speed changes braked by the load, not electrically, and no rest")
 
 
 # ------------------------------------------------------------------------------------------------ sizing
-#: Two motors checked by their winding (R₂₅ = 1 Ω, k_t = 1 N·m/A: I = T_m): A light, rated 4.5 N·m S1 but able
-#: to carry 5.04 N·m continuously at standstill by its network (R_tot = 3 K/W); B heavier, with twice the cooling.
+#: Two motors checked by their winding (R₂₅ = 1 Ω, k_t = 1 N·m/A whatever the magnets' temperature: I = T_m): A
+#: light, rated 4.5 N·m S1 but able to carry 5.04 N·m continuously at standstill by its network (R_tot = 3 K/W); B
+#: heavier, with twice the cooling.
 MOTORS = pd.DataFrame([
     {"key": "A", "rated_torque": 4.5, "peak_torque": 20.0, "rated_speed": 300.0, "max_speed": 500.0,
      "rotor_inertia": 1e-4, "torque_constant": 1.0, "resistance": 1.0, "rth_winding_housing": 1.0,
      "rth_housing_ambient": 2.0, "tau_winding": 20.0, "tau_housing": 600.0, "max_winding_temperature": 428.15,
+     "torque_constant_coefficient": 0.0,
      "mass": 1.0, "price": 100.0},
     {"key": "B", "rated_torque": 7.5, "peak_torque": 30.0, "rated_speed": 300.0, "max_speed": 500.0,
      "rotor_inertia": 2e-4, "torque_constant": 1.0, "resistance": 1.0, "rth_winding_housing": 0.4,
      "rth_housing_ambient": 0.8, "tau_winding": 20.0, "tau_housing": 600.0, "max_winding_temperature": 428.15,
+     "torque_constant_coefficient": 0.0,
      "mass": 2.0, "price": 200.0},
 ])
 THERMAL = ["rth_winding_housing", "rth_housing_ambient", "tau_winding", "tau_housing", "max_winding_temperature"]
@@ -401,7 +642,8 @@ def test_the_sizing_decides_by_the_winding_where_rms_decides_the_other_way(case,
     assert abs(hottest / 115.0 - 1) > 0.05  # a clear decision
     info = a.thermal()
     assert info["check"] == "winding temperature rise" and info["winding_max_K"] == pytest.approx(AMBIENT + hottest)
-    assert info["duty_type"] == "S1"
+    # a constant load on and off, at standstill: IEC 60034-1's S3, x the time under load over the cycle's
+    assert info["duty_type"] == "S3 33 %" and info["cyclic_duration_factor"] == pytest.approx(1 / 3, abs=1e-8)
 
 
 def test_a_runaway_winding_fails_with_the_rise_at_its_limit_resistance():

@@ -13,8 +13,9 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     """The front-shovel design report [Shovel]: parse, call :func:`~mechatron.machines.excavator.excavator_report`,
     emit. With ``-o FILE``: write the design's mechanism file (:func:`~mechatron.machines.excavator.write_shovel`),
     and the report only if one of its outputs (--json, --csv, --plot) is asked for. With ``--lift-chart``: the
-    rated lift capacity [ISO 10567] and the digging forces [ISO 6015] of the design on the machine of its
-    ``[machine]`` table (:func:`~mechatron.machines.capacity.capacity_report`)."""
+    rated lift capacity [ISO 10567], the rated tool forces [ISO 6015, 5.2.1–5.2.2] and the digging capability
+    (mechatron's estimate) of the design on the machine of its ``[machine]`` table
+    (:func:`~mechatron.machines.capacity.capacity_report`)."""
     from ..machines.excavator import excavator_report, read_design, write_shovel
     from ..machines.shovel_machine import read_machine
     from ..report.progress import progress_bar
@@ -49,8 +50,9 @@ def register(sub) -> None:
     p.add_argument("--samples", type=Number(integer=True, minimum=2), default=31, metavar="N",
                    help="grid points per cylinder stroke (default 31; with --lift-chart the digging positions)")
     p.add_argument("--lift-chart", action="store_true",
-                   help="rated lift capacity [ISO 10567] and digging forces [ISO 6015] on the machine of the "
-                        "design file's [machine] table instead of the design report")
+                   help="rated lift capacity [ISO 10567], rated tool forces [ISO 6015, 5.2] and the digging "
+                        "capability (mechatron's estimate) on the machine of the design file's [machine] table "
+                        "instead of the design report")
     p.add_argument("--tooth-force", metavar="FX,FY", help="force on the tooth tip for the holding loads (N)")
     output_option(p, "-o", "--output", kind="toml",
                   help="write the design's mechanism file (.toml; every command reads it) instead of the report")

@@ -27,7 +27,9 @@ from .shafts import end_fixing
 @dataclass(frozen=True)
 class Field:
     """One column of a catalog: its name, kind of quantity (a key of :data:`mechatron.units.UNITS`), whether every
-    row must give it, whether it must be > 0 (else ≥ 0), its largest value and its smallest (SI)."""
+    row must give it, whether it must be > 0 (else ≥ 0), its largest value and its smallest (SI); ``table``: a cell
+    holds ``x:y`` pairs separated by ``;``, x of the field's kind (its column's unit), y a plain number
+    (:func:`_rate_table`)."""
 
     name: str
     kind: str
@@ -35,6 +37,7 @@ class Field:
     positive: bool = True  # > 0 (else >= 0)
     maximum: float | None = None
     minimum: float | None = None
+    table: bool = False
 
 
 SCHEMAS: dict[str, tuple[Field, ...]] = {
@@ -51,6 +54,8 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("tau_winding", "time", False), Field("tau_housing", "time", False),
         Field("max_winding_temperature", "temperature", False, minimum=273.15, maximum=773.15),
         Field("temperature_coefficient", "temperature_coefficient", False, positive=False, maximum=0.1),
+        # k_t's temperature coefficient β (mechatron.drives.thermal: the magnets heat too), ≤ 0
+        Field("torque_constant_coefficient", "temperature_coefficient", False, minimum=-0.01, maximum=0.0),
         Field("loss_torque", "torque", False, positive=False),
         Field("mass", "mass", False), Field("price", "money", False),
     ),
@@ -60,6 +65,8 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("peak_torque", "torque"), Field("emergency_torque", "torque"), Field("max_input_speed", "speed"),
         Field("rated_input_speed", "speed"), Field("efficiency", "fraction", maximum=1.0),
         Field("cycle_rating", "rate", False), Field("emergency_stops", "count", False),
+        # the maker's rule of the peak torque (docs/catalogs.md, "Gearbox duty"; mechatron.drives.converters)
+        Field("peak_rule", "text", False), Field("shock_factors", "rate", False, table=True),
         Field("input_inertia", "inertia"), Field("backlash", "angle", False, positive=False),
         Field("mass", "mass", False), Field("price", "money", False),
     ),
@@ -199,17 +206,44 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
         if field.kind == "text":
             values.append(text)
             continue
+        if field.table:
+            values.append(_rate_table(text, factor, path, row, column))
+            continue
         value = number(text, file=path, row=row, field=column) * factor + shift
-        if field.minimum is not None and not field.minimum <= value <= (field.maximum or math.inf):
+        top = math.inf if field.maximum is None else field.maximum
+        if field.minimum is not None and not field.minimum <= value <= top:
             raise InputError(f"must be between {_shown(field.minimum, field)} and {_shown(field.maximum, field)}, "
                              f"got {text}", file=path, row=row, field=column)
-        if value < 0 or (field.positive and value == 0):
+        if (field.minimum is None or field.minimum >= 0) and (value < 0 or (field.positive and value == 0)):
             raise InputError(f"must be {'> 0' if field.positive else '>= 0'}, got {text}", file=path, row=row,
                              field=column)
         if field.maximum is not None and value > field.maximum:
             raise InputError(f"must be <= {field.maximum:g}, got {text}", file=path, row=row, field=column)
         values.append(value)
     return values
+
+
+def _rate_table(text: str, factor: float, path: Path, row: int, column: str) -> tuple[tuple[float, float], ...]:
+    """A cell of ``rate:factor`` pairs separated by ``;`` (``1000:1;3000:1.2``) as ((rate (1/s), factor), …): each
+    rate > 0 in the column's unit (× ``factor`` to 1/s), rising from pair to pair, each factor ≥ 1 (a maker's shock
+    factor multiplies the load; it never raises the rating)."""
+    pairs = []
+    for part in text.split(";"):
+        cells = part.split(":")
+        if len(cells) != 2:
+            raise InputError(f"expected rate:factor pairs separated by ';' (e.g. 1000:1;3000:1.2), got {text!r}",
+                             file=path, row=row, field=column)
+        rate, value = (number(cell.strip(), file=path, row=row, field=column) for cell in cells)
+        if not rate > 0:
+            raise InputError(f"a rate must be > 0, got {cells[0].strip()}", file=path, row=row, field=column)
+        if value < 1:
+            raise InputError(f"a shock factor must be >= 1 (it multiplies the peak torque asked for), got "
+                             f"{cells[1].strip()}", file=path, row=row, field=column)
+        if pairs and rate * factor <= pairs[-1][0]:
+            raise InputError(f"the rates must rise from pair to pair, got {cells[0].strip()} after a larger or equal "
+                             "one", file=path, row=row, field=column)
+        pairs.append((rate * factor, value))
+    return tuple(pairs)
 
 
 def _shown(value: float, field: Field) -> str:
@@ -242,9 +276,32 @@ def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: di
                     end_fixing(name)
                 except InputError as error:
                     raise InputError(error.message, file=path, row=row, field=column_of["end_fixing"]) from None
+    if kind == "gearboxes":
+        _check_peak_rule(table, path, column_of, lines)
     if kind == "motors":
         thermal = _check_thermal(table, path, column_of, lines)
         _check_electrical(table, path, column_of, lines, thermal)
+
+
+def _check_peak_rule(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int]) -> None:
+    """A gearbox's ``peak_rule`` is one of :data:`~mechatron.drives.converters.PEAK_RULES` (empty: ``shock_factors``
+    where the row gives that table, else ``cycle_rating``) and agrees with its ``shock_factors`` cell: the table
+    with ``shock_factors``, none with the other two."""
+    from .converters import PEAK_RULES
+
+    rules = table["peak_rule"] if "peak_rule" in table else pd.Series("", index=table.index)
+    tables = table["shock_factors"] if "shock_factors" in table else pd.Series(math.nan, index=table.index)
+    for line, rule, factors in zip(lines, rules, tables):
+        given = isinstance(factors, tuple)
+        if rule and rule not in PEAK_RULES:
+            raise InputError(f"unknown peak rule {rule!r}; expected one of: {', '.join(PEAK_RULES)} (or empty)",
+                             file=path, row=line, field=column_of["peak_rule"])
+        if rule == "shock_factors" and not given:
+            raise InputError("missing value: peak_rule shock_factors needs the row's shock_factors table", file=path,
+                             row=line, field=column_of.get("shock_factors", "shock_factors"))
+        if given and rule not in ("", "shock_factors"):
+            raise InputError(f"a shock_factors table with peak_rule {rule}: give one rule (the table, or "
+                             f"{rule} without it)", file=path, row=line, field=column_of["peak_rule"])
 
 
 def _given(table: pd.DataFrame, names: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -257,7 +314,7 @@ def _check_thermal(table: pd.DataFrame, path: Path, column_of: dict[str, str], l
     """The thermal columns of a motor catalog (:data:`~mechatron.drives.thermal.THERMAL_COLUMNS`) are given in
     every row, with the torque constant and the resistance (the copper loss I² R of I = T/k_t), or in none: else the
     first row that lacks one names it. Whether the catalog gives them."""
-    from .thermal import THERMAL_COLUMNS
+    from .thermal import REFERENCE, THERMAL_COLUMNS
 
     needed = (*THERMAL_COLUMNS, "torque_constant", "resistance")
     given = _given(table, needed)
@@ -271,6 +328,14 @@ def _check_thermal(table: pd.DataFrame, path: Path, column_of: dict[str, str], l
                          f"temperature needs all of {', '.join(needed)} in every row (or none of "
                          f"{', '.join(THERMAL_COLUMNS)} in any)", file=path, row=lines[i],
                          field=column_of.get(missing, missing))
+    if "torque_constant_coefficient" in table:  # k_t(T_max) = k_t₂₅ (1 + β (T_max − 25 °C)) > 0
+        beta = table["torque_constant_coefficient"].to_numpy(dtype=float)
+        vanishing = np.flatnonzero(1 + beta * (table["max_winding_temperature"].to_numpy(dtype=float) - REFERENCE)
+                                   <= 0)
+        if len(vanishing):
+            raise InputError("k_t(T_max) = k_t₂₅·(1 + β·(T_max − 25 °C)) must stay > 0: the magnets would lose all "
+                             "their flux below the winding's limit temperature", file=path,
+                             row=lines[int(vanishing[0])], field=column_of["torque_constant_coefficient"])
     return True
 
 

@@ -18,7 +18,7 @@ RMS torque (thermal)                  √⟨T_m²⟩                            
 max speed                             max |n|                                                         n_max
 inertia ratio                         (J_L/u² + J_c) / J_m, J_L the largest load inertia              10 (option)
 transmission equivalent torque        (Σ |ω| |τ|³ Δt / Σ |ω| Δt)^(1/3)                                T2N
-transmission peak torque              max |τ|                                                         T2B f_c
+transmission peak torque              max |τ|                                                         T2B / f_s
 transmission emergency torque         T_peak u (the motor's peak torque through the gear)             T2Stop
 transmission max input speed          max |n|                                                         n1max
 transmission mean input speed         ⟨|n|⟩                                                           n1N
@@ -29,14 +29,25 @@ configuration manuals; the speed-weighted cubic mean is the gearbox makers' equi
 check is M_max,gear ≥ M_0 i with the peak torque for M_0 ([Vendor sizing]), or the torque the drive is limited to in
 an emergency stop (:class:`DriveLimits`: a torque, or a current times the torque constant k_t; never above T_peak).
 
-**Gearbox duty.** The task repeats: it runs N = 1/T cycles per second (3600/T per hour, T its duration, dwells
-included). A gearbox's peak (acceleration) torque T2B holds up to its catalog's cycle rating N_r (``cycle_rating``,
-default 1,000 cycles/h, :data:`~mechatron.drives.converters.CYCLE_RATING`) and is derated above it,
-f_c = min(1, (N_r/N)^p) (:func:`peak_torque_factor`): the peak torque is met once a cycle, so N/N_r times as many load
-cycles in the gearbox's life, and the allowed tooth load falls along the Wöhler line of the ISO 6336-3 life factor
-Y_NT = (3·10⁶/N_L)^p of case-hardened teeth, p = lg 2.5 / lg 3000 = 0.1144 (Y_NT = 2.5 at 10³ and 1 at 3·10⁶ load
-cycles, [ISO 6336-3]; :data:`CYCLE_EXPONENT`): ×0.92 at 2,000 cycles/h, ×0.81 at 6,000. The emergency torque T2Stop
-is a count-limited load: the catalog allows it ``emergency_stops`` times in the gearbox's life (default 1,000,
+**Gearbox duty.** The task repeats: it runs 1/T times a second (T its duration, dwells included), and each time
+meets n_p load peaks, its accelerations and brakings counted one by one (:func:`peak_count`: the runs of samples
+whose joint acceleration is beyond :data:`PEAK_FRACTION` of the task's largest |ω̇|, of one sign each — a move
+that starts and stops meets two, in opposite directions; mechatron's own counting rule). The peak torque T2B is
+checked by the rule the gearbox's maker gives (``peak_rule``, :data:`~mechatron.drives.converters.PEAK_RULES`):
+
+- ``shock_factors``, the planetary gearhead makers' rule: T2B holds up to a cycle rate (commonly 1,000 cycles/h)
+  and above it the peak torque asked for is multiplied by a shock factor f_s ≥ 1 read off the maker's table by
+  cycles per hour [Vendor sizing]: the limit is T2B / f_s at the load peak rate N_p = n_p / T
+  (:func:`peak_torque_factor`: the catalog's table interpolated linearly, its first factor below its first rate,
+  no rating — a limit of 0, the check fails — above its last);
+- ``repeated_peak``, the strain-wave makers' rule: T2B is the repeated peak torque, the limit of the torque of
+  every start and stop, at any rate [Strain wave] (the count-limited momentary peak torque is T2Stop, below);
+- ``cycle_rating``, no maker rule given: T2B holds up to the catalog's cycle rating N_r (``cycle_rating``, default
+  1,000 cycles/h, :data:`~mechatron.drives.converters.CYCLE_RATING`); above it mechatron takes T2B unchanged and
+  the report says that no maker rule covers that rate.
+
+The emergency torque T2Stop (a strain-wave gear's momentary peak torque) is a count-limited load: the catalog
+allows it ``emergency_stops`` times in the gearbox's life (default 1,000,
 :data:`~mechatron.drives.converters.EMERGENCY_STOPS`); its check carries that count (:attr:`Check.count`) and the
 report states it.
 
@@ -48,10 +59,12 @@ Beyond these (:data:`ALL_CHECKS`), where the catalogs give the data:
   speed–torque curve, applied to |T_m| in all four quadrants as the makers' curves are (conservative when braking);
 - **winding temperature rise** (K) of a motor with the thermal columns (:mod:`mechatron.drives.thermal`): the
   winding's highest rise above the ambient T_a over the task repeated to its periodic steady state, in the two-node
-  network of winding and housing with the copper loss I² R(T) (I = T_m/k_t) and the speed losses, ≤ T_max − T_a
+  network of winding and housing with the copper loss I² R(T) (I = T_m/k_t(T_m), k_t at the magnets'
+  temperature, the housing's mean: the magnets heat too) and the speed losses, ≤ T_max − T_a
   (:attr:`DriveLimits.ambient`, default 40 °C). It replaces the RMS torque check, which such a motor does not
-  take (its limit is inf); the screening bounds it from below by the mean rise (R_wh + R_ha)(R(T_a) ⟨T_m²⟩/k_t²
-  + T_f ⟨|n|⟩), and the network is simulated only for the pairs checked exactly (:meth:`PairChecks.winding`);
+  take (its limit is inf); the screening bounds it from below by the mean rise (R_wh + R_ha)(R(T_a)
+  ⟨T_m²⟩/k_t(T_a)² + T_f ⟨|n|⟩), and the network is simulated only for the pairs checked exactly
+  (:meth:`PairChecks.winding`);
 - the screw and rack checks of :mod:`mechatron.drives.screws` (equivalent load and L10 life, critical speed,
   buckling, rack tooth force, length).
 
@@ -98,15 +111,17 @@ BEFORE_ENVELOPE = 32
 PER_SAMPLE = (0, 1, _VOLTAGE)
 #: Relative tolerance of a pass: value ≤ limit (1 + PASS_TOLERANCE).
 PASS_TOLERANCE = 1e-9
-#: The exponent p of the peak-torque derating f_c = min(1, (N_r/N)^p) (:func:`peak_torque_factor`): the slope of the
-#: ISO 6336-3 life factor of case-hardened teeth, Y_NT = 2.5 at 10³ and 1.0 at 3·10⁶ load cycles.
-CYCLE_EXPONENT = math.log(2.5) / math.log(3000.0)
+#: A load peak of a gearbox (:func:`peak_count`) is a run of samples whose joint acceleration is beyond this
+#: fraction of the task's largest |ω̇| (mechatron's own rule: an acceleration or a braking phase of a move).
+PEAK_FRACTION = 0.5
 _EMERGENCY = CHECKS.index("transmission emergency torque")
 #: What an infinite load factor of a check means — a value where its limit is 0: no multiple of the limit is
 #: enough — in the words of a reason (:func:`failure`); other checks say it with :data:`NO_LIMIT`.
 BEYOND = {"speed-torque curve": "outside it (torque asked above the motor's maximum speed)",
           "winding temperature rise": "no rise allowed (the ambient is at or above the winding's limit temperature)",
-          "RMS torque": "no continuous torque at the mean speed (above the motor's maximum speed)"}
+          "RMS torque": "no continuous torque at the mean speed (above the motor's maximum speed)",
+          "transmission peak torque": "no rating at this many load peaks per hour (above the last rate of the "
+                                      "catalog's shock_factors)"}
 NO_LIMIT = "a limit of 0 where a value is needed"
 
 
@@ -225,13 +240,42 @@ class MotorArrays:
         return len(self.key)
 
 
-def peak_torque_factor(rate: ArrayLike, rating: ArrayLike) -> NDArray[np.float64]:
-    """The derating f_c = min(1, (N_r/N)^p) of a gearbox's peak torque T2B run N = ``rate`` cycles per second
-    above the rate N_r = ``rating`` (1/s) its catalog rates it for (p = :data:`CYCLE_EXPONENT`, the module
-    docstring); 1 at or below it and for ``rating`` inf (not a gearbox)."""
-    rate, rating = np.asarray(rate, dtype=float), np.asarray(rating, dtype=float)
-    with np.errstate(divide="ignore", over="ignore"):
-        return np.minimum(1.0, (rating / rate) ** CYCLE_EXPONENT)
+def peak_count(acceleration: ArrayLike) -> int:
+    """The load peaks n_p a repeated task puts on a gearbox: the runs of samples with ω̇ ≥ f a or ω̇ ≤ −f a
+    (a = max |ω̇| over the task, f = :data:`PEAK_FRACTION`), each run one peak — every acceleration and every braking,
+    so a move that starts and stops meets two, one in each direction. A run of one sign goes on through a lone
+    sample below f a between two of its own (the sample where two moves meet, braking the first and accelerating
+    the second the same way: one pulse); two samples below end it. The task repeats, so a run through its last and
+    first samples counts once; a task without acceleration meets none."""
+    a = np.asarray(acceleration, dtype=float)
+    top = float(np.abs(a).max(initial=0.0))
+    if top == 0:
+        return 0
+    side = np.where(a >= PEAK_FRACTION * top, 1, np.where(a <= -PEAK_FRACTION * top, -1, 0))
+    before, after = np.roll(side, 1), np.roll(side, -1)
+    side = np.where((side == 0) & (before == after), before, side)  # a lone sample below: the run goes on
+    starts = int(np.count_nonzero((side != 0) & (side != np.roll(side, 1))))
+    return max(starts, 1)  # no start: one run over the whole task
+
+
+def peak_torque_factor(rate: float, shock_rates: ArrayLike, shock_factors: ArrayLike) -> NDArray[np.float64]:
+    """The factor 1/f_s of each gearbox's peak torque T2B at ``rate`` load peaks per second (the module docstring):
+    f_s from its row of the maker's table (``shock_rates`` (1/s) and ``shock_factors``, (N_c, K), rising rates
+    padded with NaN) interpolated linearly in the rate, its first factor below its first rate; 0 above its last rate
+    (no rating there); 1 for a row without a table (NaN: no maker factor)."""
+    rates, factors = np.atleast_2d(np.asarray(shock_rates, dtype=float)), np.atleast_2d(np.asarray(shock_factors,
+                                                                                                   dtype=float))
+    given = np.count_nonzero(np.isfinite(rates), axis=1)
+    below = np.count_nonzero(rates <= rate, axis=1)  # entries at or below the rate (NaN compares false)
+    rows = np.arange(len(rates))
+    high = np.minimum(below, np.maximum(given - 1, 0))
+    low = np.maximum(high - 1, 0)
+    r0, r1, f0, f1 = rates[rows, low], rates[rows, high], factors[rows, low], factors[rows, high]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f_s = np.where(r1 > r0, f0 + (f1 - f0) * (rate - r0) / (r1 - r0), f1)
+    f_s = np.where(below == 0, factors[:, 0], f_s)
+    out = np.where(given == 0, 1.0, 1.0 / f_s)
+    return np.where((given > 0) & (rate > rates[rows, np.maximum(given - 1, 0)]), 0.0, out)
 
 
 def failure(name: str, factor: float) -> str:
@@ -347,9 +391,10 @@ class PairChecks:
             motion = weights
         self.equivalent = (motion @ np.abs(duty.torque) ** 3 / motion.sum()) ** (1 / 3)
         self.peak_load = np.abs(duty.torque).max()
-        # the peak torque derated above the gearbox's cycle rating: the task repeats, 1/T cycles per second
+        # the peak torque by the maker's rule: the task repeats, 1/T times a second, meeting n_p load peaks each time
         self.cycle_rate = 1.0 / duty.duration if duty.duration > 0 else 0.0
-        self.peak_factor = peak_torque_factor(self.cycle_rate, conv.cycle_rating)
+        self.peak_rate = peak_count(duty.acceleration) * self.cycle_rate
+        self.peak_factor = peak_torque_factor(self.peak_rate, conv.shock_rates, conv.shock_factors)
         self.transmission = np.stack([conv.rated_torque, conv.peak_torque * self.peak_factor,
                                       conv.emergency_torque, conv.max_input_speed, conv.rated_input_speed], axis=1)
         self.screw_values, self.screw_limits = screw_checks(duty, conv, limits.screw_life)
@@ -570,12 +615,13 @@ class PairChecks:
 
     def winding(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """The winding's highest rise above the ambient (K) of the pairs (m[i], c[i]) over the task repeated to its
-        periodic steady state (:func:`~mechatron.drives.thermal.highest_rise`, every sample of the task): the pairs
-        not simulated yet all at once, one simulation vectorised over them (in batches of
-        :data:`~mechatron.drives.thermal.BATCH_ELEMENTS` pairs × samples), then kept; 0 for a motor without the
-        thermal data. Where the losses run away (no steady state) the rise with the resistance held at its value at
-        the limit temperature: finite, above the allowed rise (the winding cannot stay below its limit, else that
-        resistance would bound its losses) and above the mean-rise bound, so that a margin says how far the pair is
+        periodic steady state (:func:`~mechatron.drives.thermal.highest_rise`, every sample of the task, the
+        magnets at their fixed point): the pairs not simulated yet all at once, each simulation vectorised over them
+        (in batches of :data:`~mechatron.drives.thermal.BATCH_ELEMENTS` pairs × samples; the magnet iteration's
+        further simulations over the pairs not converged yet), then kept; 0 for a motor without the thermal data.
+        Where the losses run away (no steady state) the rise with the resistance and k_t held at their values at
+        the limit temperature: finite, above the allowed rise (the winding cannot stay below its limit, else those
+        values would bound its losses) and above the mean-rise bound, so that a margin says how far the pair is
         from passing."""
         m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
         pairs = list(zip(m.tolist(), c.tolist()))
@@ -596,7 +642,8 @@ class PairChecks:
             current = (self.rotor[mb, None] * accel[where] + base[where]) / th.kt[mb, None]
             loss = th.loss_torque[mb, None] * np.abs(n[where])
             top = highest_rise(duty.t, current * current, loss, *(x[mb, None] for x in (
-                th.r_wh, th.r_ha, th.tau_w, th.tau_h, th.resistance, th.alpha)), self.ambient, th.limit[mb, None])
+                th.r_wh, th.r_ha, th.tau_w, th.tau_h, th.resistance, th.alpha)), self.ambient, th.limit[mb, None],
+                th.magnet[mb, None])
             self._rises.update(zip(zip(mb.tolist(), cb.tolist()), top.tolist()))
 
 

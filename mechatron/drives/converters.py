@@ -4,9 +4,11 @@ u = 2π / lead, rad/m, with the lead the travel per turn of the motor-side shaft
 
 A linear drive also carries what its own checks need (:mod:`mechatron.drives.screws`): the length used, dynamic
 load rating, root diameter and end fixing of a screw, the permitted tooth force of a rack, the longest one made.
-A gearbox carries its duty ratings (:mod:`mechatron.drives.checks`): the cycles per hour its peak torque holds for
-(``cycle_rating``, default :data:`CYCLE_RATING`) and the number of emergency stops its emergency torque is allowed
-in its life (``emergency_stops``, default :data:`EMERGENCY_STOPS`)."""
+A gearbox carries its duty ratings (:mod:`mechatron.drives.checks`): the rule its maker gives for its peak torque
+(``peak_rule``, :data:`PEAK_RULES`: a table of shock factors by cycles per hour, a strain-wave gear's repeated peak
+torque, or only the cycle rate it is rated up to), the cycles per hour its peak torque is rated for (``cycle_rating``,
+default :data:`CYCLE_RATING`) and the number of emergency stops its emergency torque is allowed in its life
+(``emergency_stops``, default :data:`EMERGENCY_STOPS`)."""
 
 from __future__ import annotations
 
@@ -30,6 +32,15 @@ LENGTH_ALLOWANCE = 0.2
 CYCLE_RATING = 1000 / 3600
 #: How many times a gearbox's emergency torque T2Stop is allowed in its life where its catalog does not say: 1,000.
 EMERGENCY_STOPS = 1000.0
+#: The rules a gearbox's peak torque T2B (``peak_torque``) is checked by, the catalog's ``peak_rule`` (empty:
+#: ``shock_factors`` where the row gives that table, else ``cycle_rating``), in the words of a report.
+PEAK_RULES = {
+    "shock_factors": "the maker's shock factors by cycles per hour (the catalog's shock_factors): the peak torque "
+                     "asked for × f_s against T2B",
+    "repeated_peak": "the maker's repeated peak torque (a strain-wave gear's limit of the torque of every start and "
+                     "stop): T2B at any rate",
+    "cycle_rating": "T2B up to the catalog's cycle rating; no maker rule given above it",
+}
 
 
 @dataclass(frozen=True)
@@ -44,8 +55,10 @@ class Converters:
     (:mod:`mechatron.drives.shafts`), the permitted tooth force of a rack (N) and the longest one made
     (``max_length``, m); NaN (C, d_r, K, λ, L) or inf (the limits) where they do not apply.
 
-    A gearbox has the cycle rate its peak torque T2B is rated for (``cycle_rating``, 1/s; above it the check derates
-    T2B, :func:`~mechatron.drives.checks.peak_torque_factor`) and the number of emergency stops its T2Stop is allowed
+    A gearbox has the rule of its peak torque T2B (``peak_rule``, a key of :data:`PEAK_RULES`; ``""`` for the other
+    converters), the table of its maker's shock factors f_s at the load cycle rates of ``shock_rates`` (1/s; rows
+    padded with NaN, all NaN without a table; :func:`~mechatron.drives.checks.peak_torque_factor`), the cycle rate
+    its peak torque is rated for (``cycle_rating``, 1/s) and the number of emergency stops its T2Stop is allowed
     (``emergency_stops``); inf and NaN for the other converters."""
 
     key: NDArray[np.str_]
@@ -69,6 +82,9 @@ class Converters:
     max_length: NDArray[np.float64]  # m
     cycle_rating: NDArray[np.float64]  # 1/s
     emergency_stops: NDArray[np.float64]  # count
+    peak_rule: NDArray[np.str_]
+    shock_rates: NDArray[np.float64]  # (N_c, K) 1/s
+    shock_factors: NDArray[np.float64]  # (N_c, K)
 
     def __len__(self) -> int:
         return len(self.key)
@@ -90,7 +106,8 @@ def _optional(value, missing: float) -> float:
 _ROTARY = dict(length=math.nan, dynamic_load=math.nan, root_diameter=math.nan, buckling_factor=math.nan,
                whirl_factor=math.nan, permitted_force=math.inf, max_length=math.inf)
 #: The gearbox duty ratings of a converter that is not a gearbox (direct drive, screw, rack): none.
-_NO_DUTY = dict(cycle_rating=math.inf, emergency_stops=math.nan)
+_NO_DUTY = dict(cycle_rating=math.inf, emergency_stops=math.nan, peak_rule="", shock_rates=np.full((1, 1), math.nan),
+                shock_factors=np.full((1, 1), math.nan))
 
 
 def _direct() -> dict:
@@ -112,8 +129,27 @@ def _gearboxes(catalog: pd.DataFrame) -> dict:
                rated_input_speed=column("rated_input_speed"), mass=catalog_column(catalog, "mass", 0.0),
                price=catalog_column(catalog, "price", 0.0),
                cycle_rating=catalog_column(catalog, "cycle_rating", CYCLE_RATING),
-               emergency_stops=catalog_column(catalog, "emergency_stops", EMERGENCY_STOPS))
+               emergency_stops=catalog_column(catalog, "emergency_stops", EMERGENCY_STOPS),
+               **_peak_rules(catalog))
     return {**out, **{name: np.full(len(catalog), value) for name, value in _ROTARY.items()}}
+
+
+def _peak_rules(catalog: pd.DataFrame) -> dict:
+    """peak_rule, shock_rates and shock_factors (:class:`Converters`) of every row of a gearbox catalog: the tables
+    of ``shock_factors`` (((rate 1/s, f_s), …) per row, :func:`~mechatron.drives.catalogs.read_catalog`; NaN or
+    empty for none) padded with NaN to the longest."""
+    n = len(catalog)
+    tables = [t if isinstance(t, (tuple, list)) else () for t in
+              (catalog["shock_factors"] if "shock_factors" in catalog else [()] * n)]
+    rules = [r if isinstance(r, str) and r else "" for r in (catalog["peak_rule"] if "peak_rule" in catalog else
+                                                            [""] * n)]
+    rules = [r or ("shock_factors" if t else "cycle_rating") for r, t in zip(rules, tables)]
+    width = max([1, *map(len, tables)])
+    grid = np.full((2, n, width), math.nan)
+    for i, table in enumerate(tables):
+        if table:
+            grid[:, i, :len(table)] = np.asarray(table, dtype=float).T
+    return dict(peak_rule=np.array(rules, dtype=str), shock_rates=grid[0], shock_factors=grid[1])
 
 
 def _linear(row: dict, length: float) -> dict:
@@ -128,6 +164,15 @@ def _linear(row: dict, length: float) -> dict:
                 root_diameter=_optional(row.get("root_diameter"), math.nan), buckling_factor=float(fixing[0]),
                 whirl_factor=float(whirl[0]), permitted_force=_optional(row.get("permitted_force"), inf),
                 max_length=_optional(row.get("max_length"), inf), **_NO_DUTY)
+
+
+def _joined(parts: list) -> np.ndarray:
+    """The parts of one field (scalars, arrays, or tables: 2-D arrays padded with NaN to the widest), end to end."""
+    parts = [np.atleast_1d(np.asarray(p)) for p in parts]
+    if parts[0].ndim == 1:
+        return np.concatenate(parts)
+    width = max(p.shape[1] for p in parts)
+    return np.concatenate([np.pad(p, ((0, 0), (0, width - p.shape[1])), constant_values=math.nan) for p in parts])
 
 
 def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linear: pd.DataFrame | None = None,
@@ -159,6 +204,6 @@ def converters_for(duty: JointDuty, gearboxes: pd.DataFrame | None = None, linea
         raise InputError(f"joint {duty.name}: cannot size a {duty.kind} joint (only revolute and prismatic)")
     if not rows:
         raise InputError(f"joint {duty.name}: no converter to try (give a gearbox catalog or allow direct drive)")
-    columns = {name: np.concatenate([np.atleast_1d(np.asarray(r[name])) for r in rows]) for name in rows[0]}
+    columns = {name: _joined([r[name] for r in rows]) for name in rows[0]}
     columns["efficiency"] = columns["efficiency"] * (chain_efficiency * duty.efficiency)
     return Converters(**columns)

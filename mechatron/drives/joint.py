@@ -11,12 +11,12 @@ the feasible pairs ranked by an objective (:mod:`~mechatron.drives.search`) and 
 
 When no pair passes, the closest pairs (smallest worst load factor) are reported with the checks they fail. Each
 choice is explained (:class:`JointSizing`): its deciding check (the smallest margin) and the runners-up with why they
-lost (:meth:`~mechatron.drives.report.DriveSizing.explanation`), the gearbox's duty (the task's cycles per hour
-against its cycle rating, the emergency stops its emergency torque is allowed) and every kind of converter (direct
-drive, harmonic gearboxes, ball screws…) that one rule set by an option removes whole: no pair of that kind passes,
-but one would without that rule alone (:data:`RULES`: the emergency-stop torque, the inertia ratio, the supply
-voltage, the screw life, the gearbox's cycle rating); the report names the rule, the best pair it removed and the
-option that changes it. The drives load the mechanism
+lost (:meth:`~mechatron.drives.report.DriveSizing.explanation`), the gearbox's duty (the task's cycles and load peaks
+per hour, the maker's rule its peak torque was checked by, the emergency stops its emergency torque is allowed) and
+every kind of converter (direct drive, harmonic gearboxes, ball screws…) that one rule set by an option removes
+whole: no pair of that kind passes, but one would without that rule alone (:data:`RULES`: the emergency-stop torque,
+the inertia ratio, the supply voltage, the screw life, the gearbox's shock factors); the report names the rule, the
+best pair it removed and the option that changes it. The drives load the mechanism
 (:func:`~mechatron.drives.system.size_mechanism`): every chosen motor and gearbox is a mass on the body that carries
 it, and the sizing repeats, distal to proximal, until the choice no longer changes.
 """
@@ -43,6 +43,7 @@ from .checks import (
     _load_factor,
     failures,
     motor_side,
+    peak_count,
     peak_torque_factor,
 )
 from .converters import Converters, converters_for
@@ -50,7 +51,7 @@ from .duty import JointDuty
 from .motor import continuous_torque, peak_torque_limit
 from .report import REPORTED, RPM, Deferred, DriveSizing, Later
 from .search import _growing, _motor_blocks, fastest_scale, feasible_pairs, first_in_order, motor_passes, smallest_worst
-from .thermal import DEFAULT_AMBIENT, ZERO_CELSIUS, ThermalData, duty_text, duty_type, winding_temperature
+from .thermal import DEFAULT_AMBIENT, ZERO_CELSIUS, ThermalData, duty_type, winding_temperature
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -69,9 +70,8 @@ RULES: dict[str, tuple[str, str]] = {
     "voltage limit": ("the supply voltage", "--voltage (voltage; default each motor's catalog voltage)"),
     "screw equivalent load": ("the required screw life", "--screw-life-h (screw_life; default 20,000 h)"),
     "transmission peak torque": (
-        "the gearbox's peak torque derated above its cycle rating (the task's cycles per hour)",
-        "the gearbox catalog's cycle_rating column (cycles per hour its peak torque holds; default 1,000/h), or a "
-        "slower task"),
+        "the gearbox's peak torque over the maker's shock factor at the task's load peaks per hour",
+        "the gearbox catalog's shock_factors column (the maker's factors by cycles per hour), or a slower task"),
 }
 
 
@@ -197,21 +197,26 @@ class JointSizing(DriveSizing):
     def thermal(self) -> dict:
         """How the motor's heat was checked: ``check`` (``winding temperature rise``, the two-node model of the
         catalog's thermal data, or ``RMS torque``, against the S1 curve at the mean speed, for a motor without
-        them), ``duty_type`` and ``cyclic_duration_factor`` (IEC 60034-1, :func:`~mechatron.drives.thermal.
-        duty_type`), ``ambient_K``, and with the model ``winding_max_K`` (the winding's highest temperature over
-        the cycle; where the losses run away, with the resistance held at its value at the limit temperature),
-        ``winding_limit_K`` and ``runaway`` (no steady state)."""
+        them), ``duty_type``, ``cyclic_duration_factor``, ``duty_reason`` and ``duty_clause`` (IEC 60034-1 of the
+        motor's speed and torque, :func:`~mechatron.drives.thermal.duty_type`: why that type, and the clause defining
+        it), ``ambient_K``, and with the model ``winding_max_K`` (the winding's highest temperature over the cycle;
+        where the losses run away, with the resistance and k_t held at their values at the limit temperature),
+        ``winding_limit_K``, ``runaway`` (no steady state) and, where there is one, ``magnet_K`` (the magnets'
+        temperature: the housing's time mean over the cycle)."""
         if "_thermal" in self.__dict__:
             return dict(self.__dict__["_thermal"])
-        kind, factor = duty_type(self.duty)
-        out = {"check": "RMS torque", "duty_type": duty_text(kind, factor), "cyclic_duration_factor": factor,
-               "ambient_K": self.ambient}
+        duty = duty_type(self.duty, *self.operating_points())
+        out = {"check": "RMS torque", "duty_type": str(duty), "cyclic_duration_factor": duty.factor,
+               "duty_reason": duty.reason, "duty_clause": duty.clause, "ambient_K": self.ambient}
         rise = next((c for c in self.checks if c.name == "winding temperature rise"), None)
         if rise is not None:
             hottest = self.winding_temperature()
+            runaway = bool(hottest is not None and not np.isfinite(hottest[1]).all())
             out.update(check=rise.name, winding_max_K=self.ambient + rise.value,
-                       winding_limit_K=self.ambient + rise.limit,
-                       runaway=bool(hottest is not None and not np.isfinite(hottest[1]).all()))
+                       winding_limit_K=self.ambient + rise.limit, runaway=runaway)
+            if hottest is not None and not runaway:
+                t, housing = hottest[0], hottest[2]
+                out["magnet_K"] = float(np.trapezoid(housing, t) / (t[-1] - t[0]) if len(t) > 1 else housing[0])
         self.__dict__["_thermal"] = out
         return dict(out)
 
@@ -224,12 +229,14 @@ class JointSizing(DriveSizing):
                     f"{self.motor})")
         else:
             hottest, limit = info["winding_max_K"] - ZERO_CELSIUS, info["winding_limit_K"] - ZERO_CELSIUS
-            reaches = (f"runs away (its copper loss outgrows the cooling: no steady state; held at its limit "
-                       f"temperature's resistance it would reach {hottest:.4g} °C)" if info["runaway"] else
-                       f"reaches {hottest:.4g} °C")
+            reaches = (f"runs away (its copper loss, the magnets weakening, outgrows the cooling: no steady state; "
+                       f"with the resistance and k_t held at their values at its limit temperature it would reach "
+                       f"{hottest:.4g} °C)" if info["runaway"] else
+                       f"reaches {hottest:.4g} °C, the magnets {info['magnet_K'] - ZERO_CELSIUS:.4g} °C,")
             what = (f"winding temperature, two-node model of winding and housing at {ambient}: the winding {reaches} "
                     f"of its {limit:.4g} °C")
-        return [f"    thermal check: {what}; duty type {info['duty_type']} (IEC 60034-1)"]
+        return [f"    thermal check: {what}; duty type {info['duty_type']} [IEC 60034-1, {info['duty_clause']}]: "
+                f"{info['duty_reason']}"]
 
     def chart_frame(self) -> pd.DataFrame:
         """The data of :meth:`plot`, one row per point (SI): ``series`` — ``operating point`` (every sample of the
@@ -251,17 +258,27 @@ class JointSizing(DriveSizing):
         return {"motor": self.motor, "converter": self.converter, "ratio": self.ratio}
 
     def gearbox_duty(self) -> dict | None:
-        """The chosen gearbox's duty (``None`` for direct drive, a screw or a rack): cycles_per_hour = 3600/T (the
-        task of duration T s repeats, as sized), cycle_rating_per_hour (its catalog's, the peak torque's rating),
-        peak_torque_factor f_c (:func:`~mechatron.drives.checks.peak_torque_factor`), peak_torque_Nm (T2B, the
-        catalog's) and emergency_stops (how many times its emergency torque is allowed in its life)."""
+        """The chosen gearbox's duty (``None`` for direct drive, a screw or a rack; the module docstring of
+        :mod:`~mechatron.drives.checks`): cycles_per_hour = 3600/T (the task of duration T s repeats, as sized),
+        peaks_per_cycle n_p (:func:`~mechatron.drives.checks.peak_count`), peaks_per_hour = n_p · 3600/T, peak_rule
+        (the rule applied, a key of :data:`~mechatron.drives.converters.PEAK_RULES`) and rule (it, in words, with
+        its numbers), shock_factor f_s (the maker's table at peaks_per_hour; ``None`` for the other rules and above
+        the table), peak_torque_factor (1/f_s, 0 above the table, else 1: the limit is T2B × it),
+        cycle_rating_per_hour (the catalog's), above_rating (whether the peaks per hour exceed it), peak_torque_Nm
+        (T2B, the catalog's) and emergency_stops (how many times its emergency torque is allowed in its life)."""
         c = self.converter_data
-        if not math.isfinite(c.get("cycle_rating", math.inf)):
+        if not c.get("peak_rule"):
             return None
-        rate = 1.0 / self.duty.duration if self.duty.duration > 0 else 0.0
-        return {"cycles_per_hour": 3600.0 * rate, "cycle_rating_per_hour": 3600.0 * c["cycle_rating"],
-                "peak_torque_factor": float(peak_torque_factor(rate, c["cycle_rating"])),
+        cycles = 1.0 / self.duty.duration if self.duty.duration > 0 else 0.0
+        peaks = peak_count(self.duty.acceleration)
+        factor = float(peak_torque_factor(peaks * cycles, c["shock_rates"], c["shock_factors"])[0])
+        rule = c["peak_rule"]
+        duty = {"cycles_per_hour": 3600.0 * cycles, "peaks_per_cycle": peaks, "peaks_per_hour": 3600.0 * peaks * cycles,
+                "peak_rule": rule, "shock_factor": 1 / factor if rule == "shock_factors" and factor > 0 else None,
+                "peak_torque_factor": factor, "cycle_rating_per_hour": 3600.0 * c["cycle_rating"],
+                "above_rating": bool(peaks * cycles > c["cycle_rating"] * (1 + PASS_TOLERANCE)),
                 "peak_torque_Nm": c["peak_torque"], "emergency_stops": c["emergency_stops"]}
+        return {**duty, "rule": _rule_text(duty, c["shock_rates"])}
 
     def ruled_out(self) -> list[dict]:
         """The kinds of converter one rule set by an option removes whole (:meth:`Alternatives.ruled_out`)."""
@@ -279,9 +296,9 @@ class JointSizing(DriveSizing):
         duty = self.gearbox_duty()
         if duty is not None:
             lines.append(f"    gearbox duty: {duty['cycles_per_hour']:.4g} cycles/h (the {self.duty.duration:.4g} s "
-                         f"task repeated), peak torque rated for {duty['cycle_rating_per_hour']:.4g}/h: T2B "
-                         f"{duty['peak_torque_Nm']:.4g} N·m × {duty['peak_torque_factor']:.3g}; emergency torque "
-                         f"allowed {duty['emergency_stops']:,.0f} times in its life")
+                         f"task repeated) × {duty['peaks_per_cycle']} load peaks = {duty['peaks_per_hour']:.4g} "
+                         f"peaks/h; peak torque: {duty['rule']}; emergency torque allowed "
+                         f"{duty['emergency_stops']:,.0f} times in its life")
         return lines + [f"    ruled out: {row['message']}" for row in self.ruled_out()]
 
     def headline(self) -> str:
@@ -399,8 +416,34 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
     return JointSizing(duty.name, duty.kind, objective, feasible, str(arrays.key[m]), str(conv.key[c]),
                        str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c), closest, duty,
                        Later(_catalog_row, motors, m),
-                       {f: getattr(conv, f)[c].item() for f in conv.__dataclass_fields__}, scale, alternatives,
+                       {f: _entry(getattr(conv, f)[c]) for f in conv.__dataclass_fields__}, scale, alternatives,
                        (limits or DriveLimits()).ambient, {k: float(v) for k, v in figures.items()})
+
+
+def _entry(value: np.ndarray) -> object:
+    """One converter's entry of a :class:`~mechatron.drives.converters.Converters` field: a number or a text, or a
+    list (a row of a table)."""
+    return value.item() if np.ndim(value) == 0 else value.tolist()
+
+
+def _rule_text(duty: dict, shock_rates: list[float]) -> str:
+    """The rule a gearbox's peak torque was checked by (:meth:`JointSizing.gearbox_duty`), in words with its
+    numbers."""
+    peak, per_hour, rating = duty["peak_torque_Nm"], duty["peaks_per_hour"], duty["cycle_rating_per_hour"]
+    if duty["peak_rule"] == "shock_factors":
+        if duty["shock_factor"] is None:
+            last = 3600.0 * max(r for r in shock_rates if math.isfinite(r))
+            return (f"the maker's shock factors end at {last:,.0f}/h: no rating at {per_hour:,.0f} load peaks/h "
+                    f"(limit 0)")
+        return (f"the maker's shock factor f_s = {duty['shock_factor']:.4g} at {per_hour:,.0f} load peaks/h: "
+                f"T2B {peak:.4g} N·m / {duty['shock_factor']:.4g} = {peak * duty['peak_torque_factor']:.4g} N·m")
+    if duty["peak_rule"] == "repeated_peak":
+        return (f"the maker's repeated peak torque, T2B {peak:.4g} N·m at any rate (a strain-wave gear's limit of the "
+                f"torque of every start and stop)")
+    if duty["above_rating"]:
+        return (f"T2B {peak:.4g} N·m taken unchanged at {per_hour:,.0f} load peaks/h, above its rating of "
+                f"{rating:,.0f}/h: no maker rule given (mechatron's assumption, not the maker's)")
+    return f"T2B {peak:.4g} N·m, rated up to {rating:,.0f} load peaks/h (no maker rule given above it)"
 
 
 def _catalog_row(catalog: pd.DataFrame, row: int) -> dict:
@@ -532,28 +575,30 @@ class Alternatives:
         return passing, dict(zip(RULES, alone.tolist())), together
 
     def _applies(self, rule: str, conv: Converters) -> bool:
-        """Whether ``rule`` can remove a converter of ``conv``: its check applies to them (the peak torque's
-        derating: some of them are derated at this task's pace)."""
+        """Whether ``rule`` can remove a converter of ``conv``: its check applies to them (the peak torque's shock
+        factors: some of them lower T2B at this task's load peaks per hour)."""
         if rule == "transmission emergency torque":
             return bool(np.isfinite(conv.emergency_torque).any())
         if rule == "screw equivalent load":
             return bool(np.isfinite(conv.dynamic_load).any())
         if rule == "transmission peak torque":
-            return bool((peak_torque_factor(self.checks.cycle_rate, conv.cycle_rating) < 1).any())
+            return bool((peak_torque_factor(self.checks.peak_rate, conv.shock_rates, conv.shock_factors) < 1).any())
         if rule == "voltage limit":
             return bool(np.isfinite(self.checks.voltage).any())
         return True
 
     def _relaxed(self, rules: tuple[str, ...], conv: Converters) -> PairChecks:
         """The checks of the pairs of ``conv`` without ``rules``: the converters' emergency torque, screw load
-        rating or cycle rating, the motors' supply voltage or the inertia ratio limit taken as infinite."""
+        rating or shock factors (none: T2B at any rate), the motors' supply voltage or the inertia ratio limit
+        taken as infinite."""
         motors, limits, ratio_max, inf = self.motors, self.limits, self.inertia_ratio_max, np.full(len(conv), np.inf)
         if "transmission emergency torque" in rules:
             conv = replace(conv, emergency_torque=inf)
         if "screw equivalent load" in rules:
             conv = replace(conv, dynamic_load=np.full(len(conv), np.nan))
         if "transmission peak torque" in rules:
-            conv = replace(conv, cycle_rating=inf)
+            conv = replace(conv, shock_rates=np.full_like(conv.shock_rates, np.nan),
+                           shock_factors=np.full_like(conv.shock_factors, np.nan))
         if "voltage limit" in rules:
             motors, limits = replace(motors, voltage=np.full(len(motors), np.nan)), replace(limits, voltage=None)
         if "inertia ratio" in rules:
@@ -591,16 +636,15 @@ class Alternatives:
         motor, converter = str(self.table.motors[m]), str(conv.key[index])
         mass, price = self.table.mass[0][m] + self.table.mass[1][index], \
             self.table.price[0][m] + self.table.price[1][index]
-        what = "direct drive" if kind == "direct" else f"{kind} gearbox" if np.isfinite(conv.cycle_rating[index]) \
-            else kind
+        what = "direct drive" if kind == "direct" else f"{kind} gearbox" if conv.peak_rule[index] else kind
         checks = " and ".join(f"the {rule} check ({RULES[rule][0]})" for rule in rules)
         best = "the lightest" if self.objective == "margin" else "the best"
         chosen = self.ranking()
         than = f"; the chosen drive: {chosen['mass'].iloc[0]:.4g} kg, {chosen['price'].iloc[0]:.4g}" if len(chosen) \
             else ""
         options = "; ".join(RULES[rule][1] for rule in rules)
-        message = (f"every {what} fails {checks}; without {'it' if len(rules) == 1 else 'them'} {best} would be "
-                   f"{motor} + {converter} ({mass:.4g} kg, {price:.4g}{than}) — change it with {options}")
+        message = (f"no {what} passes every check; without {checks} {best} would be {motor} + {converter} "
+                   f"({mass:.4g} kg, {price:.4g}{than}) — change it with {options}")
         return {"kind": kind, "check": "; ".join(rules), "rule": "; ".join(RULES[r][0] for r in rules),
                 "option": options, "candidate": f"{motor} + {converter}", "motor": motor, "converter": converter,
                 "mass": float(mass), "price": float(price), "message": message}

@@ -1,6 +1,7 @@
 """What a front-shovel excavator can lift and dig: the rated lift capacity [ISO 10567]
-(:mod:`~mechatron.machines.lift_chart`) and the digging forces [ISO 6015] (:mod:`~mechatron.machines.digging`) of one
-design on one machine, as one result (what ``mechatron excavator --lift-chart`` prints)."""
+(:mod:`~mechatron.machines.lift_chart`), the rated tool forces [ISO 6015, 5.2.1–5.2.2] and the digging capability
+(mechatron's estimate) (:mod:`~mechatron.machines.digging`) of one design on one machine, as one result (what
+``mechatron excavator --lift-chart`` prints)."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 @dataclass
 class CapacityReport(Result):
-    """The lift chart and the digging forces of :func:`capacity_report`."""
+    """The lift chart, the rated tool forces and the digging capability of :func:`capacity_report`."""
 
     lift: LiftChart
     digging: DiggingForces
@@ -32,8 +33,11 @@ class CapacityReport(Result):
         return self.lift.to_frame()
 
     def as_dict(self) -> dict:
-        """``lift_chart`` (rows of radius_m, height_m, over, rated_kg, tipping_kg, hydraulic_kg, limit) and
-        ``digging_forces`` (``bucket``, ``arm``: force_N, position_m, limit and the limits there)."""
+        """``lift_chart`` (rows of radius_m, height_m, over, rated_kg, tipping_kg, hydraulic_kg, limit),
+        ``rated_tool_forces`` [ISO 6015, 5.2.1–5.2.2] (``bucket``, ``arm``: force_N, position_m, the cylinder and
+        its relief pressure and force, lever_arm_m, radius_m) and ``digging_capability``, mechatron's estimate
+        (``bucket``, ``arm``: force_N, position_m, limit and the limits there)
+        (:meth:`DiggingForces.as_dict <mechatron.machines.digging.DiggingForces.as_dict>`)."""
         return {**self.lift.as_dict(), **self.digging.as_dict()}
 
     def plot(self, ax: Axes | None = None) -> Figure:
@@ -46,9 +50,10 @@ class CapacityReport(Result):
 
 def capacity_report(design: FrontShovelDesign | None = None, machine: ShovelMachine | None = None,
                     samples: int = 31) -> CapacityReport:
-    """The rated lift capacity [ISO 10567] on the default grid (or the machine's ``lift_radii`` × ``lift_heights``)
-    and the digging forces [ISO 6015] over ``samples``³ positions of the strokes of the front shovel ``design`` on
-    ``machine`` (defaults: the design of [Shovel] on the illustrative machine)."""
+    """The rated lift capacity [ISO 10567] on the default grid (or the machine's ``lift_radii`` × ``lift_heights``),
+    the rated tool forces [ISO 6015, 5.2.1–5.2.2] and the digging capability (mechatron's estimate) over
+    ``samples``³ positions of the strokes of the front shovel ``design`` on ``machine`` (defaults: the design of
+    [Shovel] on the illustrative machine)."""
     design = design or FrontShovelDesign()
     machine = machine or ShovelMachine()
     return CapacityReport(lift_chart(design, machine), digging_forces(design, machine, samples))

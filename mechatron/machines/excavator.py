@@ -23,9 +23,10 @@ The design follows the report step by step:
 :func:`shovel_spec` describes the synthesized device as a mechanism file (a
 :class:`~mechatron.model.linkage.LinkageSpec`) and :func:`write_shovel` writes it (``mechatron excavator --design FILE
 -o my_shovel.toml``); the report's design ships as ``robots/front_shovel.toml`` (``mechatron.load("front_shovel")``),
-and every command reads such files. :func:`excavator_report` gathers all of it, with the tool forces of [ISO 6015]
-and the holding loads, into an :class:`ExcavatorReport` (what ``mechatron excavator`` prints). The report's printed
-numbers are compared with these in the test suite's ``validation/excavator.py``.
+and every command reads such files. :func:`excavator_report` gathers all of it, with the tool forces by the
+calculation of [ISO 6015, 5.2.1–5.2.2] and the holding loads, into an :class:`ExcavatorReport` (what ``mechatron
+excavator`` prints). The report's printed numbers are compared with these in the test suite's
+``validation/excavator.py``.
 """
 
 from __future__ import annotations
@@ -630,17 +631,20 @@ DEFAULT_CYLINDERS = {"L1": CylinderSpec(0.180, 0.125, 2), "L2": CylinderSpec(0.2
 #: Relief pressure of the working circuits (Pa).
 RELIEF_PRESSURE = 32e6
 
-#: Which cylinder turns the bucket lip about which pivot ([ISO 6015]: arm and bucket cylinder tool forces).
+#: Which cylinder turns the bucket lip about which pivot: the arm cylinder about the arm pivot F, the bucket cylinder
+#: about the bucket pivot Q [ISO 6015, 3.2, 4.8.2–4.8.3].
 TOOL_FORCES = {"arm": ("L2", "F"), "bucket": ("L3", "Q")}
 
 
 def tool_forces(mech: Mechanism, q: ArrayLike, cylinders: dict[str, CylinderSpec] | None = None,
                 pressure: float = RELIEF_PRESSURE) -> dict[str, dict[str, Any]]:
-    """Calculated tool forces at the lip V (N) in the manner of [ISO 6015]: one cylinder at ``pressure`` (Pa) with the
-    others held at the configuration ``q``, the force tangential to the arc the lip describes about the arm pivot F
-    (stick cylinder) or the bucket pivot Q (bucket cylinder). By virtual power F_tool = F_cylinder · L̇ / |v_V| for
-    the motion of that cylinder alone; gravity and friction are not included (the standard's calculation method).
-    For extending (piston side) and retracting (rod side)."""
+    """Tool forces at the lip V (N) at the configuration ``q`` by the calculation of [ISO 6015, 5.2.1–5.2.2] as
+    mechatron applies it: one cylinder at ``pressure`` (Pa) with the others held, the force tangential to the arc the
+    lip describes about the arm pivot F (stick cylinder) or the bucket pivot Q (bucket cylinder) [ISO 6015,
+    4.8.2–4.8.3]. By virtual power F_tool = F_cylinder · L̇ / |v_V| for the motion of that cylinder alone; no weights
+    and no friction. ``extending`` (piston side) digs as the standard's forces do; ``retracting`` (rod side) is
+    mechatron's addition. The standard's rated force is the largest over the positions
+    (:func:`~mechatron.machines.digging.digging_forces`), not the one at ``q``."""
     cylinders = cylinders or DEFAULT_CYLINDERS
     out = {}
     for name, (cylinder, pivot) in TOOL_FORCES.items():
@@ -685,8 +689,9 @@ class ExcavatorReport(Result):
     ``cylinders``: per cylinder its levers (m), included-angle offset, strokes (m), λ, lever arms at both ends (m),
     k, smallest transmission angle and the 30° check [Shovel, 3.18–3.19]; ``special``: per special position
     [Shovel, 2.1–2.4] the joint angles, cylinder lengths (m), the tip from the closed-loop model and in closed form
-    (m) and the [ISO 6015] tool forces (N); ``holding``: per cylinder the largest pressure (Pa), push and pull (N)
-    holding the device along its strokes against gravity and ``tooth_force``; ``working``: the working range.
+    (m) and the tool forces by [ISO 6015, 5.2.1–5.2.2]'s calculation (N); ``holding``: per cylinder the largest
+    pressure (Pa), push and pull (N) holding the device along its strokes against gravity and ``tooth_force``;
+    ``working``: the working range.
     """
 
     design: FrontShovelDesign
@@ -702,7 +707,8 @@ class ExcavatorReport(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """The special positions: the joint angles θ1…θ3 (rad), cylinder lengths (m), the tooth tip (m) and the
-        [ISO 6015] tool forces of the arm (stick) and bucket cylinders, extending and retracting (N)."""
+        tool forces of the arm (stick) and bucket cylinders by [ISO 6015, 5.2.1–5.2.2]'s calculation, extending and
+        retracting (N)."""
         import pandas as pd
 
         rows = []
@@ -754,8 +760,9 @@ class ExcavatorReport(Result):
         for name, p in self.special.items():
             lines.append(f"  {name:<20} ({', '.join(f'{a:.3f}' for a in p['theta_deg'])}) → "
                          f"({p['tip'][0]:.4f}, {p['tip'][1]:.4f})")
-        lines.append(f"\n[ISO 6015] tool forces at relief pressure {self.relief_pressure / 1e6:g} MPa "
-                     "(kN, extending/retracting):")
+        lines.append(f"\ntool forces at the lip by [ISO 6015, 5.2.1–5.2.2]'s calculation, one cylinder at relief "
+                     f"pressure {self.relief_pressure / 1e6:g} MPa, no weights (kN, extending / retracting: the rod "
+                     "side, mechatron's addition); the rated forces, the largest over the range: --lift-chart")
         for name, p in self.special.items():
             arm, bucket = p["tool_forces"]["arm"], p["tool_forces"]["bucket"]
             lines.append(f"  {name:<20} arm {arm['extending'] / 1e3:7.1f} / {arm['retracting'] / 1e3:6.1f}"
@@ -779,7 +786,8 @@ def excavator_report(design: FrontShovelDesign | None = None, samples: int = 31,
                      ) -> ExcavatorReport:
     """Design a front shovel as the report does [Shovel, section 3] and check it: the cylinders with their levers,
     strokes, λ, lever arms and transmission angles [Shovel, 3.8–3.19], the special positions [Shovel, 2.1–2.4]
-    with their [ISO 6015] tool forces, the holding loads along the strokes and the working range.
+    with their tool forces by [ISO 6015, 5.2.1–5.2.2]'s calculation, the holding loads along the strokes and the
+    working range.
 
     Args:
         design: the design inputs (default: the report's).

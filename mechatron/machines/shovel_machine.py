@@ -56,7 +56,11 @@ class ShovelMachine:
     ``upper_centre`` and ``undercarriage_centre`` are (x, y) in the design's coordinates with the upper structure
     facing along the tracks; the tipping lines are distances from the slew axis (``None``: half the track length
     ``track_length``, idler to sprocket centres, over the front and the rear, and half the gauge ``track_gauge``,
-    track centre to track centre, over the side [ISO 10567]). ``bores``: (bore, rod) of each cylinder L1, L2, L3 (m;
+    track centre to track centre, over the side: mechatron's assumption, lines through the idler and sprocket centres
+    and along the tracks' centre lines, not a rule quoted from [ISO 10567]). ``friction``: the coefficient μ of the
+    ground under the tracks for the slipping limit of the digging capability (default 0.5, a coefficient of traction
+    of tracks on wet sand [Caterpillar, traction factors]; that table ranges from 0.12 on ice to 0.90 on firm earth:
+    give the site's). ``bores``: (bore, rod) of each cylinder L1, L2, L3 (m;
     default the design's :data:`~mechatron.machines.excavator.DEFAULT_CYLINDERS`); ``reliefs``: the relief pressure
     of a cylinder's circuit where it differs from ``relief_pressure``. ``lift_radii``, ``lift_heights``: the lift
     chart's grid (m; ``None``: every 1 m the lift point reaches, radii from 3 m).

@@ -32,19 +32,38 @@ REFERENCES: dict[str, str] = {
                   "life (the equivalent axial load, the cubic mean weighted by the revolutions, and the nominal "
                   "life L10 = (C_a/F_m)³·10⁶ revolutions).",
     "ISO 6015": "ISO 6015:2006, Earth-moving machinery — Hydraulic excavators and backhoe loaders — Methods of "
-                "determining tool forces.",
-    "ISO 6336-3": "ISO 6336-3:2019, Calculation of load capacity of spur and helical gears — Part 3: Calculation "
-                  "of tooth bending strength (the life factor Y_NT of case-hardened teeth, 2.5 at 10³ and 1 at "
-                  "3·10⁶ load cycles: the slope of the gearbox peak-torque derating above its cycle rating).",
+                "determining tool forces. Clauses cited: 3.1 (the tool force, at the bucket lip or cutting edge, not "
+                "at the tips of the teeth, with the bucket or arm cylinders operated independently), 3.2 (the arm "
+                "cylinder tool force, a moment about the arm pivot), 3.16 (the maximum relief circuit hydraulic "
+                "pressure), 3.17–3.19 (the hydraulic, tipping and slipping limit conditions of a measured tool "
+                "force), 4.4 (the position giving the maximum force, found by varying the strokes), 4.8.2–4.8.3 (the "
+                "arm and bucket cylinder tool forces measured tangential to the arc the bucket lip describes about "
+                "the arm pivot and the bucket pivot), 5.2.1–5.2.2 (the rated, calculated, arm and bucket cylinder "
+                "tool forces).",
+    "Strain wave": "Harmonic Drive catalogs of strain-wave gears (component sets and units of the CSF and CSG "
+                   'series), sections "Technical terms, strength and life" and "Selection procedure": the repeated '
+                   "peak torque (the limit of the torque during acceleration and deceleration, from the load's "
+                   "inertia), the momentary peak torque (a collision or an emergency stop, never in the normal "
+                   "operating cycle) and its allowed number of occurrences, the average load torque (the cube root "
+                   "of the speed- and time-weighted mean of the cubed torques).",
     "ISO 10567": "ISO 10567:2007, Earth-moving machinery — Hydraulic excavators — Lift capacity (the lift point, the "
-                 "tipping lines over the front and over the side, and the rated lift capacity: the smaller of 75 % "
-                 "of the tipping load and 87 % of the hydraulic lift capacity).",
+                 "tipping load over the front and over the side, and the rated lift capacity: the smaller of 75 % "
+                 "of the tipping load and 87 % of the hydraulic lift capacity; where the tipping lines lie is "
+                 "mechatron's assumption, not quoted from it).",
+    "Caterpillar": 'Caterpillar Performance Handbook (Caterpillar Inc., edition 44, 2014), Tables: "traction '
+                   'factors", the usable pull over the weight on tires and on tracks by ground (for tracks: ice '
+                   "0.12, dry sand 0.30, concrete 0.45, wet sand 0.50, loose earth 0.60, wet clay loam 0.70, firm "
+                   "earth and dry clay loam 0.90).",
     "Saltelli": 'A. Saltelli, P. Annoni, I. Azzini, F. Campolongo, M. Ratto, S. Tarantola, "Variance based sensitivity '
                 'analysis of model output. Design and estimator for the total sensitivity index", Computer Physics '
                 "Communications 181(2), 2010: the sampling scheme (matrices A, B and A_B⁽ⁱ⁾) and the first-order "
                 "estimator of Sobol indices.",
     "Jansen": 'M. J. W. Jansen, "Analysis of variance designs for model output", Computer Physics Communications '
               "117(1–2), 1999: the estimator of the total Sobol index.",
+    "Ishigami": 'T. Ishigami, T. Homma, "An importance quantification technique in uncertainty analysis for computer '
+                "models\", Proceedings of ISUMA '90, the First International Symposium on Uncertainty Modeling and "
+                "Analysis, 1990: the test function f = sin x1 + a sin² x2 + b x3⁴ sin x1 of three uniforms on [−π, π], "
+                "whose Sobol indices have closed forms (the tests of the Sobol estimators).",
     "Pinocchio": "J. Carpentier et al., The Pinocchio C++ library, IEEE/SICE SII 2019: RNEA, ABA, CRBA and the "
                  "Lie-group operations (`integrate`, `difference`) every computation of mechatron rests on.",
     "vdStraete": 'H. J. van de Straete, P. Degezelle, J. De Schutter, R. J. M. Belmans, "Servo motor selection '
@@ -53,10 +72,29 @@ REFERENCES: dict[str, str] = {
     "Giberti": 'H. Giberti, S. Cinquemani, G. Legnani, "Effects of transmission mechanical characteristics on the '
                'choice of a motor-reducer", Mechatronics 20(5), 2010: motor–gearbox choice with the transmission\'s '
                "inertia and efficiency.",
+    "IEC 60034-1": "IEC 60034-1:2017, Rotating electrical machines — Part 1: Rating and performance. Clauses cited: "
+                   "4.2 (the duty types: 4.2.1 S1 continuous running duty, operation at a constant load long enough "
+                   "to reach thermal equilibrium; 4.2.2 S2 short-time duty, a constant load for less time than that, "
+                   "then a rest de-energised until within 2 K of the coolant; 4.2.3 S3 intermittent periodic duty, "
+                   "identical cycles of a constant load and a rest de-energised, the starting current not affecting "
+                   "the temperature rise significantly; 4.2.4 S4 the same with a significant starting time; 4.2.5 "
+                   "S5 the same with starting and electric braking; 4.2.6 S6 continuous-operation periodic duty, "
+                   "identical cycles of a constant load and no-load running, no rest; 4.2.7 S7 the same with "
+                   "starting and electric braking, no rest; 4.2.8 S8 constant loads at related speeds, no rest; "
+                   "4.2.9 S9 non-periodic load and speed variations within the permissible range, overloads "
+                   "included; 4.2.10 S10 discrete constant loads, each to thermal equilibrium), the cyclic duration "
+                   "factor of S3 … S6 (the time under load, with starting and electric braking, over the cycle's), "
+                   "and clause 6 (the site operating conditions: the 40 °C ambient air the ratings refer to).",
+    "Magnets": 'Advanced Magnets (Stanford Magnets), "What are temperature coefficients α and β of permanent '
+               'magnets?", advancedmagnets.com, technical note: the reversible temperature coefficient α of '
+               "remanence, [B_r(T₁) − B_r(T₂)] / (B_r(T₁) (T₁ − T₂)); typically −0.09 … −0.12 %/°C for sintered "
+               "NdFeB magnets (N48SH from 20 to 150 °C: −0.119 %/°C) and −0.03 … −0.05 %/°C for sintered SmCo.",
     "Vendor sizing": "The configuration and sizing manuals of servo-drive and gearbox makers (Siemens "
                      "SINAMICS/SIMOTICS configuration manuals; Neugart and Wittenstein gearbox selection guides): "
                      "the S1 torque at the mean speed, the speed-weighted cubic mean torque of a gearbox, the "
-                     "emergency-stop torque check; and the selection sections of ball-screw and hydraulic-cylinder "
+                     "emergency-stop torque check, the gearbox's peak (acceleration) torque T2B up to a cycle rate "
+                     "(commonly 1,000 cycles per hour) and the shock factor by cycles per hour that multiplies the "
+                     "peak torque asked for above it; and the selection sections of ball-screw and hydraulic-cylinder "
                      "catalogs (THK and HIWIN ball screws, Bosch Rexroth cylinders): the critical speed and "
                      "buckling load of a screw shaft by its end fixing (80 % and 50 % allowed), the buckling length "
                      "K·L of a cylinder by its mountings (Euler's four cases).",

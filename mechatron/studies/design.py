@@ -139,7 +139,8 @@ class Evaluations:
         return np.array([r.margin if math.isfinite(r.margin) else FAILED_MARGIN for r in self.requirements(row)])
 
     def feasible(self, row: dict[str, Any]) -> bool:
-        """The design was evaluated and meets every requirement (to 1e-6 of the limit)."""
+        """The design was evaluated and meets every requirement (within
+        :data:`~mechatron.studies.optimal_problem.REQUIREMENT_SLACK`: :meth:`Requirement.met`)."""
         return row["status"] == "ok" and all(r.met() for r in self.requirements(row))
 
     def table(self) -> pd.DataFrame:
@@ -399,19 +400,20 @@ class DesignResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """Two objectives: the front (its variables and outputs, one design a row, by the first objective). One:
-        a row per variable, the objective and each requirement (value, limit, margin, met, unit)."""
+        a row per variable, the objective and each requirement (value, limit, margin, met, verdict, unit:
+        :attr:`Requirement.verdict`)."""
         import pandas as pd
 
         if self.front is not None:
             return self.front.reset_index(drop=True)
         if self.best is None:
-            return pd.DataFrame(columns=["kind", "name", "value", "limit", "margin", "met", "unit"])
+            return pd.DataFrame(columns=["kind", "name", "value", "limit", "margin", "met", "verdict", "unit"])
         rows = [{"kind": "variable", "name": v, "value": self.best[v], "unit": self.units.get(v, "-")}
                 for v in self.variables]
         name = self.objectives[0][0]
         rows.append({"kind": self.objectives[0][1], "name": name, "value": self.best[name], "unit": unit_of(name)})
         rows += [{"kind": f"requirement ({r.kind})", "name": r.name, "value": r.value, "limit": r.limit,
-                  "margin": r.margin, "met": r.met(), "unit": r.unit} for r in self.requirements]
+                  "margin": r.margin, "met": r.met(), "verdict": r.verdict, "unit": r.unit} for r in self.requirements]
         return pd.DataFrame(rows)
 
     def as_dict(self) -> dict:
@@ -426,7 +428,7 @@ class DesignResult(Result):
             "variables": {v: {"unit": self.units.get(v, "-")} for v in self.variables},
             "best": self.best,
             "requirements": [{"name": r.name, "kind": r.kind, "value": r.value, "limit": r.limit, "margin": r.margin,
-                              "met": r.met(), "unit": r.unit} for r in self.requirements],
+                              "met": r.met(), "verdict": r.verdict, "unit": r.unit} for r in self.requirements],
             "feasible": self.feasible, "solver": self.solver,
             "evaluated": len(self.evaluations), "evaluated_feasible": feasible,
             "front": None if self.front is None else frame_records(self.front),
@@ -480,7 +482,7 @@ class DesignResult(Result):
         for r in self.requirements:
             sign = "≥" if r.kind == "min" else "≤"
             lines.append(f"  {r.name:<36} {r.value:12.6g} {sign} {r.limit:<10.6g} margin {r.margin:10.3g} {r.unit}"
-                         f"  {'met' if r.met() else 'NOT MET'}")
+                         f"  {r.verdict}")
         if not self.feasible:
             lines.append("NOT FEASIBLE: " + ", ".join(r.name for r in self.requirements if not r.met()))
         return "\n".join(lines + [f"note: {n}" for n in self.notes])

@@ -362,7 +362,8 @@ class OptimumResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per design variable (m), the objective and each requirement: the optimum, the start and the DOE's
-        best, bounds or limit, the margin (≥ 0 when met) and the unit; for ``cylinder_mass`` also one row per
+        best, bounds or limit, the margin (≥ 0 when met), ``met`` and ``verdict`` (:attr:`Requirement.verdict`: met,
+        met within slack, NOT MET) and the unit; for ``cylinder_mass`` also one row per
         cylinder: its catalog row and count (name), mass (kg) and whether it passes the drives module's checks."""
         import pandas as pd
 
@@ -376,7 +377,8 @@ class OptimumResult(Result):
                      "unit": self.objective_unit})
         for r, s in zip(self.requirements, self.start_requirements):
             rows.append({"kind": "requirement", "name": r.name, "optimum": r.value, "start": s.value,
-                         "limit": r.limit, "margin": r.margin, "met": r.met(), "unit": r.unit})
+                         "limit": r.limit, "margin": r.margin, "met": r.met(), "verdict": r.verdict,
+                         "unit": r.unit})
         for c in self.catalog_choice or []:
             rows.append({"kind": "cylinder", "name": f"{c['cylinder']} {c['key']} x{c['count']}",
                          "optimum": c["mass"], "met": c["feasible"], "unit": "kg"})
@@ -391,7 +393,7 @@ class OptimumResult(Result):
             "objective": {"name": self.objective_name, "unit": self.objective_unit, "optimum": self.objective,
                           "start": self.start_objective},
             "requirements": [{"name": r.name, "value": r.value, "limit": r.limit, "kind": r.kind, "unit": r.unit,
-                              "margin": r.margin, "met": r.met()} for r in self.requirements],
+                              "margin": r.margin, "met": r.met(), "verdict": r.verdict} for r in self.requirements],
             "feasible": self.feasible,
             "solver": {"name": self.solver, "success": self.success, "status": self.status,
                        "iterations": self.iterations, "history": self.history,
@@ -457,7 +459,7 @@ class OptimumResult(Result):
         for r in self.requirements:
             sign = "≥" if r.kind == "min" else "≤"
             lines.append(f"  {r.name:<42} {r.value:12.6g} {sign} {r.limit:<10.6g} margin {r.margin:10.3g} {r.unit}"
-                         f"  {'met' if r.met() else 'NOT MET'}")
+                         f"  {r.verdict}")
         for c in self.catalog_choice or []:
             lines.append(f"  {c['cylinder']}: {c['count']}× {c['key']} (bore {c['bore'] * 1e3:g} mm, rod "
                          f"{c['rod'] * 1e3:g} mm), stroke {c['stroke']:.4f} m, {c['mass']:.2f} kg; "

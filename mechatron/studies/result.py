@@ -18,21 +18,25 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from .spec import Spec
 
-#: Outputs that agree to this fraction of their largest magnitude are equal on a Pareto front: the rounding of the
-#: analyses that compute them (a sweep's Newton solutions, sums over samples) must not decide a design's place.
+#: mechatron's own tie rule of a Pareto front: each output is rounded to the nearest multiple of this fraction of
+#: its largest magnitude, and equal rounded values tie: the rounding of the analyses that compute the outputs (a
+#: sweep's Newton solutions, sums over samples) must not decide a design's place. Values more than one step apart
+#: never tie; values less than a step apart tie unless they fall either side of a half step (docs/study_file.md,
+#: "The Pareto front: ties").
 PARETO_RESOLUTION = 1e-10
 
 
 def _resolved(v: np.ndarray) -> np.ndarray:
-    """``v`` rounded to :data:`PARETO_RESOLUTION` of its largest magnitude."""
+    """``v`` rounded to the nearest multiple of h = :data:`PARETO_RESOLUTION` × max |v|: h · round(v / h)."""
     scale = float(np.abs(v).max(initial=0.0)) * PARETO_RESOLUTION
     return np.round(v / scale) * scale if scale > 0 else v
 
 
 def pareto_mask(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Which points (x, y) are not dominated when both are minimised: no other point is at most as large in both
-    and smaller in one (values equal to :data:`PARETO_RESOLUTION` of their scale are equal). Sorted by x (then y), a
-    point is on the front when its y is below every y before it (or it repeats the last point of the front)."""
+    and smaller in one, after each of x and y is rounded by :func:`_resolved` (values that round alike are equal:
+    :data:`PARETO_RESOLUTION`). Sorted by x (then y), a point is on the front when its y is below every y before
+    it (or it repeats the last point of the front)."""
     x, y = _resolved(np.asarray(x, dtype=float)), _resolved(np.asarray(y, dtype=float))
     order = np.lexsort((y, x))
     keep = np.zeros(len(x), dtype=bool)
@@ -120,7 +124,8 @@ class StudyResult(Result):
     def pareto(self, x: str | None = None, y: str | None = None, x_goal: str = "minimize",
                y_goal: str = "minimize") -> pd.DataFrame:
         """The non-dominated ok designs for the outputs ``x`` and ``y`` (default: :meth:`axes`), each minimised or
-        maximised, sorted by ``x``."""
+        maximised, sorted by ``x``; outputs that round alike to :data:`PARETO_RESOLUTION` of their largest
+        magnitude tie (:func:`pareto_mask`)."""
         if x is None or y is None:
             x, x_goal, y, y_goal = self.axes()
         ok = self.ok
