@@ -2,7 +2,8 @@
 
 The floor (:func:`floor_size`) does the checks of ``mechatron.size`` and chooses the same drives (asserted), with
 nothing of mechatron but the thermal network's closed form (:func:`~mechatron.drives.thermal.periodic_rise`, the
-exact interval maps composed up a pairwise tree, itself lean NumPy): the catalogs read into arrays once; the duties
+exact interval maps and their periodic fixed point, in machine code where a C compiler is at hand — both the floor
+and the sizing use it): the catalogs read into arrays once; the duties
 from Pinocchio (the model with its armature removed and the file's drive friction τ_f = u_f (B u_f q̇ + T_c±) at the
 joints, RNEA over the task in Pinocchio's compiled loop, the load inertia the largest diagonal of the CRBA mass
 matrix); per joint, every motor × converter pair at once as (N_m, N_c) arrays — the RMS motor torque from five time

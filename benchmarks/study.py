@@ -31,7 +31,10 @@ process). A serial study of 10,000 designs ran in 255.5 s (4.3 min, peak memory 
 thermal model. With it (2026-12-02, ``mechatron study`` of a2, a3, d4 ± 10 %, 10,000 designs, the robot's task and
 the shipped catalogs, this machine quiet): 329 s of CPU (327 s user, 2.6 s system; peak memory 245 MB), 34 ms a
 design in every chunk alike; 1,000 designs of the same spec 30.6 s, 600 designs 18.6 s (29-30 ms a design: this
-two-core virtual machine's speed varies by some 15 % from hour to hour). No 16-core machine was lent to this task:
+two-core virtual machine's speed varies by some 15 % from hour to hour). With the periodic thermal state in machine
+code (2026-12-02, the same command and machine): 10,000 designs in 304 s user + 2.7 s system, peak memory 220 MB; with
+the magnets' heating and the gearbox peak rules added the same day, 322 s + 2.5 s (the 300-design study took 9.0 to
+12.0 s within the hour: this machine's own variation). No 16-core machine was lent to this task:
 the 1, 2, 4, 8 and 16 worker table is still to be measured there.
 """
 
