@@ -25,12 +25,15 @@ if TYPE_CHECKING:  # pragma: no cover
 
 @dataclass(frozen=True)
 class ExampleRobot:
-    """An arm of ``example-robot-data``: its URDF path in the package, the frame used as tool, joints to lock."""
+    """An arm of ``example-robot-data``: its URDF path in the package, the frame used as tool, joints to lock, and
+    whether its link masses include the drives (mechatron's reading of the files: the masses of whole links, motors
+    and gears inside; :attr:`~mechatron.model.Mechanism.link_masses_include_drives`)."""
 
     urdf: str
     tool: str | None = None
     locked: tuple[str, ...] = ()
     description: str = ""
+    masses_include_drives: bool = True
 
 
 EXAMPLE_ROBOTS: dict[str, ExampleRobot] = {
@@ -46,7 +49,7 @@ EXAMPLE_ROBOTS: dict[str, ExampleRobot] = {
     "so101": ExampleRobot("so_arm_description/urdf/so101.urdf", "gripper_frame_link", ("gripper",),
                           "SO-101 arm, gripper locked (URDF)"),
     "double_pendulum": ExampleRobot("double_pendulum_description/urdf/double_pendulum.urdf",
-                                    description="double pendulum (URDF)"),
+                                    description="double pendulum (URDF)", masses_include_drives=False),
 }
 
 
@@ -183,7 +186,7 @@ def load(name_or_path: str | Path, **parameters: float) -> Mechanism:
 
         robot = EXAMPLE_ROBOTS[text]
         mechanism = load_urdf(examples[text], text, tool=robot.tool, locked_joints=robot.locked,
-                              description=robot.description)
+                              description=robot.description, link_masses_include_drives=robot.masses_include_drives)
     else:
         from .model.mechanism import unknown_name_error
 

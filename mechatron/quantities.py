@@ -73,6 +73,7 @@ _ENTRIES: tuple[tuple[str, str, str], ...] = (
     ("point", "-", "the point whose path the linkage analysis measures (default the tool point)"),
     ("working_range", "-", "true or false: a three-cylinder working device's extremes over the whole stroke box"),
     ("load", "N", "the force (Fx, Fy) on the point, for the cylinder forces"),
+    ("hold", "m or rad", "linkage: INPUT = value per input held while the others sweep"),
     ("cylinders", "-", "linkage: NAME = { bore, rod, count } per cylinder, for its pressures; sizing: the "
                        "hydraulic cylinder catalog (" + _PATH + ")"),
     ("bore", "m", "piston diameter of a cylinder"),
@@ -124,7 +125,8 @@ _ENTRIES: tuple[tuple[str, str, str], ...] = (
     # accuracy: options
     ("tolerances", "-", "tolerances CSV: the error sources (" + _PATH + ")"),
     ("limit_mm", "mm", "largest acceptable |Δr|, for the yield"),
-    ("poses", "-", "poses CSV of an accuracy study (" + _PATH + ")"),
+    ("poses", "-", "accuracy: poses CSV (" + _PATH + "); linkage: the named poses { name, inputs, point, lowest or "
+                   "highest } whose outputs are POSE.OUTPUT"),
     ("grid", "-", "instead of poses: N poses per coordinate, or N random ones"),
     ("frame", "-", "the frame whose position error is studied (default the tool)"),
     ("quantile", "-", "the quantile of |Δr| the Monte Carlo reports"),
@@ -142,7 +144,8 @@ QUANTITIES: dict[str, Quantity] = {name: Quantity(name, unit, meaning) for name,
 #: The per-item quantities, by pattern: a placeholder of :data:`PLACEHOLDERS` in place of the item's name.
 PATTERNS: dict[str, Quantity] = {q.name: q for q in (
     Quantity("CYLINDER_max_force_N", "N", "largest static force of cylinder CYLINDER holding the mechanism over "
-                                          "the sweep"),
+                                          "the sweep, at rest against gravity, the task's payload and loads and the "
+                                          "load"),
     Quantity("CYLINDER_max_pressure_Pa", "Pa", "largest pressure of cylinder CYLINDER over the sweep (force over "
                                                "the piston or annulus area)"),
     Quantity("ACTUATOR_peak_Nm", "N·m", "peak torque max |τ| of ACTUATOR (one that turns) along the motion"),
@@ -173,6 +176,10 @@ def quantity(name: str) -> Quantity:
     """
     if name in QUANTITIES:
         return QUANTITIES[name]
+    pose, dot, rest = name.partition(".") if isinstance(name, str) else ("", "", "")
+    if dot and pose and rest:  # an output at a named pose of the linkage analysis: POSE.OUTPUT
+        q = quantity(rest)
+        return Quantity(name, q.unit, f"{q.meaning}, at the pose {pose}")
     found = _pattern(name) if isinstance(name, str) else None
     if found is not None:
         q, item = found
@@ -189,7 +196,10 @@ def quantity(name: str) -> Quantity:
 
 def is_quantity(name: str) -> bool:
     """Whether ``name`` is a quantity of the registry (a fixed or a per-item name)."""
-    return name in QUANTITIES or (isinstance(name, str) and _pattern(name) is not None)
+    if name in QUANTITIES or (isinstance(name, str) and _pattern(name) is not None):
+        return True
+    pose, dot, rest = name.partition(".") if isinstance(name, str) else ("", "", "")
+    return bool(dot and pose and rest) and is_quantity(rest)
 
 
 def unit(name: str) -> str:

@@ -26,7 +26,8 @@ def check_result(result: Result) -> dict:
     axes = [ax for ax in figure.axes if ax.has_data()]
     assert axes, "the plot draws nothing"
     for ax in axes:
-        for label in (ax.get_xlabel(), ax.get_ylabel()):
+        colour_bar = hasattr(ax, "_colorbar")  # a colour bar labels its one long axis
+        for label in [ax.get_ylabel() or ax.get_xlabel()] if colour_bar else (ax.get_xlabel(), ax.get_ylabel()):
             assert label and ("(" in label or "[" in label), f"axis label without a unit: {label!r} " \
                 f"(axes {ax.get_title()!r})"
         keyed = [a for a in ax.get_lines() + ax.collections if not a.get_label().startswith("_")]

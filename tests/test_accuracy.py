@@ -399,7 +399,7 @@ def test_angle_table_degrees_grow_by_about_1_6():
 
 @pytest.mark.parametrize("grade, size, message", [("IT1", 0.01, "unknown grade"), ("IT18", 0.01, "unknown grade"),
                                                   ("AT4", 0.01, "unknown grade"), ("XY7", 0.01, "unknown grade"),
-                                                  ("IT7", 2.0001, "outside the IT table"),
+                                                  ("IT7", 3.1501, "outside the IT table"),
                                                   ("AT7", 2.6, "outside the AT table"),
                                                   ("IT7", 0.0, "must be > 0")])
 def test_bad_grades(grade, size, message):

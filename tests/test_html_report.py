@@ -197,7 +197,7 @@ def test_size_report_has_every_check_of_every_joint(tmp_path):
     assert number(totals["drive_mass_kg"]) == pytest.approx(sum(j["drive_mass_kg"] for j in result["joints"]), rel=1e-5)
     assert number(totals["energy_per_cycle_J"]) == pytest.approx(result["totals"]["energy_per_cycle_J"], rel=1e-5)
     assert len(page.table("iterations")) == len(result["iterations"])
-    # one chart per joint and the arm at its most loaded pose; the inputs and the method
+    # one chart per joint and the arm at its binding pose; the inputs and the method
     assert len(page.images) == len(result["joints"]) + 2  # and the electrical power over the task
     electrical = page.table("electrical")
     assert list(electrical["axis"]) == [j["joint"] for j in result["joints"]] + ["DC bus"]
@@ -208,7 +208,7 @@ def test_size_report_has_every_check_of_every_joint(tmp_path):
     assert dict(page.table("mechanism").values)["name"] == "puma560"
     critical = min(result["joints"], key=lambda j: min(c["margin"] for c in j["checks"]))
     peak = next(c["value"] for c in critical["checks"] if c["name"] == "transmission peak torque")
-    loaded = page.sections["s-most-loaded-pose"]
+    loaded = page.sections["s-binding-pose"]
     assert f"where {critical['joint']} (the smallest margin)" in loaded
     assert float(re.search(r"largest \|τ\| = (\S+) N·m", loaded).group(1)) == pytest.approx(peak, rel=1e-3)
     assert "T_m = (J_m + J_c) u ω̇ + τ* / u" in page.sections["s-method"]
@@ -337,3 +337,45 @@ def test_size_report_shows_the_tasks_loads(tmp_path):
     loads = check_page(path, tmp_path).table("loads")
     assert list(loads["frame"]) == ["tool", "tool"]  # the example's own load, then this one
     assert number(loads["Fz (N)"].iloc[1]) == -20.0 and number(loads["My (N·m)"].iloc[1]) == 1.5
+
+
+def test_study_report_has_the_pareto_front_and_every_failure(tmp_path):
+    """A study of a central crank-slider (crank l1, rod l2): its travel is 2 l1 and its reach l1 + l2 [Egorov,
+    fig. 4.18], and it cannot turn its crank through a full turn where l2 < l1. The report's Pareto front (travel
+    maximised, reach minimised) is the brute-force front of those closed forms over the study's designs, its failed
+    designs are exactly those with l2 < l1, and every design has its row."""
+    spec = tmp_path / "crank.toml"
+    spec.write_text('mechanism = "crank_slider"\n[parameters.l1]\nlow_mm = 80\nhigh_mm = 120\n[parameters.l2]\n'
+                    'low_mm = 60\nhigh_mm = 450\n[designs]\nmethod = "lhs"\nsamples = 24\nseed = 3\n'
+                    '[analyses.linkage]\nsamples = 13\n[output.pareto]\nx = "x_travel_m"\nx_goal = "maximize"\n'
+                    'y = "reach_m"\ny_goal = "minimize"\n', encoding="utf-8")
+    path = tmp_path / "study.html"
+    code, _, _ = run("study", str(spec), "--out", str(tmp_path / "out"), "--report", str(path))
+    assert code == 0
+    page = check_page(path, tmp_path)
+    designs = page.table("designs")
+    assert len(designs) == 24
+    l1, l2 = designs["l1"].map(number), designs["l2"].map(number)
+    assert sorted(page.table("failed")["design"].map(int)) == sorted(designs["design"][l2 < l1].map(int))
+    travel, reach, ok = 2 * l1, l1 + l2, l2 >= l1
+    front = [int(designs["design"][i]) for i in designs.index[ok]
+             if not any(travel[j] >= travel[i] and reach[j] <= reach[i] and (travel[j] > travel[i] or reach[j] <
+                                                                             reach[i]) for j in designs.index[ok])]
+    pareto = page.table("pareto")
+    assert sorted(pareto["design"].map(int)) == sorted(front)
+    assert pareto["x_travel_m"].map(number).to_numpy() == pytest.approx(
+        2 * pareto["l1"].map(number).to_numpy(), rel=1e-5)  # 6 digits shown
+    assert len(page.images) == 1  # the chart of the designs and the front
+
+
+def test_optimize_report_has_the_optimum(tmp_path):
+    """The crank-reach design problem: least reach l1 + l2 with travel 2 l1 ≥ 0.2 m, l1 ∈ [0.08, 0.12] and
+    l2 ∈ [0.35, 0.45] m, is l1 = 0.1, l2 = 0.35, reach 0.45 m (by hand: reach grows with both, the travel binds
+    l1). The HTML report of ``optimize`` shows it."""
+    path = tmp_path / "optimize.html"
+    code, _, _ = run("optimize", str(ROOT / "examples" / "design" / "crank_reach.toml"), "--report", str(path))
+    assert code == 0
+    page = check_page(path, tmp_path)
+    text = page.sections["s-results"]
+    assert "best design: l1 = 0.1, l2 = 0.35" in text and re.search(r"minimize reach_m: 0\.45 m", text), text[:2000]
+    assert len(page.images) >= 1

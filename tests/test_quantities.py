@@ -207,7 +207,7 @@ def test_the_analyses_page_gives_the_registrys_units():
     text = (DOCS / "study_analyses.md").read_text(encoding="utf-8")
     outputs = [r for table in tables(text, "output", "unit") for r in table]
     options = [r for table in tables(text, "option", "type", "unit") for r in table]
-    assert len(outputs) == 11 and len(options) == 25
+    assert len(outputs) == 11 and len(options) == 28
     for row in outputs:
         assert row["unit"] == unit(name_of(row["output"])), row["output"]
     for row in options:

@@ -1,5 +1,6 @@
 """The tolerance tables of [Egorov, chapter 8] as data: linear sizes IT2–IT17 ([Egorov, table 8.2], GOST 25346-82,
-the IT grades of [ISO 286-1]; ``catalogs/it_grades.csv``) and angles AT5–AT14 ([Egorov, table 8.1], GOST 8908-81;
+the IT grades of [ISO 286-1], sizes up to 2000 mm; over 2000 up to 3150 mm [ISO 286-1, table 1];
+``catalogs/it_grades.csv``) and angles AT5–AT14 ([Egorov, table 8.1], GOST 8908-81;
 ``catalogs/angle_tolerances.csv``).
 
 A grade's tolerance is the width of the tolerance zone (upper minus lower limit) for a size in the interval

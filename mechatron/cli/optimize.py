@@ -6,7 +6,6 @@ met at the optimum."""
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from .common import add_output_options, emit, output_option
@@ -26,23 +25,23 @@ def cmd_optimize(args: argparse.Namespace) -> int:
                          "spec", field="-o")
     if general:
         from ..report.progress import progress_bar
-        from ..studies.design import optimize_design, write_designs
+        from ..studies.design import optimize_design, write_optimum
         from ..studies.design_spec import read_design
 
         bar = None if args.json else progress_bar(f"{Path(args.spec).name} evaluations")
         spec = read_design(args.spec)
         result = optimize_design(spec, workers=args.workers, scheduler=args.scheduler, progress=bar)
-        if args.out and result.best is not None:
-            import pandas as pd
-
-            front = result.front if result.front is not None else pd.DataFrame([result.best])
-            for path in write_designs(spec, front, args.out):
-                print(f"design: {path}", file=sys.stderr)
+        written, refused = write_optimum(spec, result, args.out) if args.out else ([], [])
     else:
         from ..studies.optimize import optimize, read_spec
 
         result = optimize(read_spec(args.spec))
-    emit(result, args)
+        written, refused = [], []
+    emit(result, args, written)  # the results printed and saved before any design that cannot be written is told
+    if refused:
+        more = f" ({len(refused) - 1} more designs not written likewise)" if len(refused) > 1 else ""
+        raise InputError(refused[0].message + more, file=refused[0].file, row=refused[0].row,
+                         field=refused[0].field)
     return 0 if result.feasible else 1
 
 
@@ -57,7 +56,9 @@ def register(sub) -> None:
                         "worker processes (design files)")
     p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler, e.g. tcp://HOST:8786 (design files)")
     output_option(p, "-o", "--out", kind="folder", metavar="DIR",
-                  help="write the optimum (two objectives: every design of the front) as mechanism files "
-                       "design-NNN.toml (a mechanism file's own format) or .urdf, in DIR")
-    add_output_options(p)
+                  help="write the results in DIR (optimum.json, designs.csv: every design evaluated), then the "
+                       "optimum (two objectives: every design of the front) as mechanism files design-NNN.toml (a "
+                       "mechanism file's own format, drawn at the pose the search evaluated) or .urdf; a design "
+                       "that would not read back is not written and is an error naming its file (exit 2)")
+    add_output_options(p, report=True)
     p.set_defaults(func=cmd_optimize)

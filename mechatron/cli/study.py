@@ -39,5 +39,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--restart", action="store_true",
                    help="discard the study in --out (its rows, parts and tables) and start again, e.g. after a file "
                         "it reads has changed")
-    add_output_options(p)
+    add_output_options(p, report=True)
     p.set_defaults(func=cmd_study)

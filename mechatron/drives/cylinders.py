@@ -12,7 +12,8 @@ each check a value against a limit (load factor = value/limit, margin = 1 − va
   cylinder (:meth:`CylinderSizing.deciding`);
 - push pressure   p = max F⁺ / (count A_p)  ≤ min(p_r, p_s), the pose of the largest push;
 - pull pressure   p = max F⁻ / (count A_a)  ≤ the same, the pose of the largest pull;
-- stroke          L_max − L_min ≤ the catalog's maximum stroke;
+- stroke          L_max − L_min ≤ the catalog's maximum stroke. A **filter** too: the task's stroke fits the row
+  or not; its "margin" is the fraction of the row's longest stroke left, no load the cylinder could still take;
 - rod buckling    at every pose, F⁺/count ≤ F_E(L) / S with F_E(L) = π² E (π d⁴/64) / (K L)² (Euler, buckling length
   K L with the end fixing's factor K, :mod:`mechatron.drives.shafts`; the whole cylinder taken as a rod of
   diameter d — the makers' conservative simplification), S = 3.5. Reported at the pose of the largest F⁺ (K L)²,
@@ -20,11 +21,11 @@ each check a value against a limit (load factor = value/limit, margin = 1 − va
   of the task, every pose is taken fully extended (L = L_max).
 
 The push, pull and buckling checks are load checks: p = F/A is linear in the force, so their margin is the fraction
-of the force the cylinder could still carry at that pose (1 − F/(p_lim A), 1 − F/(F_E/S)); the stroke's margin is the
-fraction of the row's longest stroke left. These four are the checks that can bind (:data:`BINDING`): the deciding
-check of a feasible cylinder is the one of them with the smallest margin, and its smallest margin (the ``margin``
-objective's score) is taken over them; a cylinder that fails a check is decided by its worst one, the filter
-included.
+of the force the cylinder could still carry at that pose (1 − F/(p_lim A), 1 − F/(F_E/S)). These three are the
+checks that can bind (:data:`BINDING`): the deciding check of a feasible cylinder is the one of them with the
+smallest margin, and its smallest margin (the ``margin`` objective's score) is taken over them; a cylinder that fails
+a check is decided by its worst one, the filters included. Each binds at a pose of the task
+(:meth:`CylinderSizing.binding_sample`): the largest push, the largest pull, the largest F⁺ (K L)².
 
 The end fixing is the catalog row's (``end_fixing``, default pinned at both ends: an eye or clevis at each end) or
 the one given to :func:`size_cylinder`. Each cylinder says whether its bore and rod belong to the metric series of
@@ -64,10 +65,10 @@ if TYPE_CHECKING:  # pragma: no cover
 BUCKLING_SAFETY = 3.5
 CYLINDER_CHECKS = ("rated pressure", "push pressure", "pull pressure", "stroke", "rod buckling")
 CYLINDER_UNITS = ("Pa", "Pa", "Pa", "m", "N")
-#: The pass/fail filters among :data:`CYLINDER_CHECKS`: satisfied or not by the catalog row alone, never the deciding
-#: check of a feasible cylinder (the module docstring).
-FILTERS = ("rated pressure",)
-#: The checks that can bind: the load checks (push and pull pressure, rod buckling) and the stroke.
+#: The pass/fail filters among :data:`CYLINDER_CHECKS`: satisfied or not by the catalog row and the task's stroke,
+#: whatever the load; never the deciding check of a feasible cylinder (the module docstring).
+FILTERS = ("rated pressure", "stroke")
+#: The checks that can bind: the load checks (push and pull pressure, rod buckling).
 BINDING = tuple(name for name in CYLINDER_CHECKS if name not in FILTERS)
 _BINDING = [CYLINDER_CHECKS.index(name) for name in BINDING]
 #: The cylinder bores of [ISO 3320] (mm): the preferred ones (the R10 series) and, in brackets in the standard,
@@ -123,6 +124,7 @@ class CylinderSizing(DriveSizing):
             or ``"K = …"`` for a factor given as a number).
         buckling_length: K L at the pose that decides the buckling check (m).
         length: the pin-to-pin length L(t) along the task (m), if known.
+        fixing_factor: the end fixing's effective-length factor K of the chosen row.
     """
 
     joint: str
@@ -141,6 +143,7 @@ class CylinderSizing(DriveSizing):
     buckling_length: float = math.nan
     length: NDArray[np.float64] | None = None
     rivals: pd.DataFrame = field(default_factory=pd.DataFrame)
+    fixing_factor: float = 1.0
 
     kind = "cylinder"
 
@@ -180,7 +183,8 @@ class CylinderSizing(DriveSizing):
         return np.minimum(np.maximum(load, 0.0) / area, relief)
 
     def is_filter(self, check: Check) -> bool:
-        """Whether ``check`` is a pass/fail filter (:data:`FILTERS`: the rated pressure), not a check that binds."""
+        """Whether ``check`` is a pass/fail filter (:data:`FILTERS`: the rated pressure and the stroke), not a check
+        that binds."""
         return check.name in FILTERS
 
     def _pool(self) -> list[Check]:
@@ -189,13 +193,36 @@ class CylinderSizing(DriveSizing):
         return self.checks if self.failed else [c for c in self.checks if not self.is_filter(c)]
 
     def deciding(self) -> Check | None:
-        """The check that binds: the smallest margin among the push and pull pressure, stroke and rod buckling checks
-        (the rated pressure, a filter, never decides a feasible cylinder); when a check fails, the worst one."""
+        """The check that binds: the smallest margin among the push and pull pressure and rod buckling checks (the
+        rated pressure and the stroke, filters, never decide a feasible cylinder); when a check fails, the worst
+        one."""
         return min(self._pool(), key=lambda c: c.margin, default=None)
 
     def smallest_margin(self) -> float:
         """The smallest margin over the checks that can bind (< 0: a check fails, the filter included)."""
         return min((c.margin for c in self._pool()), default=math.inf)
+
+    def binding_sample(self) -> tuple[int, str]:
+        """(k, what): the sample where the deciding check (:meth:`deciding`) binds — the largest push F⁺ (push
+        pressure), the largest pull F⁻ (pull pressure), the largest F⁺ (K L)² (rod buckling, L the pin-to-pin length
+        there) — and the force per cylinder there, as words (N; for ``count`` > 1 also the total); for a deciding
+        filter (an infeasible row), the largest |F|."""
+        force = self.duty.torque
+        deciding = self.deciding()
+        name = deciding.name if deciding is not None else ""
+        length = self.length if self.length is not None else np.ones_like(force)
+        k = {"push pressure": lambda: np.argmax(force), "pull pressure": lambda: np.argmin(force),
+             "rod buckling": lambda: np.argmax(np.maximum(force, 0.0) * length**2)}.get(
+                 name, lambda: np.argmax(np.abs(force)))()
+        k = int(k)
+        total = float(force[k])
+        kind = "push" if total > 0 else "pull" if total < 0 else "no"
+        what = f"{kind} force F = {abs(total) / self.count:.6g} N per cylinder"
+        if self.count > 1:
+            what += f" ({abs(total):.6g} N for the {self.count} together)"
+        if self.length is not None:
+            what += f" at L = {self.length[k]:.4g} m"
+        return k, (f"binds ({name}, margin {deciding.margin:.1%}): " if deciding is not None else "") + what
 
     def explanation(self) -> dict:
         """The explanation of :class:`~mechatron.drives.report.DriveSizing` and ``rejected``: the rows of
@@ -209,7 +236,8 @@ class CylinderSizing(DriveSizing):
         deciding = self.deciding()
         lines = []
         if deciding is not None:
-            kind = "" if self.failed else " (the check that binds; the rated pressure is a pass/fail filter)"
+            kind = "" if self.failed else " (the smallest load margin; the rated pressure and the stroke are " \
+                "pass/fail filters)"
             lines.append(f"    deciding check: {deciding.name}, margin {deciding.margin:.1%}{kind}")
         if len(self.rivals):
             what = "cheaper" if self.objective == "cost" else "lighter"
@@ -230,8 +258,10 @@ class CylinderSizing(DriveSizing):
     def headline(self) -> str:
         c = self.cylinder_data
         series = "ISO 3320" if self.standard else "not of the ISO 3320 series"
-        return (f"{self.joint}: cylinder {self.cylinder} ×{self.count} (bore {c['bore'] * 1e3:g} mm, rod "
-                f"{c['rod'] * 1e3:g} mm, {series}; {self.end_fixing}), peak flow {self.peak_flow * 6e4:.1f} l/min")
+        shared = "" if self.count == 1 else f" side by side, each checked with 1/{self.count} of the force"
+        return (f"{self.joint}: cylinder {self.cylinder} ×{self.count}{shared} (bore {c['bore'] * 1e3:g} mm, rod "
+                f"{c['rod'] * 1e3:g} mm, {series}; {self.end_fixing}), peak flow {self.peak_flow * 6e4:.1f} l/min"
+                + ("" if self.count == 1 else f" (all {self.count}); forces below per cylinder"))
 
     def candidate(self, row: dict) -> str:
         return str(row["cylinder"])
@@ -239,8 +269,8 @@ class CylinderSizing(DriveSizing):
     def as_dict(self) -> dict:
         """joint, kind, feasible, motor/gearbox/ratio (None), cylinder, count, bore and rod (m), iso_3320,
         pressure (Pa), end_fixing, buckling_length (m), peak_flow (m³/s) and peak_flow_l_min, checks (SI; each with
-        ``filter``: true for the rated pressure, a pass/fail filter), alternatives, closest (when none is feasible)
-        and the explanation (:meth:`explanation`): deciding_check, runner_up, rejected, drive_mass_kg,
+        ``filter``: true for the rated pressure and the stroke, pass/fail filters), alternatives, closest (when none
+        is feasible) and the explanation (:meth:`explanation`): deciding_check, runner_up, rejected, drive_mass_kg,
         drive_price."""
         return json_ready({
             "joint": self.joint, "kind": "cylinder", "feasible": self.feasible, "motor": None, "gearbox": None,
@@ -252,19 +282,33 @@ class CylinderSizing(DriveSizing):
             "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
             "closest": [] if self.feasible else self.closest.to_dict(orient="records"), **self.explanation()})
 
+    def buckling_limit(self) -> NDArray[np.float64]:
+        """The push force per cylinder the rod may carry at every sample (N): F_E(L(t)) / S =
+        π² E (π d⁴/64) / (K L(t))² / 3.5, L(t) the pin-to-pin length there (fully extended, L_max, where the task's
+        lengths are unknown)."""
+        length = self.length if self.length is not None else np.full(len(self.duty.t), self.buckling_length
+                                                                     / self.fixing_factor)
+        return euler_load(self.cylinder_data["rod"], length, self.fixing_factor, STEEL_MODULUS) / BUCKLING_SAFETY
+
     def plot(self, ax: Axes | None = None) -> Figure:
-        """The force per cylinder over the cylinder speed along the task (coloured by time), with the push limit
-        p A_p and the pull limit −p A_a at the pressure of the push-pressure check; force in kN, speed in m/s."""
-        from ..report.figures import figure_axes, style_axes
+        """The force per cylinder (the coordinate's force / ``count``) over the cylinder speed along the task,
+        coloured by time (the colour bar), with the push limit p A_p and the pull limit −p A_a at the pressure of
+        the push-pressure check and the rod's buckling limit F_E(L)/3.5 at every pose (:meth:`buckling_limit`: one
+        mark above each operating point); force in kN, speed in m/s."""
+        from ..report.figures import figure_axes, style_axes, time_colour_bar
 
         figure, ax = figure_axes(ax, 7.5, 5)
         push = next(x for x in self.checks if x.name == "push pressure")
         piston, annulus = self.areas
-        ax.scatter(self.duty.speed, self.duty.torque / self.count / 1e3, s=6, c=self.duty.t, cmap="viridis",
-                   label="force per cylinder along the task (colour: time)")
+        each = "force per cylinder" if self.count == 1 else f"force per cylinder (1/{self.count} of the total)"
+        points = ax.scatter(self.duty.speed, self.duty.torque / self.count / 1e3, s=6, c=self.duty.t,
+                            cmap="viridis", label=f"{each} along the task (colour: time)")
+        time_colour_bar(ax, points)
         ax.axhline(push.limit * piston / 1e3, color="tab:red", label="push limit p·A_piston")
         ax.axhline(-push.limit * annulus / 1e3, color="tab:purple", label="pull limit p·A_annulus")
-        style_axes(ax, "cylinder speed (m/s)", "force (kN, + pushes)",
+        ax.scatter(self.duty.speed, self.buckling_limit() / 1e3, s=8, marker="_", color="tab:orange",
+                   label="rod buckling limit F_E(L)/3.5 at each pose")
+        style_axes(ax, "cylinder speed (m/s)", "force per cylinder (kN, + pushes)",
                    f"{self.joint}: {self.count}× {self.cylinder}" + ("" if self.feasible else " — NOT FEASIBLE"),
                    legend=True)
         return figure
@@ -360,4 +404,4 @@ def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pre
               for k, name in enumerate(CYLINDER_CHECKS)]
     return CylinderSizing(duty.name, objective, bool(len(ranking)), str(catalog["key"].iloc[i]), spec.count, checks,
                           float(flow[i]), ranking, closest, duty, catalog.iloc[i].to_dict(), float(pressure),
-                          fixings[i], float(K[i] * length[pose]), length, rivals)
+                          fixings[i], float(K[i] * length[pose]), length, rivals, float(K[i]))

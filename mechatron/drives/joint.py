@@ -325,10 +325,11 @@ class JointSizing(DriveSizing):
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """The chosen motor's speed–torque chart: its continuous (S1) and intermittent zones
-        (:mod:`~mechatron.drives.motor`), the task's operating points (|n|, |T_m|) coloured by time and the RMS
-        torque at the mean speed (the thermal check); speed in rpm, torque in N·m. Its data:
-        :meth:`chart_frame`."""
-        from ..report.figures import figure_axes, style_axes
+        (:mod:`~mechatron.drives.motor`, the same in every quadrant), the task's operating points folded into the
+        first quadrant (|n|, |T_m|) coloured by time (the colour bar), the braking ones (T_m n < 0) ringed, and the
+        RMS torque at the mean speed (the thermal check); speed in rpm, torque in N·m. Its data:
+        :meth:`chart_frame` (signed)."""
+        from ..report.figures import figure_axes, style_axes, time_colour_bar
 
         figure, ax = figure_axes(ax, 7.5, 5)
         m = self.motor_data
@@ -337,8 +338,13 @@ class JointSizing(DriveSizing):
         speed, s1, peak = self._zones()
         ax.fill_between(speed * RPM, 0, peak, color="tab:orange", alpha=0.18, label="intermittent zone")
         ax.fill_between(speed * RPM, 0, s1, color="tab:green", alpha=0.3, label="continuous zone (S1)")
-        ax.scatter(np.abs(n) * RPM, np.abs(torque), s=6, c=self.duty.t, cmap="viridis",
-                   label="operating points (colour: time)")
+        points = ax.scatter(np.abs(n) * RPM, np.abs(torque), s=6, c=self.duty.t, cmap="viridis",
+                            label="operating points |n|, |T_m| of all four quadrants (colour: time)")
+        time_colour_bar(ax, points)
+        braking = n * torque < 0
+        if braking.any():
+            ax.scatter(np.abs(n[braking]) * RPM, np.abs(torque[braking]), s=24, facecolors="none",
+                       edgecolors="black", linewidths=0.6, label="of them braking (T_m·n < 0: quadrants II, IV)")
         mean_speed, rms = self._rms_point()
         ax.plot([mean_speed * RPM], [rms], "r*", ms=14, label=f"RMS torque {rms:.3g} N·m at mean speed")
         ax.set_xlim(0, top * RPM * 1.05)

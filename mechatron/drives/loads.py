@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..dynamics.motion import coordinate_names, warn_limits
-from ..dynamics.series import UNITS, coordinate_columns, plot_lines, stacked_axes, text_table
+from ..dynamics.series import UNITS, coordinate_columns, load_label, plot_lines, stacked_axes, text_table
 from ..dynamics.trajectory import actuator_forces
 from ..dynamics.tree import inverse_dynamics
 from ..model.loads import Loads
@@ -45,6 +45,8 @@ class TrajectoryLoads(Result):
         motor_torque, motor_speed: (N, n) motor torque (N·m) and speed (rad/s) of the joints with drive data
             (``driven``), ``None`` for a closed loop.
         driven: Which coordinates have drive data (a motor side).
+        counts: How many cylinders act side by side on each coordinate (1 for anything else); a coordinate's force
+            is that of all of them together (``size`` checks each cylinder with its share, force/count).
     """
 
     mechanism: str
@@ -59,6 +61,7 @@ class TrajectoryLoads(Result):
     motor_torque: Array | None = None
     motor_speed: Array | None = None
     driven: list[bool] | None = None
+    counts: list[int] | None = None
 
     @property
     def power(self) -> Array:
@@ -74,9 +77,11 @@ class TrajectoryLoads(Result):
         return self.motor_torque is not None and bool(self.driven and self.driven[i])
 
     def summary(self) -> list[dict]:
-        """Per driven coordinate: peak and RMS force (N·m or N), peak speed (rad/s or m/s), peak power (W), positive
-        work ∫ max(τ q̇, 0) dt (J) and, with drive data, peak and RMS motor torque (N·m) and peak motor speed (rad/s).
-        RMS values are √(∫ x² dt / T) (trapezoidal rule)."""
+        """Per driven coordinate: ``load`` (``torque`` for an angle, ``force`` for a length), ``cylinders`` (how many
+        side by side share the force: 1 for anything else), peak and RMS of that torque or force (``peak_force``,
+        ``rms_force``: N·m or N, ``unit``; a cylinder's: the total of its ``cylinders``), peak speed (rad/s or
+        m/s), peak power (W), positive work ∫ max(τ q̇, 0) dt (J) and, with drive data, peak and RMS motor torque
+        (N·m) and peak motor speed (rad/s). RMS values are √(∫ x² dt / T) (trapezoidal rule)."""
         t, duration, rows = self.t, self.duration, []
 
         def rms(x: Array) -> float:
@@ -84,7 +89,9 @@ class TrajectoryLoads(Result):
 
         for i, name in enumerate(self.names):
             tau, power = self.forces[:, i], self.power[:, i]
-            row = {"coordinate": name, "unit": UNITS[self.angular[i]][3], "peak_force": float(np.abs(tau).max()),
+            row = {"coordinate": name, "load": "torque" if self.angular[i] else "force",
+                   "cylinders": self.counts[i] if self.counts else 1,
+                   "unit": UNITS[self.angular[i]][3], "peak_force": float(np.abs(tau).max()),
                    "rms_force": rms(tau), "peak_speed": float(np.abs(self.speeds[:, i]).max()),
                    "peak_power": float(np.abs(power).max()),
                    "positive_work": float(np.trapezoid(np.maximum(power, 0.0), t)) if len(t) > 1 else 0.0}
@@ -131,10 +138,18 @@ class TrajectoryLoads(Result):
         return figure
 
     def __str__(self) -> str:
+        rows = []
+        for i, row in enumerate(self.summary()):
+            shared = row.pop("cylinders")
+            load = load_label(self.angular[i]) + (f", total of {shared} cylinders" if shared > 1 else "")
+            rows.append({"coordinate": row.pop("coordinate"), "load": load, "peak": row.pop("peak_force"),
+                         "rms": row.pop("rms_force"),
+                         **{k: v for k, v in row.items() if k not in ("load", "unit")}})
         return (f"{self.mechanism}: {self.kind} loads over {self.duration:.3f} s ({len(self.t)} samples)\n"
-                + text_table(self.summary())
-                + "\nunits: force in the unit column, speed rad/s or m/s, power W, work J; motor torque N·m, "
-                  "motor speed rad/s")
+                + text_table(rows)
+                + "\nunits: peak and rms as the load column says (a cylinder's force: all of the cylinders side by "
+                  "side together); speed rad/s (a torque's coordinate) or m/s (a force's), power W, work J; motor "
+                  "torque N·m, motor speed rad/s")
 
 
 #: The least time a closed-loop position takes in :func:`trajectory_loads` (assembly, velocity and acceleration
@@ -167,7 +182,9 @@ def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = Non
         names = list(mech.actuated)
         forces = actuator_forces(mech, trajectory, loads)[1]
         angular = [mech.joint_kind(n) == "revolute" for n in names]
-        return TrajectoryLoads(mech.name, "actuator", names, angular, t, positions, speeds, accelerations, forces)
+        counts = [mech.cylinders[n].count if n in mech.cylinders else 1 for n in names]
+        return TrajectoryLoads(mech.name, "actuator", names, angular, t, positions, speeds, accelerations, forces,
+                               counts=counts)
     forces = inverse_dynamics(mech, trajectory.q, speeds, accelerations, loads)
     motor = motor_loads(mech, speeds, accelerations, forces)
     names = coordinate_names(mech)

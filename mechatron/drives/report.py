@@ -157,8 +157,9 @@ class DriveSizing(Result):
         return "\n".join(self.lines())
 
     def is_filter(self, check: Check) -> bool:
-        """Whether ``check`` is a pass/fail filter whose margin is no load margin (a cylinder's rated pressure:
-        :meth:`CylinderSizing.is_filter <mechatron.drives.cylinders.CylinderSizing.is_filter>`); none of a motor's."""
+        """Whether ``check`` is a pass/fail filter whose margin is no load margin (a cylinder's rated pressure and
+        stroke: :meth:`CylinderSizing.is_filter <mechatron.drives.cylinders.CylinderSizing.is_filter>`); none of a
+        motor's."""
         return False
 
     def smallest_margin(self) -> float:
@@ -174,6 +175,14 @@ class DriveSizing(Result):
     def deciding(self) -> Check | None:
         """The check with the smallest margin: the one that decided (or, when it fails, rules out) the drive."""
         return min(self.checks, key=lambda c: c.margin, default=None)
+
+    def binding_sample(self) -> tuple[int, str]:
+        """(k, what): the sample of :attr:`duty` where the drive is most loaded, the largest |τ| of its coordinate
+        (a torque, N·m, for an angle; a force, N, for a length), and what it carries there, as words."""
+        k = int(np.argmax(np.abs(self.duty.torque)))
+        value = abs(float(self.duty.torque[k]))
+        what = f"|τ| = {value:.4g} N·m" if self.duty.kind == "revolute" else f"|F| = {value:.4g} N"
+        return k, f"carries its largest {what}"
 
     def drive_mass(self) -> float | None:
         """The drive's mass (kg): the chosen row of the ranking; ``None`` when unknown."""

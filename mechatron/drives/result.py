@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..report.result import Result, json_ready
+from ..report.result import Result, json_ready, readable
 from .duty import DriveMount
 from .report import COLUMNS, REPORTED, DriveSizing
 
@@ -50,8 +50,11 @@ class Iteration:
         return {"iteration": self.number, "drive_masses": self.weighted, "time_scale": self.time_scale,
                 "changes": [{"joint": j, "from": a, "to": b} for j, a, b in self.changes]}
 
-    def line(self) -> str:
-        what = "with the drives' masses on their bodies" if self.weighted else "drives weightless"
+    def line(self, included: bool = False) -> str:
+        """The pass in one line; ``included``: the link masses include the drives
+        (:attr:`SizingResult.masses_included`)."""
+        what = "with the drives' masses on their bodies" if self.weighted else \
+            "the link masses as given, the drives in them" if included else "drives weightless"
         pace = f", moves ×{self.time_scale:.4g}" if self.time_scale != 1.0 else ""
         changed = "; ".join(f"{j} {b}" if a is None else f"{j} {a} → {b}" for j, a, b in self.changes)
         return f"  pass {self.number} ({what}{pace}): {changed or 'no change'}"
@@ -67,7 +70,9 @@ class SizingResult(Result):
     ``iterations`` are the passes of the sizing (:class:`Iteration`): the first with weightless drives (all of a
     ``single_pass`` sizing), the next ones with the chosen drives' masses on the bodies that carry them
     (``mounts``, :class:`~mechatron.drives.duty.DriveMount`) until the choice repeats (``converged``; ``cycle``
-    names the passes whose choice came back when it cycles instead).
+    names the passes whose choice came back when it cycles instead). ``masses_included``: the mechanism's link masses
+    include its drives (:attr:`~mechatron.model.Mechanism.link_masses_include_drives`), so no drive's mass was added
+    and pass 1 is the fixed point (:attr:`drive_masses`).
 
     ``to_frame()``: one row per joint and check (joint, motor, converter, ratio, check, value, limit, unit, margin,
     pass; SI units). ``as_dict()``: mechanism, task, objective, method, converged, feasible, time_scale, task_time
@@ -89,6 +94,7 @@ class SizingResult(Result):
     mounts: dict[str, DriveMount] = field(default_factory=dict)
     cycle: tuple[int, ...] = ()
     task_duration: float | None = None
+    masses_included: bool = False
     given: Task | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -106,6 +112,25 @@ class SizingResult(Result):
     def method(self) -> str:
         """``"single pass"`` (each coordinate sized alone, weightless drives) or ``"fixed point"``."""
         return "single pass" if self.single_pass else "fixed point"
+
+    @property
+    def drive_masses(self) -> str:
+        """How the chosen drives' masses entered the sizing: ``"weightless"`` (single pass: not at all),
+        ``"included"`` (the link masses include them: not added) or ``"added"`` (at their mounts, the fixed point)."""
+        return "weightless" if self.single_pass else "included" if self.masses_included else "added"
+
+    def _drive_masses_line(self) -> str:
+        """The report's line saying which of :attr:`drive_masses` applied."""
+        if self.drive_masses == "weightless":
+            return "drive masses: not added (single pass: the drives weightless)"
+        total = self.totals()["drive_mass_kg"]
+        chosen = "unknown" if total is None else f"{total:.4g} kg"
+        if self.drive_masses == "included":
+            return (f"drive masses: included in the link masses of {self.mechanism} (link_masses_include_drives) — "
+                    f"not added; the chosen drives weigh {chosen} in all, the link masses as given stand for them")
+        passes = f"{len(self.iterations)} pass" + ("es" if len(self.iterations) > 1 else "")
+        state = f"fixed point after {passes}" if self.converged else f"no fixed point after {passes}"
+        return f"drive masses: added at their mounts ({chosen} in all), {state}"
 
     def critical(self) -> DriveSizing:
         """The joint whose drive has the smallest margin (an infeasible one first)."""
@@ -158,7 +183,7 @@ class SizingResult(Result):
         totals = self.totals()
 
         def number(key: str, unit: str) -> str:
-            return "unknown" if totals[key] is None else f"{totals[key]:.4g}{unit}"
+            return "unknown" if totals[key] is None else f"{readable(totals[key])}{unit}"
 
         lines = [f"totals: drive mass {number('drive_mass_kg', ' kg')}, cost {number('drive_cost', '')}, energy drawn "
                  f"per cycle {number('energy_per_cycle_J', ' J')}"]
@@ -170,8 +195,9 @@ class SizingResult(Result):
         if totals["peak_pump_power_W"] is not None:
             pump = self.hydraulic_supply().rows()[-1]
             lines.append(f"  pump: peak flow {totals['peak_pump_flow_m3_s'] * 6e4:.4g} l/min, peak power "
-                         f"{number('peak_pump_power_W', ' W')}, {pump['energy']:.4g} J per cycle (P = p·Q at the "
-                         f"pressure the loads need; {pump['energy_at_relief']:.4g} J at the relief pressure)")
+                         f"{number('peak_pump_power_W', ' W')}, {readable(pump['energy'])} J per cycle (P = p·Q at "
+                         f"the pressure the loads need; {readable(pump['energy_at_relief'])} J at the relief "
+                         "pressure)")
         return lines
 
     def to_frame(self) -> pd.DataFrame:
@@ -181,10 +207,11 @@ class SizingResult(Result):
     def _mounted_on(self, joint: str) -> dict | None:
         mount = self.mounts.get(joint)
         return None if mount is None else {"body": mount.carrier, "mass_kg": mount.mass,
-                                            "loads_the_mechanism": mount.parent > 0}
+                                            "loads_the_mechanism": mount.parent > 0 and not self.masses_included}
 
     def as_dict(self) -> dict:
-        """mechanism, task, objective, method (``fixed point`` or ``single pass``), converged, cycle, feasible,
+        """mechanism, task, objective, method (``fixed point`` or ``single pass``), drive_masses (:attr:`drive_masses`:
+        ``added``, ``included`` or ``weightless``), converged, cycle, feasible,
         time_scale, task_time (the task's duration as sized, s), iterations (every pass: iteration, drive_masses,
         time_scale, changes: joint, from, to), totals (:meth:`totals`) and joints (every joint's ``as_dict`` with
         deciding_check, runner_up, drive_mass_kg, drive_price and mounted_on: body, mass_kg, loads_the_mechanism),
@@ -192,7 +219,8 @@ class SizingResult(Result):
         per cylinder and the pump), ``None`` where there is no motor or cylinder; JSON-ready."""
         balance, supply = self.electrical_balance(), self.hydraulic_supply()
         return json_ready({"mechanism": self.mechanism, "task": self.task, "objective": self.objective,
-                           "method": self.method, "converged": self.converged, "cycle": list(self.cycle),
+                           "method": self.method, "drive_masses": self.drive_masses, "converged": self.converged,
+                           "cycle": list(self.cycle),
                            "feasible": self.feasible, "time_scale": self.time_scale,
                            "task_time": self.duration if self.joints else None,
                            "iterations": [i.as_dict() for i in self.iterations], "totals": self.totals(),
@@ -236,8 +264,12 @@ class SizingResult(Result):
 
     def _method_lines(self) -> list[str]:
         if self.single_pass:
-            return ["method: single pass — each coordinate sized alone, its drive's mass loading no other joint"]
-        if not self.converged:
+            return ["method: single pass — each coordinate sized alone, its drive's mass loading no other joint",
+                    self._drive_masses_line()]
+        if self.masses_included:
+            head = ("method: fixed point — the link masses include the drives, so no drive's mass is added and one "
+                    "pass, with the link masses as given, is the fixed point (the choice of --single-pass)")
+        elif not self.converged:
             what = (f"the choice of pass {self.cycle[-1]} repeats that of pass {self.cycle[0]}: it cycles"
                     if self.cycle else f"the choice still changed after {len(self.iterations)} passes")
             head = f"method: fixed point — NOT CONVERGED: {what}"
@@ -251,7 +283,7 @@ class SizingResult(Result):
             head = (f"method: fixed point — every chosen motor and gearbox is a mass on the body that carries it; "
                     f"sized distal to proximal until the choice repeats: converged in {len(self.iterations)} "
                     "passes")
-        return [head, *(i.line() for i in self.iterations)]
+        return [head, self._drive_masses_line(), *(i.line(self.masses_included) for i in self.iterations)]
 
     def __str__(self) -> str:
         """The method and its passes, the chosen drive of every joint with every check, margin and PASS/FAIL, why
@@ -266,8 +298,9 @@ class SizingResult(Result):
             lines += [""] + j.lines()
             mount = self.mounts.get(j.joint)
             if mount is not None:
-                lines.append(f"    on {mount.carrier}: {mount.mass:.3g} kg" + ("" if mount.parent > 0 else
-                                                                              " (a fixed body: it loads no joint)"))
+                lines.append(f"    on {mount.carrier}: {mount.mass:.3g} kg" + (
+                    " (a fixed body: it loads no joint)" if mount.parent == 0 else
+                    " (included in the link masses: not added)" if self.masses_included else ""))
         lines += ["", *self._totals_lines()]
         if self.feasible:
             verdict = "every joint has a feasible drive"
@@ -281,10 +314,11 @@ class SizingResult(Result):
     def report(self, mechanism: Mechanism | None = None, task: Task | str | Path | None = None, **context) -> Report:
         """The HTML report (:mod:`mechatron.report.html`): the method, every joint's drive and the check deciding it,
         per joint every check, the best alternatives (the closest drives when none is feasible) and its chart; given
-        ``mechanism`` the task and the mechanism at its most loaded pose: the sample where the :meth:`critical` joint
-        carries its largest |τ| (N·m or N). The task is the one sized (:attr:`given`), its file's text shown as it
-        was read unless ``task`` names that file (the inputs show it then); a sizing without one reads ``task`` (a
-        :class:`~mechatron.dynamics.task.Task` or a file; default the mechanism's default task)."""
+        ``mechanism`` the task and the mechanism at its binding pose: the sample where the :meth:`critical` joint is
+        most loaded (:meth:`~mechatron.drives.report.DriveSizing.binding_sample`: a motor's largest |τ|, a
+        cylinder's pose where its deciding check binds). The task is the one sized (:attr:`given`), its file's text
+        shown as it was read unless ``task`` names that file (the inputs show it then); a sizing without one reads
+        ``task`` (a :class:`~mechatron.dynamics.task.Task` or a file; default the mechanism's default task)."""
         from ..kinematics.drawing import configuration_figure
         from ..kinematics.loops import assemble
         from ..report.html import Chart, Code, Method, Report, Section, Table, Text
@@ -305,7 +339,8 @@ class SizingResult(Result):
         drives = pd.DataFrame([drive_row(j) for j in self.joints])
         totals = pd.DataFrame([{"quantity": k, "value": v} for k, v in self.totals().items()])
         iterations = pd.DataFrame([{"pass": i.number, "drives' masses": i.weighted, "moves ×": i.time_scale,
-                                    "changes": i.line().split(": ", 1)[1]} for i in self.iterations])
+                                    "changes": i.line(self.masses_included).split(": ", 1)[1]}
+                                   for i in self.iterations])
         sections = [Section("Method", [Method(text) for text in texts]), Section(
             "Drives", [Text(line) for line in lines[1:lines.index("")]] + [
                 Table(drives, "the chosen drive of every joint, the check deciding it and the runners-up", "drives"),
@@ -325,9 +360,9 @@ class SizingResult(Result):
                                  "the closest drives and the checks they fail", f"alternatives {j.joint}")
             ahead = "cheaper" if getattr(j, "objective", "") == "cost" else "lighter"
             rejected = [Table(j.rivals, f"the {ahead} catalog rows rejected, nearest first, each with the checks it "
-                              "fails (load factor = value/limit); rated pressure: a pass/fail filter, rating ≥ "
-                              "relief pressure", f"rejected {j.joint}")] if j.kind == "cylinder" and len(j.rivals) \
-                else []
+                              "fails (load factor = value/limit); rated pressure and stroke: pass/fail filters (rating "
+                              "≥ relief pressure, stroke ≤ the row's longest)", f"rejected {j.joint}")] \
+                if j.kind == "cylinder" and len(j.rivals) else []
             sections.append(Section(f"Joint {j.joint}", [
                 Text(j.headline()), *(Text(line.strip()) for line in j.explanation_lines()), checks_table,
                 alternatives, *rejected, Chart(j.plot())]))
@@ -337,16 +372,15 @@ class SizingResult(Result):
                 raise InputError(f"the report of a sizing for the task '{self.task}' needs that task, not "
                                  f"'{task.name}'")
             loaded, trajectory = self.critical(), task.trajectory
-            k = int(np.argmax(np.abs(loaded.duty.torque)))
+            k, carried = loaded.binding_sample()
             if len(trajectory.t) != len(loaded.duty.t):  # resampled: the same fraction of the task
                 k = int(np.argmin(np.abs((trajectory.t - trajectory.t[0]) / trajectory.duration
                                          - (loaded.duty.t[k] - loaded.duty.t[0]) / loaded.duty.duration)))
             q = assemble(mechanism, dict(zip(trajectory.names, trajectory.q[k]))) if mechanism.closures else \
                 trajectory.q[k] if trajectory.q.shape[1] == mechanism.nq else \
                 mechanism.configuration(trajectory.coordinates[k])
-            unit = "N" if loaded.kind in ("prismatic", "cylinder") else "N·m"
             where = f"t = {trajectory.t[k]:.4g} s of the task as given, where {loaded.joint} (the smallest margin) " \
-                f"carries its largest |τ| = {np.abs(loaded.duty.torque).max():.4g} {unit}"
+                f"{carried}"
             frame = mechanism.tool_frame if mechanism.tool_frame in mechanism.frame_names else None
             loads = [Table(pd.DataFrame([{"frame": load.frame, **dict(zip(("Fx (N)", "Fy (N)", "Fz (N)"), load.force)),
                                           **dict(zip(("Mx (N·m)", "My (N·m)", "Mz (N·m)"), load.moment))}
@@ -355,7 +389,7 @@ class SizingResult(Result):
             sections += [Section("Task", [Text(f"{task.name} ({task.source}): payload {task.payload:g} kg"), Table(
                 pd.DataFrame(trajectory.as_dict()["coordinates"]), f"{trajectory.duration:.4g} s as given (SI)",
                 "task"), *loads] + ([Code(task.text)] if given is None and task.text else [])),
-                Section("Most loaded pose", [Text(where), Chart(configuration_figure(
+                Section("Binding pose", [Text(where), Chart(configuration_figure(
                     mechanism, q, frame=frame, title=f"{mechanism.name} at t = {trajectory.t[k]:.4g} s"))])]
         return Report(lines[0], sections, lines[-1])
 

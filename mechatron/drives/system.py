@@ -106,6 +106,13 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     ``max_iterations`` passes; the result is then not feasible. Hydraulic cylinders are sized in the same passes;
     their masses are the mechanism file's (``barrel_mass``, ``rod_mass``), not the catalog's.
 
+    A mechanism whose link masses include its drives (:attr:`~mechatron.model.Mechanism.link_masses_include_drives`:
+    a robot file's ``link_masses_include_drives = true``, a URDF's ``<mechatron link_masses_include_drives="true"/>``,
+    the example-robot-data arms) gets no drive's mass added: the included masses stand for the chosen drives, so pass
+    1, with the link masses as given, is the fixed point — the choice and the duties of ``single_pass`` — and the
+    result says so (:attr:`SizingResult.masses_included`); the mounts are still reported, with the chosen drives'
+    catalog masses, loading nothing.
+
     Args:
         mech: The mechanism, payload included (:func:`mechatron.model.payload.with_payload`).
         trajectory: A :class:`~mechatron.dynamics.motion.Trajectory` of the joints (rad, m; s), or of the actuated
@@ -241,7 +248,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
 
     history = [run_pass(False)]
     converged, cycle = True, ()
-    if not single_pass and any(m.parent > 0 and m.mass > 0 for m in mounts(chosen).values()):
+    included = mech.link_masses_include_drives
+    if not single_pass and not included and any(m.parent > 0 and m.mass > 0 for m in mounts(chosen).values()):
         converged = False
         while len(iterations) < max_iterations:
             state = run_pass(True)
@@ -256,7 +264,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     sized = [chosen[n] for n in names]
     duration = bare[names[0]].duration
     return SizingResult(mech.name, task, objective, sized, scale, iterations, single_pass, converged,
-                        mounts(chosen), cycle, duration)
+                        mounts(chosen), cycle, duration, masses_included=included and not single_pass)
 
 
 def check_arguments(inertia_ratio_max: float, pressure: float, chain_efficiency: float, max_iterations: int

@@ -35,9 +35,17 @@ def coordinate_columns(t: ArrayLike, names: Sequence[str], positions: ArrayLike,
 
 def unit_label(what: str, angular: Sequence[bool] | None, index: int) -> str:
     """``"speed (rad/s)"``: the quantity ``what`` ("position", "speed", "acceleration", "force") with the unit(s) of
-    the coordinates (both units where angles and lengths mix, or where the kinds are not known)."""
+    the coordinates (both units where angles and lengths mix, or where the kinds are not known). A "force" is named
+    by kind: ``"torque (N·m)"`` for angles, ``"force (N)"`` for lengths, ``"torque (N·m), force (N)"`` for both."""
     kinds = sorted(set(angular)) if angular is not None and len(angular) else [True, False]
+    if what == "force":
+        return ", ".join(load_label(k) for k in reversed(kinds))
     return f"{what} ({', '.join(UNITS[k][index] for k in reversed(kinds))})"
+
+
+def load_label(angular: bool) -> str:
+    """What drives a coordinate, with its unit: ``"torque (N·m)"`` (an angle) or ``"force (N)"`` (a length)."""
+    return f"{'torque' if angular else 'force'} ({UNITS[angular][3]})"
 
 
 def stacked_axes(ax: Axes | None, rows: int, width: float = 9.0, height: float = 2.4) -> tuple[Figure, list[Axes]]:

@@ -154,26 +154,28 @@ class SweepResult(Result):
                  f"mobility W = {data['mobility']} (redundant closure equations: "
                  f"{data['redundant_closure_equations']}); {data['assembled']} of {data['samples']} positions "
                  "analysed"]
+        angular = dict(zip(self.mechanism.joint_names, self.mechanism.angular_coordinates()))
         for name, span in data["inputs"].items():
             if span:
                 rate = data["rates"][name]
                 rate = f"{rate:g}" if not isinstance(rate, list) else f"{rate[0]:g} … {rate[1]:g}"
-                lines.append(f"  input {name}: {span[0]:.6g} … {span[1]:.6g} at rate {rate}")
-        lines += ["", f"{'point':<10} {'x min':>10} {'x max':>10} {'y min':>10} {'y max':>10} {'|v| max':>10} "
-                      f"{'|a| max':>10}"]
+                unit = "rad" if angular.get(name) else "m"
+                lines.append(f"  input {name}: {span[0]:.6g} … {span[1]:.6g} {unit} at rate {rate} {unit}/s")
+        heads = ("x min (m)", "x max (m)", "y min (m)", "y max (m)", "|v| max (m/s)", "|a| max (m/s²)")
+        lines += ["", f"{'point':<10} " + " ".join(f"{h:>14}" for h in heads)]
         for name, p in data["points"].items():
             if p["x"]:
-                lines.append(f"{name:<10} {p['x'][0]:10.4f} {p['x'][1]:10.4f} {p['y'][0]:10.4f} {p['y'][1]:10.4f} "
-                             f"{p['v_max']:10.4g} {p['a_max']:10.4g}")
+                lines.append(f"{name:<10} {p['x'][0]:14.4f} {p['x'][1]:14.4f} {p['y'][0]:14.4f} {p['y'][1]:14.4f} "
+                             f"{p['v_max']:14.4g} {p['a_max']:14.4g}")
         if data["measures"] and data["assembled"]:
-            lines += ["", f"{'measure':<28} {'min':>10} {'max':>10}  check"]
+            lines += ["", f"{'measure':<28} {'min':>10} {'max':>10}  unit check"]
             for m in data["measures"]:
                 angle = m["kind"] == "transmission_angle"
                 f = math.degrees if angle else float
                 unit = "deg" if angle else "m"
                 check = "" if m["required_min"] is None else \
                     f"{'PASS' if m['pass'] else 'FAIL'} (>= {f(m['required_min']):.4g} {unit})"
-                lines.append(f"{m['name']:<28} {f(m['min']):10.4f} {f(m['max']):10.4f}  {unit} {check}")
+                lines.append(f"{m['name']:<28} {f(m['min']):10.4f} {f(m['max']):10.4f}  {unit:<4} {check}".rstrip())
         if data["failures"]:
             shown = 10
             lines += ["", f"{len(data['failures'])} positions not analysed:"]

@@ -438,14 +438,16 @@ def dh_derivatives(table: DHTable, model: pin.Model, names: Sequence[str]) -> Pl
     return out
 
 
-def dh_mechanism(table: DHTable, name: str = "dh_arm", *, description: str = "", source: str | None = None
-                 ) -> Mechanism:
-    """A :class:`Mechanism` for the arm described by ``table``; its parameters are the table's a, α, d, θ."""
+def dh_mechanism(table: DHTable, name: str = "dh_arm", *, description: str = "", source: str | None = None,
+                 link_masses_include_drives: bool = False) -> Mechanism:
+    """A :class:`Mechanism` for the arm described by ``table``; its parameters are the table's a, α, d, θ
+    (``link_masses_include_drives``: :attr:`Mechanism.link_masses_include_drives`)."""
     model = table.build_model()
     model.name = name
 
     def rebuild(values: dict[str, float]) -> Mechanism:
-        return dh_mechanism(table.with_values(values), name, description=description, source=source)
+        return dh_mechanism(table.with_values(values), name, description=description, source=source,
+                            link_masses_include_drives=link_masses_include_drives)
 
     return Mechanism(
         name=name,
@@ -457,4 +459,5 @@ def dh_mechanism(table: DHTable, name: str = "dh_arm", *, description: str = "",
         drives={link.name: link.drive for link in table.links if link.drive is not None},
         rebuild=rebuild,
         derivatives=lambda names: dh_derivatives(table, model, names),
+        link_masses_include_drives=link_masses_include_drives,
     )

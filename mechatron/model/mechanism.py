@@ -143,6 +143,9 @@ class Mechanism:
         input_rates: Nominal rates of the actuated coordinates (m/s or rad/s) for sweeps; 1 where not given.
         cylinders: Hydraulic cylinders by coordinate name.
         branches: Named assembled configurations, one per assembly branch (``reference`` is always one of them).
+        link_masses_include_drives: Whether the bodies' masses already include their drives (motors, gears) — a
+            robot file's or URDF's statement (docs/robot_file.md, docs/urdf.md): the sizing then adds no chosen
+            drive's mass (:func:`~mechatron.drives.system.size_mechanism`).
     """
 
     name: str
@@ -165,6 +168,7 @@ class Mechanism:
     input_rates: dict[str, float] = field(default_factory=dict)
     cylinders: dict[str, Cylinder] = field(default_factory=dict)
     branches: dict[str, np.ndarray] = field(default_factory=dict)
+    link_masses_include_drives: bool = False
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:

@@ -179,9 +179,11 @@ class PlanarBuilder:
                      barrel_mass: float = 0.0, rod_mass: float = 0.0) -> str:
         """A hydraulic cylinder from point ``base`` to point ``eye`` of the drawing (on different bodies): a barrel
         turning about ``base`` (body ``{name}_barrel``), a rod sliding in it (body ``{name}_rod``, coordinate
-        ``name`` = the pin-to-pin length within ``stroke``), the pin of its eye to ``eye``; barrel and rod masses at
-        their middles as slender rods; ``count`` cylinders side by side."""
+        ``name`` = the pin-to-pin length within ``stroke``), the pin of its eye to ``eye``; barrel and rod masses
+        (kg, of one cylinder) at their middles as slender rods; ``count`` cylinders side by side, moving as one: the
+        model's barrel and rod carry ``count`` times the masses."""
         start, end = self.where(base), self.where(eye)
+        barrel_mass, rod_mass = count * barrel_mass, count * rod_mass
         length = float(np.linalg.norm(end - start))
         if not stroke[0] - 1e-9 <= length <= stroke[1] + 1e-9:
             raise InputError(f"{self.name}: cylinder {name} is {length:.6g} m long in the drawing, outside its "

@@ -28,9 +28,12 @@ class RobotFile:
     source: str
     table: DHTable
     path: Path
+    #: ``link_masses_include_drives``: the links' masses include their drives (the sizing adds none).
+    link_masses_include_drives: bool = False
 
     def mechanism(self) -> Mechanism:
-        return dh_mechanism(self.table, self.name, description=self.description, source=str(self.path))
+        return dh_mechanism(self.table, self.name, description=self.description, source=str(self.path),
+                            link_masses_include_drives=self.link_masses_include_drives)
 
 
 def _placement(reader: FieldReader, key: str) -> np.ndarray:
@@ -132,8 +135,10 @@ def read_robot_file(path: str | Path) -> RobotFile:
     gravity = top.vector("gravity", 3, np.array([0.0, 0.0, -9.81]))
     base = _placement(top, "base")
     tool = _placement(top, "tool")
+    included = top.boolean("link_masses_include_drives", False)
     links = tuple(_link(link) for link in top.tables("links"))
     top.finish()
     _check_placements(top, links)
     table = _checked(top, DHTable, links, convention, base, tool, gravity)
-    return RobotFile(name=name, description=description, source=source, table=table, path=path)
+    return RobotFile(name=name, description=description, source=source, table=table, path=path,
+                     link_masses_include_drives=included)

@@ -352,8 +352,9 @@ def layout(spec: LinkageSpec, shape: Mapping[tuple[str, str], Vec], drawing: Map
 def _cylinder(spec, j, drawn, shape, bodies, joints, out_frames, m) -> None:
     """A cylinder's barrel (turning about ``base``, x axis toward ``eye``, both as drawn) and rod (sliding along the
     barrel's x axis, coordinate = the pin-to-pin length), with the frames ``{name}_base`` and ``{name}_eye``; the
-    barrel's and the rod's masses at their middles as slender rods (barrel L_min long, rod L_max − L_min). The barrel
-    joint sits at the base pin of the body carrying it (its first owner)."""
+    barrel's and the rod's masses at their middles as slender rods (barrel L_min long, rod L_max − L_min), ``count``
+    times those of one cylinder (the cylinders side by side are one in the plane). The barrel joint sits at the
+    base pin of the body carrying it (its first owner)."""
     base_body = spec.owners(j.base)[0]
     start, end = drawn[j.base], drawn[j.eye]
     r = sub(end, start)
@@ -362,14 +363,15 @@ def _cylinder(spec, j, drawn, shape, bodies, joints, out_frames, m) -> None:
     barrel, rod = f"{j.name}_barrel", f"{j.name}_rod"
     bodies[barrel] = BodyFrame(start, angle, r)
     barrel_length, rod_length = j.stroke[0], j.stroke[1] - j.stroke[0]
+    barrel_mass, rod_mass = j.count * j.barrel_mass, j.count * j.rod_mass  # the count cylinders move as one
     joints.append(JointLayout(barrel, base_body, "revolute", f"{j.name}_angle",
                               bodies[base_body].local(shape[(j.base, base_body)], m), angle - bodies[base_body].angle,
-                              mass=j.barrel_mass, com=(0.5 * barrel_length, 0.0),
-                              inertia=j.barrel_mass * barrel_length**2 / 12))
+                              mass=barrel_mass, com=(0.5 * barrel_length, 0.0),
+                              inertia=barrel_mass * barrel_length**2 / 12))
     out_frames.append(FrameLayout(f"{j.name}_base", barrel, (0.0, 0.0), 0.0, False))
     bodies[rod] = BodyFrame(end, angle, r)
     joints.append(JointLayout(rod, barrel, "prismatic", j.name, (0.0, 0.0), length, j.stroke,
-                              mass=j.rod_mass, com=(-0.5 * rod_length, 0.0), inertia=j.rod_mass * rod_length**2 / 12))
+                              mass=rod_mass, com=(-0.5 * rod_length, 0.0), inertia=rod_mass * rod_length**2 / 12))
     out_frames.append(FrameLayout(f"{j.name}_eye", rod, (0.0, 0.0), 0.0, False))
 
 

@@ -2,9 +2,10 @@
 
 :func:`load_urdf` makes a :class:`~mechatron.model.Mechanism` of a URDF file (joint origins become named geometric
 parameters ``{joint}_x``, ``{joint}_y``, ``{joint}_z``; rotor data come from a sibling ``.srdf`` file's
-``<rotor_params>``). :func:`export_urdf` writes any mechanism made of one-axis joints (revolute, continuous and
-prismatic) as URDF, plus
-an SRDF with the drives' rotor inertia and gear ratio (Pinocchio's ``loadRotorParameters`` turns them back into
+``<rotor_params>``; whether the link masses include the drives from a ``<mechatron
+link_masses_include_drives="true"/>`` element of the URDF, :func:`masses_include_drives`). :func:`export_urdf`
+writes any mechanism made of one-axis joints (revolute, continuous and prismatic) as URDF, plus an SRDF with the
+drives' rotor inertia and gear ratio (Pinocchio's ``loadRotorParameters`` turns them back into
 ``armature = J_rotor·u²``), so that the files loaded by Pinocchio give the same frames, mass matrix and RNEA torques.
 """
 
@@ -98,12 +99,47 @@ def _inertia_problem(inertia: np.ndarray, physical: bool) -> str | None:
 
 
 def check_urdf(path: str | Path, *, physical: bool = False) -> None:
+    """Check that the URDF ``path`` holds numbers a body can have (masses, inertias, origins, limits; with
+    ``physical`` the triangle inequality of the principal moments too): the checks of :func:`_checked_root`, whose
+    parsed tree it drops; else :class:`InputError` naming the file, the link or joint and the attribute."""
+    _checked_root(path, physical=physical)
+
+
+#: The attribute values of ``<mechatron link_masses_include_drives="…"/>`` (XML Schema booleans).
+_BOOLEANS = {"true": True, "1": True, "false": False, "0": False}
+
+
+def masses_include_drives(path: str | Path, root=None) -> bool:
+    """Whether the URDF ``path`` says its link masses include the drives: a child ``<mechatron
+    link_masses_include_drives="true"/>`` of ``<robot>`` (an element of mechatron's, which URDF readers skip as they
+    do ``<gazebo>``); ``false`` without one. ``root``: the file's parsed ``<robot>``, when already read. A second
+    such element, another attribute or a value other than true, false, 1 or 0 is an :class:`InputError` naming the
+    file and the attribute."""
+    path = Path(path)
+    root = _checked_root(path) if root is None else root
+    elements = root.findall("mechatron")
+    if not elements:
+        return False
+    if len(elements) > 1:
+        raise InputError("give one <mechatron> element, not several", file=path, field="mechatron")
+    attributes = dict(elements[0].attrib)
+    text = attributes.pop("link_masses_include_drives", "false").strip().lower()
+    if attributes:
+        raise InputError(f"unknown attribute {next(iter(attributes))!r} (known: link_masses_include_drives)",
+                         file=path, field="mechatron")
+    if text not in _BOOLEANS:
+        raise InputError(f"must be true or false, got {elements[0].get('link_masses_include_drives')!r}", file=path,
+                         field="mechatron link_masses_include_drives")
+    return _BOOLEANS[text]
+
+
+def _checked_root(path: str | Path, *, physical: bool = False):
     """The physical checks a robot file has, on a URDF: every link's mass (>= 0 kg) and inertia (symmetric, positive
     semidefinite; with ``physical`` its principal moments obeying the triangle inequality too — off by default, as
     URDF has no field to switch it off and published files, and mechatron's export of an arm with
     ``physical_inertia = false``, break it), every origin, and every joint's limits
     (finite, lower <= upper, effort and velocity >= 0) are numbers a body can have; else :class:`InputError` naming
-    the file, the link or joint and the attribute."""
+    the file, the link or joint and the attribute. Returns the parsed ``<robot>`` element."""
     import xml.etree.ElementTree as ET
 
     path = Path(path)
@@ -154,6 +190,7 @@ def check_urdf(path: str | Path, *, physical: bool = False) -> None:
         if kind in ("revolute", "prismatic") and lower > upper:
             raise InputError(f"lower limit {lower:g} {unit} is above upper limit {upper:g} {unit}", file=path,
                              row=where, field="limit lower")
+    return root
 
 
 def _build(path: Path, locked_joints: Sequence[str]) -> pin.Model:
@@ -223,7 +260,8 @@ def _add_tool_frame(model: pin.Model, tool: str | None, path: Path) -> None:
 
 def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = None,
               locked_joints: Sequence[str] = (), description: str = "",
-              values: dict[str, float] | None = None, physical: bool = False) -> Mechanism:
+              values: dict[str, float] | None = None, physical: bool = False,
+              link_masses_include_drives: bool | None = None) -> Mechanism:
     """A :class:`Mechanism` of the URDF file ``path``.
 
     Every URDF joint kind Pinocchio reads is kept as it is: a ``continuous`` joint is Pinocchio's unbounded
@@ -240,11 +278,16 @@ def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = N
         values: Joint origin parameters to override (``{joint}_x``…, metres).
         physical: Check the triangle inequality of the links' principal moments too (:func:`check_urdf`; off by
             default: some published URDFs break it).
+        link_masses_include_drives: Whether the links' masses include their drives, so that the sizing adds none
+            (:attr:`Mechanism.link_masses_include_drives`); ``None``: what the file says
+            (:func:`masses_include_drives`: its ``<mechatron link_masses_include_drives="true"/>``, else false).
     """
     path = Path(path)
     if not path.is_file():
         raise InputError("is a directory, not a file" if path.is_dir() else "no such file", file=path)
-    check_urdf(path, physical=physical)
+    root = _checked_root(path, physical=physical)
+    if link_masses_include_drives is None:
+        link_masses_include_drives = masses_include_drives(path, root)
     model = _build(path, locked_joints)
     parameters = _origin_parameters(model)
     if values:
@@ -261,11 +304,12 @@ def load_urdf(path: str | Path, name: str | None = None, *, tool: str | None = N
 
     def rebuild(new_values: dict[str, float]) -> Mechanism:
         return load_urdf(path, name, tool=tool, locked_joints=locked_joints, description=description,
-                         values=new_values, physical=physical)
+                         values=new_values, physical=physical, link_masses_include_drives=link_masses_include_drives)
 
     return Mechanism(name=name, model=model, parameters=parameters, description=description or f"URDF {path.name}",
                      source=str(path), drives=drives, rebuild=rebuild,
-                     derivatives=lambda names: origin_derivatives(model, names))
+                     derivatives=lambda names: origin_derivatives(model, names),
+                     link_masses_include_drives=bool(link_masses_include_drives))
 
 
 def origin_derivatives(model: pin.Model, names: Sequence[str]) -> PlacementDerivatives:
@@ -343,6 +387,8 @@ def to_urdf(mechanism: Mechanism) -> str:
     lines = ['<?xml version="1.0"?>',
              f"<!-- written by mechatron from {mechanism.name}; gravity {_vec(model.gravity.linear)} m/s^2 -->",
              f"<robot name={quoteattr(mechanism.name)}>", '  <link name="world"/>']
+    if mechanism.link_masses_include_drives:  # read back by masses_include_drives
+        lines.insert(3, '  <mechatron link_masses_include_drives="true"/>')
     for joint_id in range(1, model.njoints):
         name = model.names[joint_id]
         kind, axis = _joint_axis(model.joints[joint_id], name)

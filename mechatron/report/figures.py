@@ -24,6 +24,11 @@ def figure_axes(ax: Axes | None = None, width: float = 8.0, height: float = 5.0)
     return figure, figure.add_subplot()
 
 
+def time_colour_bar(ax: Axes, points: Any) -> None:
+    """A colour bar beside ``ax`` for ``points`` coloured by time, labelled ``t (s)``."""
+    ax.get_figure().colorbar(points, ax=ax, label="t (s)")
+
+
 def style_axes(ax: Axes, xlabel: str, ylabel: str, title: str | None = None, legend: bool = False,
                **legend_options: Any) -> Axes:
     """Label both axes (with their units), add a light grid, a title and, if asked, a legend."""

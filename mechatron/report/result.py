@@ -57,6 +57,18 @@ def json_ready(value: Any) -> Any:
     return str(value)
 
 
+def readable(value: float, digits: int = 4) -> str:
+    """A number for people, never in exponent form between 10⁻³ and 10¹⁵: from 10^digits on every integer digit
+    with thousands separators (100028.4 → ``100,028``), below it ``digits`` significant digits (1234.56 → ``1235``,
+    0.01234 → ``0.01234``); outside that range and for NaN or ±inf, Python's ``g`` format."""
+    size = abs(value)
+    if not math.isfinite(value) or (size and not 1e-3 <= size < 1e15):
+        return f"{value:.{digits}g}"
+    if size >= 10**digits:
+        return f"{value:,.0f}"
+    return f"{value + 0.0:.{digits}g}"  # + 0.0: no "-0"
+
+
 def frame_records(frame: pd.DataFrame) -> list[dict]:
     """The rows of a DataFrame as JSON-ready dicts."""
     return json_ready(frame.to_dict(orient="records"))

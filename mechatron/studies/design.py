@@ -24,7 +24,7 @@ output, requirement value and margin from the analyses.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -515,16 +515,29 @@ def optimize_design(spec: DesignSpec | str | Path, workers: int = 1, scheduler: 
     prestart(workers, scheduler, worker_modules())
     client = None if method == "ipopt" else connect(workers, scheduler, worker_modules())
     evaluations = Evaluations(spec, client, progress)
+    solver: dict[str, Any] = {}
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             solver = {"ipopt": solve_exact, "global": solve_global, "nsga2": solve_pareto}[method](spec, evaluations)
     finally:
+        evaluations.pace.finish(_ended(spec, evaluations, solver))
         if client is not None:
             disconnect(client, scheduler)
     notes = list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught
                                if not issubclass(w.category, DeprecationWarning)))
     return _result(spec, evaluations, solver, notes)
+
+
+def _ended(spec: DesignSpec, evaluations: Evaluations, solver: dict[str, Any]) -> str:
+    """Why the search ended where it did, for the end of the progress line: stopped (an error), or the solver's
+    status and, short of the budget, the designs evaluated of it (a design asked for again is not evaluated again;
+    differential evolution runs whole generations; ipopt evaluates the analyses' exact derivatives, not designs)."""
+    if not solver:
+        return "stopped"
+    done = len(evaluations.rows)
+    short = f"; {done} of the budget's {spec.evaluations} designs evaluated" if done < spec.evaluations else ""
+    return f"ended: {solver['method'].split(' ')[0]}: {solver['status']}{short}"
 
 
 def _result(spec: DesignSpec, evaluations: Evaluations, solver: dict[str, Any], notes: list[str]) -> DesignResult:
@@ -570,15 +583,25 @@ def _variable_units(spec: DesignSpec) -> dict[str, str]:
 
 
 # ------------------------------------------------------------------------------------------------ writing
-def write_designs(spec: DesignSpec, designs: pd.DataFrame, folder: str | Path) -> list[Path]:
-    """Each design (a row of the variables) as a mechanism file in ``folder``, ``design-NNN`` (a planar or
-    spatial mechanism file for a mechanism read from one, with its parameters at the design's values; else a URDF
-    of the rebuilt mechanism), whole or not at all; analysis options among the variables are not part of a
-    mechanism and are left out."""
-    from ..io.output import write_text
+@dataclass
+class DesignFile:
+    """A design drawn as a mechanism file: its path, its text (written only if it reads back) and, where it does
+    not read back, the error naming that file."""
+
+    path: Path
+    text: str
+    error: InputError | None = None
+
+
+def draw_designs(spec: DesignSpec, designs: pd.DataFrame, folder: str | Path) -> list[DesignFile]:
+    """Each design (a row of the variables) as the text of a mechanism file ``folder/design-NNN``: a planar or
+    spatial mechanism file for a mechanism read from one, with its parameters at the design's values, drawn at the
+    pose the search evaluated (:func:`_redrawn`); else a URDF of the rebuilt mechanism. Analysis options among the
+    variables are not part of a mechanism and are left out. A mechanism file is read back from its text before it
+    is written; where it does not read back, its :attr:`DesignFile.error` names the file being written, its field
+    and why. Nothing is written here."""
     from ..io.toml import read_toml
     from ..library import robot_origins
-    from ..model.linkage import parameter_spec
     from ..model.linkage_file import is_linkage_file, linkage_spec, linkage_toml
     from ..model.urdf import to_urdf
     from .spec import study_mechanism
@@ -590,34 +613,110 @@ def write_designs(spec: DesignSpec, designs: pd.DataFrame, folder: str | Path) -
     linkage = linkage_spec(data, file=source) if data is not None and is_linkage_file(data) else None
     mech = study_mechanism(spec.study.mechanism)
     folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
     geometry = [p.name for p in spec.variables if p.target is None]
-    paths = []
+    out = []
     for k, (_, row) in enumerate(designs.iterrows()):
         values = {n: float(row[n]) for n in geometry}
         header = f"design {k} of {spec.name}: " + ", ".join(f"{n} = {v:.9g}" for n, v in values.items())
-        if linkage is not None:
-            text = linkage_toml(_assembled(parameter_spec(linkage, values)), header)
-            paths.append(write_text(folder / f"design-{k:03d}.toml", text))
-        else:
-            text = to_urdf(mech.with_parameters(values)).replace("?>", f"?>\n<!-- {header} -->", 1)
-            paths.append(write_text(folder / f"design-{k:03d}.urdf", text))
-    return paths
+        design = mech.with_parameters(values)
+        if linkage is None:
+            text = to_urdf(design).replace("?>", f"?>\n<!-- {header} -->", 1)
+            out.append(DesignFile(folder / f"design-{k:03d}.urdf", text))
+            continue
+        path = folder / f"design-{k:03d}.toml"
+        every = {**mech.parameter_values(), **values}
+        drawn = _redrawn(linkage, design, every) if linkage.planar else _moved(linkage, every)
+        text = linkage_toml(drawn, header)
+        out.append(DesignFile(path, text, _read_back_error(text, path)))
+    return out
 
 
-def _assembled(linkage: Any) -> Any:
-    """A linkage spec drawn where its loops close: its drawn points moved to their places in the mechanism built
-    from it (a design's lengths and pins change the drawing's other points), so that the file written reads back
-    within its tolerance."""
+def write_designs(spec: DesignSpec, designs: pd.DataFrame, folder: str | Path) -> list[Path]:
+    """Write the designs of :func:`draw_designs` in ``folder`` (created if needed), all of them or, where one does
+    not read back, none (:class:`InputError` naming that file). Returns the paths written."""
+    from ..io.output import output_directory, transaction, write_text
+
+    files = draw_designs(spec, designs, folder)
+    for f in files:
+        if f.error is not None:
+            raise f.error
+    with transaction():
+        output_directory(folder)
+        return [write_text(f.path, f.text) for f in files]
+
+
+def write_optimum(spec: DesignSpec, result: DesignResult, folder: str | Path
+                  ) -> tuple[list[Path], list[InputError]]:
+    """``mechatron optimize -o DIR``: first the results — ``optimum.json`` (:meth:`DesignResult.as_dict`) and
+    ``designs.csv`` (every design evaluated: the variables, ``status``, ``reason``, the outputs, ``feasible``) —
+    then the best design (two objectives: every design of the front) as mechanism files (:func:`draw_designs`),
+    each one that reads back. Returns the paths written and the errors of the designs not written (each naming
+    its file), so that a design that cannot be written never discards the results."""
+    import pandas as pd
+
+    from ..io.output import output_directory, transaction, write_table, write_text
+
+    with transaction():
+        folder = output_directory(folder)
+        written = [write_text(folder / "optimum.json", result.to_json() + "\n"),
+                   write_table(result.evaluations, folder / "designs.csv")]
+        if result.best is None:
+            return written, []
+        front = result.front if result.front is not None else pd.DataFrame([result.best])
+        files = draw_designs(spec, front, folder)
+        written += [write_text(f.path, f.text) for f in files if f.error is None]
+    return written, [f.error for f in files if f.error is not None]
+
+
+def _redrawn(linkage: Any, design: Any, values: dict[str, float]) -> Any:
+    """The linkage spec of a design (:func:`~mechatron.model.linkage.parameter_spec`: every length declared at its
+    value, the points' coordinates moved) drawn at the design's assembled pose: every drawn point where the
+    design's mechanism (``design``, rebuilt as the search evaluated it: its loops closed with the actuated inputs
+    held where the file holds them) has it at its reference configuration, and a point's direction (a slider's
+    line) turned with its body. A design's moved pins (a cylinder's base) can put the *drawn* pose outside a
+    cylinder's stroke; drawn at the assembled pose, each held input is at the value the file held it at, within
+    its stroke, and the loops close as drawn."""
     import pinocchio as pin
 
-    from ..model.linkage import build_linkage
+    from ..model.linkage import parameter_spec
 
-    mech = build_linkage(linkage, check_tolerance=False)
-    pin.framesForwardKinematics(mech.model, mech.data, np.asarray(mech.reference_q, dtype=float))
-    drawn = linkage.drawing()
-    moved = {}
-    for name, at in drawn.items():
-        if mech.model.existFrame(name):
-            moved[name] = mech.data.oMf[mech.model.getFrameId(name)].translation[:len(at)].copy()
-    return linkage.with_positions(moved)
+    model, data = design.model, design.model.createData()
+    pin.framesForwardKinematics(model, data, np.asarray(design.reference_q, dtype=float))
+    redrawn = parameter_spec(linkage, values)
+    points = []
+    for p in redrawn.points:
+        if p.at is None or p.between is not None or not model.existFrame(p.name):
+            points.append(p)
+            continue
+        placement = data.oMf[model.getFrameId(p.name)]
+        at = tuple(float(v) for v in placement.translation[:len(p.at)])
+        direction = p.direction
+        if direction is not None and len(direction) == 2:  # planar: the frame's x axis is the point's direction
+            direction = tuple(float(v) for v in placement.rotation[:2, 0] * np.linalg.norm(direction))
+        points.append(replace(p, at=at, direction=direction))
+    return replace(redrawn, points=tuple(points))
+
+
+def _moved(linkage: Any, values: dict[str, float]) -> Any:
+    """A spatial linkage spec with its drawn points at the design's coordinates ``POINT_x``, ``_y``, ``_z`` (m), as
+    its rebuild draws it (:func:`mechatron.model.spatial.build_spatial`: its loops closed from that drawing)."""
+    return linkage.with_positions({p.name: [values.get(f"{p.name}_{a}", v) for a, v in zip("xyz", p.at)]
+                                   for p in linkage.points if p.at is not None and p.between is None})
+
+
+def _read_back_error(text: str, path: Path) -> InputError | None:
+    """Why the mechanism file ``text`` (to be written to ``path``) would not read back, or None: it is read and
+    built as a file at ``path`` would be."""
+    from ..errors import MechatronError
+    from ..io.toml import tomllib
+    from ..model.linkage_file import linkage_spec
+    from ..model.spatial import build_mechanism
+
+    try:
+        build_mechanism(linkage_spec(tomllib.loads(text), file=path))
+    except InputError as exc:
+        return InputError(f"the design does not read back, so it is not written: {exc.message}", file=path,
+                          row=exc.row, field=exc.field)
+    except MechatronError as exc:
+        return InputError(f"the design does not read back, so it is not written: {exc}", file=path)
+    return None

@@ -13,6 +13,10 @@ analysis option such as a catalog file, ``target = "ANALYSIS.OPTION"``), one or 
     minimize = "reach_m"          # or maximize; two names (a list, or minimize and maximize): a Pareto front
     [requirements]
     x_travel_m = { min = 0.2 }    # bounds on any outputs
+    slider = { output = "reach_m", at = "crank up", min = 0.38 }   # an output at a named pose
+    [[poses]]                     # named poses of the linkage analysis (its option poses)
+    name = "crank up"
+    inputs = { q1 = 2.0 }         # the inputs held (m, rad); the others swept
     [analyses.linkage]
     samples = 13
 
@@ -94,12 +98,13 @@ def read_design(path: str | Path) -> DesignSpec:
     reader.string("description", "")
     mechanism, mech = _mechanism(reader, folder)
     analyses = _analyses(reader, folder)
+    poses = _poses(reader, analyses)
     variables = read_variables(reader, mech, analyses, folder)
     study = Spec(str(path), mechanism, tuple(variables), method="lhs", samples=1, analyses=analyses)
-    _checked_analyses(study, mech)
+    _checked_analyses(study, mech, bool(poses))
     outputs = tuple(output_names(study, mech))
     objectives = _objectives(reader, outputs)
-    requirements = _requirements(reader, outputs)
+    requirements = _requirements(reader, outputs, poses)
     start = read_start(reader, variables)
     solver = _solver(reader, len(objectives), len(variables))
     reader.finish()
@@ -107,13 +112,16 @@ def read_design(path: str | Path) -> DesignSpec:
     return DesignSpec(str(path), name, study, objectives, requirements, start, outputs=outputs, **solver)
 
 
-def _checked_analyses(study: Spec, mech: Any) -> None:
+def _checked_analyses(study: Spec, mech: Any, poses: bool = False) -> None:
     """The analyses' checks of every set of options the variables give them (:func:`~mechatron.studies.spec.
-    variants`), an error naming the variable (``variables.NAME``) where a value of one is refused."""
+    variants`), an error naming the variable (``variables.NAME``) where a value of one is refused, or the file's
+    ``poses[k]`` (``poses``: the file has ``[[poses]]``)."""
     try:
         _check_analyses(study, mech)
     except InputError as exc:
         field_name = exc.field or ""
+        if poses and field_name.startswith("analyses.linkage.poses["):
+            field_name = field_name.removeprefix("analyses.linkage.")  # the file's [[poses]]
         if field_name.startswith("parameters."):
             field_name = "variables." + field_name.removeprefix("parameters.").split(".values")[0]
         for p in study.parameters:
@@ -196,23 +204,48 @@ def _objectives(reader: FieldReader, outputs: tuple[str, ...]) -> tuple[tuple[st
     return tuple(out)
 
 
-def _requirements(reader: FieldReader, outputs: tuple[str, ...]) -> tuple[Bound, ...]:
-    """``[requirements]``: ``OUTPUT = { min = a, max = b }`` (either or both)."""
+def _poses(reader: FieldReader, analyses: dict[str, dict[str, Any]]) -> tuple[str, ...]:
+    """``[[poses]]``: named poses (``name``, ``inputs = { INPUT = value }``, ``point``, ``lowest`` or ``highest``),
+    handed to the linkage analysis as its ``poses`` option (docs/study_analyses.md); their names."""
+    if not reader.has("poses"):
+        return ()
+    tables = reader.tables("poses")
+    if "linkage" not in analyses:
+        raise reader.error("poses", "named poses are of the linkage analysis: add an [analyses.linkage] table")
+    if analyses["linkage"].get("poses") is not None:
+        raise reader.error("poses", "give the poses in [[poses]] or as [analyses.linkage] poses, not both")
+    given = []
+    for table in tables:
+        given.append({k: table.raw(k) for k in list(table.data)})
+    analyses["linkage"] = {**analyses["linkage"], "poses": given}
+    return tuple(str(p.get("name")) for p in given if isinstance(p, dict))
+
+
+def _requirements(reader: FieldReader, outputs: tuple[str, ...], poses: tuple[str, ...] = ()
+                  ) -> tuple[Bound, ...]:
+    """``[requirements]``: ``OUTPUT = { min = a, max = b }`` (either or both); with ``at = "POSE"`` the output at
+    that named pose (``POSE.OUTPUT``), and with ``output = "OUTPUT"`` the key is a label of one's own."""
     table = reader.table("requirements", None)
     if table is None:
         return ()
     out = []
-    for name in list(table.data):
-        _known(table, name, name, outputs)
-        if not isinstance(table.data[name], dict):
-            raise table.error(name, f"expected {{ min = ..., max = ... }}, got {table.data[name]!r}")
-        sub = table.table(name)
+    for key in list(table.data):
+        if not isinstance(table.data[key], dict):
+            raise table.error(key, f"expected {{ min = ..., max = ... }}, got {table.data[key]!r}")
+        sub = table.table(key)
+        name = sub.string("output", key)
+        at = sub.string("at", "")
+        if at:
+            if at not in poses:
+                raise sub.error("at", f"no pose {at!r}; the poses: {', '.join(poses) or 'none ([[poses]])'}")
+            name = f"{at}.{name}"
+        _known(table, key, name, outputs)
         low, high = sub.number("min", None), sub.number("max", None)
         sub.finish()
         if low is None and high is None:
-            raise table.error(name, "give min, max or both")
+            raise table.error(key, "give min, max or both")
         if low is not None and high is not None and not low <= high:
-            raise table.error(name, f"min {low:g} is above max {high:g}")
+            raise table.error(key, f"min {low:g} is above max {high:g}")
         out.append(Bound(name, low, high))
     table.finish()
     return tuple(out)

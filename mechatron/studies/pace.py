@@ -57,6 +57,14 @@ class Pace:
             status(self.status())
         self.progress(self.done, self.total)
 
+    def finish(self, reason: str) -> None:
+        """End the progress line (a progress bar's ``finish``: drawn a last time, then a newline) with ``reason``,
+        why the run ended where it did; a callback without ``finish`` is left as it is."""
+        finish = getattr(self.progress, "finish", None)
+        if callable(finish):
+            self.show()
+            finish(reason)
+
     def status(self) -> str:
         """``"N done, M failed, R designs/s"`` (the rate of this run's designs, over its wall time)."""
         elapsed = time.perf_counter() - self._start

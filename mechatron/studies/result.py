@@ -16,6 +16,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..report.html import Report
     from .spec import Spec
 
 #: mechatron's own tie rule of a Pareto front: each output is rounded to the nearest multiple of this fraction of
@@ -168,6 +169,32 @@ class StudyResult(Result):
         style_axes(ax, f"{self.axis_label(x)}, {x_goal}d", f"{self.axis_label(y)}, {y_goal}d",
                    f"{Path(self.spec.file).name}: {len(self.table)} designs", legend=True)
         return figure
+
+    def report(self, mechanism: object = None, **context: Any) -> Report:
+        """The HTML report (``mechatron study … --report FILE.html``): the text report; the Pareto front of the two
+        chosen outputs (every design on it); the failed designs with their reasons; the Sobol indices, when the
+        study has them; the chart of the designs in the plane of the two outputs; and every design's row."""
+        from ..report.html import Chart, Code, Report, Section, Table
+
+        x, x_goal, y, y_goal = self.axes()
+        failed = self.table[self.table["status"] != "ok"]
+        sections = [Section("Results", [Code(str(self))])]
+        if len(self.ok):
+            sections.append(Section("Pareto front", [
+                Table(self.pareto(), f"the designs no other design beats in both {x} ({x_goal}d) and {y} "
+                                     f"({y_goal}d)", "pareto"),
+                Chart(self.plot(), f"every ok design in the plane of {x} and {y}, the Pareto front highlighted")]))
+        if len(failed):
+            sections.append(Section("Failed designs", [
+                Table(failed[["design", *[p.name for p in self.spec.parameters], "reason"]],
+                      "the designs an analysis could not evaluate, with the reason", "failed")]))
+        if self.sensitivity is not None:
+            sections.append(Section("Sensitivity", [
+                Table(self.sensitivity, "Sobol indices with their 95 % intervals' half-widths", "sensitivity")]))
+        sections.append(Section("Designs", [Table(self.table, "every design of the study (SI; units in the names)",
+                                                  "designs")]))
+        return Report(f"study {Path(self.spec.file).name}: {self.spec.mechanism}", sections,
+                      f"{len(self.table)} designs, {len(self.ok)} ok, {len(failed)} failed")
 
     def axis_label(self, column: str) -> str:
         """The label of a plot axis for a column of the table: an output's is its quantity's

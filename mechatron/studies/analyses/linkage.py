@@ -15,8 +15,27 @@ the optional ``load`` (Fx, Fy) on the point (closed-loop inverse dynamics at res
 :func:`mechatron.dynamics.trajectory.holding_forces`), its largest magnitude (N), and with a ``cylinders`` table
 (bore, rod in m, count) its largest pressure (Pa: force over the piston or the annulus area).
 
+**The load case** of every force output (``CYLINDER_max_force_N``, ``CYLINDER_max_pressure_Pa``, here and at the
+poses): static, at rest — gravity on the mechanism's bodies, plus, with a ``task`` (a task TOML or trajectory CSV,
+:func:`mechatron.dynamics.task.read_task`), the task's payload (its mass and centre on the body that carries
+``payload_at``) and its ``[[loads]]``, plus the ``load`` (Fx, Fy) on the point: the forces are those of the
+``dynamics`` analysis of the same task and payload wherever the motion is at rest (v = a = 0). The task's motion is
+not used: the positions are the sweep's.
+
+**Held inputs and named poses.** ``hold = { INPUT = value }`` (m or rad, within the input's limits) keeps those
+inputs at their values while the others sweep from their lower to their upper limit together (a sweep of one input
+with the others held). ``poses`` is a list of named poses, each ``{ name, inputs = { INPUT = value }, point,
+lowest | highest }``: the inputs named are held, the others sweep (``samples`` positions) and the pose's outputs are
+this analysis' outputs over those positions for the pose's ``point`` (default the analysis' point), each named
+``POSE.OUTPUT`` (``boom down.height_m``). Where every input is held, or with ``lowest = "OUTPUT"`` (``highest``)
+— the one position of the held sweep where that output, taken of the analysis' point at each position alone (x for
+``reach_m``, y for ``height_m``, −y for ``depth_m``, the smallest transmission angle, a cylinder's |force| or
+pressure), is smallest (largest) — the pose is one position and has no travels. A held sweep starts from the
+drawn position and moves every input in 8 equal steps to its first position (the assembly branch kept by
+continuation); those steps are not part of the outputs.
+
 A design with a position that cannot be assembled fails with the first such position's reason (the sweep ends
-there).
+there; a pose's reason names it).
 
 **Exact gradients** (:func:`gradients`, for the optimiser's exact-derivative route): the outputs of one sweep and
 their derivatives with respect to named geometric parameters l of the mechanism. Each output is an extreme over the
@@ -54,7 +73,28 @@ OUTPUTS = ("reach_m", "height_m", "depth_m", "x_travel_m", "y_travel_m", "z_trav
            "CYLINDER_max_force_N", "CYLINDER_max_pressure_Pa")
 
 #: The options and their defaults.
-DEFAULTS = {"samples": 73, "point": None, "working_range": False, "load": None, "cylinders": None}
+DEFAULTS = {"samples": 73, "point": None, "working_range": False, "load": None, "cylinders": None, "task": None,
+            "hold": None, "poses": None}
+
+#: The steps of a held sweep from the drawn position to its first position (continuation along the inputs).
+RAMP = 8
+#: The outputs of a pose that is one position: all but the travels.
+_TRAVELS = ("x_travel_m", "y_travel_m", "z_travel_m")
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A named pose (module docstring): the inputs held (m, rad), the point measured and the pick (``lowest`` or
+    ``highest``, an output's name) of one position of the held sweep, or None."""
+
+    name: str
+    inputs: dict[str, float]
+    point: str
+    pick: tuple[str, str] | None = None
+
+    def single(self, mech) -> bool:
+        """Whether the pose is one position (every input held, or a pick)."""
+        return self.pick is not None or set(self.inputs) == set(mech.actuated)
 
 
 def _options(mech, options: dict[str, Any]) -> dict[str, Any]:
@@ -76,7 +116,74 @@ def _options(mech, options: dict[str, Any]) -> dict[str, Any]:
     if out["load"] is not None:
         out["load"] = _field("load", lambda: numbers("load", out["load"], shape=(2,), unit="N"))
     out["cylinders"] = _cylinders(mech, out["cylinders"])
+    if out["task"] is not None and not isinstance(out["task"], str):
+        raise InputError("expected the path of a task TOML or trajectory CSV", field="task")
+    if out["hold"] is not None and out["working_range"]:
+        raise InputError("the working range moves every cylinder; give hold or working_range, not both", field="hold")
+    out["hold"] = _held(mech, out["hold"] or {}, "hold")
+    out["poses"] = _poses(mech, out)
     return out
+
+
+def _held(mech, values: Any, where: str) -> dict[str, float]:
+    """``{INPUT = value}`` checked: actuated inputs of ``mech``, finite values (m, rad) within their limits."""
+    from ...kinematics.loops import loop_solver
+
+    if not isinstance(values, dict):
+        raise InputError("expected a table INPUT = value (m or rad)", field=where)
+    solver = loop_solver(mech)
+    lower, upper = mech.model.lowerPositionLimit, mech.model.upperPositionLimit
+    out = {}
+    for name, value in values.items():
+        if name not in mech.actuated:
+            raise InputError(f"{name!r} is not an input of {mech.name} (inputs: {', '.join(mech.actuated)})",
+                             field=f"{where}.{name}")
+        v = _field(f"{where}.{name}", lambda: number(name, value, unit="m or rad", maximum=None))
+        lo, hi = lower[solver.index[name]], upper[solver.index[name]]
+        if np.isfinite(lo) and np.isfinite(hi) and not lo <= v <= hi:
+            raise InputError(f"{v:g} is outside the input's limits [{lo:g}, {hi:g}]", field=f"{where}.{name}")
+        out[name] = v
+    return out
+
+
+def _pickable(mech, opts: dict[str, Any]) -> list[str]:
+    """The outputs a pose may pick its position by: those with a value at one position."""
+    return [n for n in _names(mech, opts) if n not in _TRAVELS]
+
+
+def _poses(mech, opts: dict[str, Any]) -> tuple[Pose, ...]:
+    """The ``poses`` option checked: a list of tables ``{ name, inputs, point, lowest | highest }``."""
+    given = opts["poses"]
+    if given is None:
+        return ()
+    if not isinstance(given, (list, tuple)):
+        raise InputError("expected a list of poses { name = ..., inputs = { INPUT = value } }", field="poses")
+    out: list[Pose] = []
+    for k, data in enumerate(given):
+        where = f"poses[{k + 1}]"
+        if isinstance(data, Pose):
+            out.append(data)
+            continue
+        if not isinstance(data, dict) or set(data) - {"name", "inputs", "point", "lowest", "highest"}:
+            raise InputError("expected { name, inputs, point, lowest or highest }", field=where)
+        name = data.get("name")
+        if not isinstance(name, str) or not name.strip() or "." in name:
+            raise InputError(f"a pose needs a name without dots, got {name!r}", field=f"{where}.name")
+        if any(p.name == name for p in out):
+            raise InputError(f"two poses are named {name!r}", field=f"{where}.name")
+        point = data.get("point", opts["point"])
+        if point not in mech.points:
+            raise InputError(f"no point {point!r} in {mech.name} (points: {', '.join(mech.points)})",
+                             field=f"{where}.point")
+        picks = [(key, data[key]) for key in ("lowest", "highest") if key in data]
+        if len(picks) > 1:
+            raise InputError("give lowest or highest, not both", field=f"{where}.highest")
+        if picks and picks[0][1] not in _pickable(mech, opts):
+            raise InputError(f"{picks[0][0]}: {picks[0][1]!r} has no value at one position; choose from: "
+                             f"{', '.join(_pickable(mech, opts))}", field=f"{where}.{picks[0][0]}")
+        out.append(Pose(name, _held(mech, data.get("inputs", {}), f"{where}.inputs"), point,
+                        picks[0] if picks else None))
+    return tuple(out)
 
 
 def _field(name: str, read):
@@ -110,10 +217,15 @@ def _cylinders(mech, table: Any) -> dict[str, Any]:
 
 
 def check(mech, options: dict[str, Any]) -> None:
-    """Refuse a mechanism without closed loops or wrong options (see the module docstring)."""
+    """Refuse a mechanism without closed loops or wrong options (see the module docstring); a task file is read
+    once."""
     if not mech.closures:
         raise InputError(f"{mech.name} has no closed loops: the linkage analysis sweeps closed-loop mechanisms")
-    _options(mech, options)
+    opts = _options(mech, options)
+    if opts["task"] is not None:
+        from ...dynamics.task import read_task
+
+        read_task(opts["task"], mech)
 
 
 def output_names(mech, options: dict[str, Any]) -> list[str]:
@@ -121,6 +233,14 @@ def output_names(mech, options: dict[str, Any]) -> list[str]:
     the smallest transmission angle (of a mechanism with such measures), each cylinder's largest force and, with its
     bore and rod given, its largest pressure."""
     opts = _options(mech, options)
+    names = _names(mech, opts)
+    for pose in opts["poses"]:
+        names += [f"{pose.name}.{n}" for n in _names(mech, opts) if not (pose.single(mech) and n in _TRAVELS)]
+    return names
+
+
+def _names(mech, opts: dict[str, Any]) -> list[str]:
+    """The outputs of one set of positions (the sweep's, a pose's)."""
     names = ["reach_m", "height_m", "depth_m", "x_travel_m", "y_travel_m"]
     if _spatial(mech):
         names.append("z_travel_m")
@@ -139,8 +259,12 @@ def _spatial(mech) -> bool:
 
 
 def input_files(mech, options: dict[str, Any]) -> list:
-    """The files the analysis of one design reads: none (the mechanism's file aside)."""
-    return []
+    """The files the analysis of one design reads: the task's and the trajectory CSV it names, if a task is
+    given."""
+    from .dynamics import task_files
+
+    opts = _options(mech, options)
+    return task_files(opts["task"], mech) if opts["task"] is not None else []
 
 
 def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
@@ -151,47 +275,147 @@ def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
 
 @dataclass
 class _Sweep:
-    """What :func:`_evaluate` computed the outputs from: the sweep, the extents' coordinates (``x``, ``y``, ``z`` or
-    None; over the stroke box with ``working_range``), the holding forces (or None)."""
+    """What :func:`_evaluate` computed the outputs from: the positions (``result``: its ``table`` and ``q``), the
+    point measured, the extents' coordinates (``x``, ``y``, ``z`` or None; over the stroke box with
+    ``working_range``), the holding forces (or None) and, for the analysis' sweep, each pose's ``_Sweep``."""
 
     result: Any
     x: np.ndarray
     y: np.ndarray
     z: np.ndarray | None
     forces: np.ndarray | None
+    point: str = ""
+    poses: dict[str, _Sweep] | None = None
+
+
+@dataclass(frozen=True)
+class _Positions:
+    """Assembled positions: their table (a sweep's columns) and configurations (n, nq)."""
+
+    table: Any
+    q: np.ndarray
+
+    def at(self, i: int) -> _Positions:
+        return _Positions(self.table.iloc[[i]].reset_index(drop=True), self.q[[i]])
+
+
+def _positions(mech, opts: dict[str, Any], held: dict[str, float], frames: list[str], pose: str | None = None
+               ) -> _Positions:
+    """The positions of the sweep with the inputs ``held`` (all of them: one position; none: the analysis' sweep),
+    the others from their lower to their upper limit together; reached from the drawn position in :data:`RAMP`
+    steps when an input is held."""
+    from ...kinematics.loops import loop_solver
+    from ...kinematics.sweeps import default_inputs, sweep
+
+    n = opts["samples"]
+    if not held:
+        result = sweep(mech, samples=n, frames=frames, stop_on_failure=True)
+        ramp = 0
+    else:
+        solver = loop_solver(mech)
+        free = [name for name in mech.actuated if name not in held]
+        count = n if free else 1
+        swept = default_inputs(mech, n)
+        values = {name: np.full(count, held[name]) if name in held else swept[name] for name in mech.actuated}
+        drawn = np.asarray(mech.reference_q, dtype=float)
+        ramp = RAMP
+        inputs = {name: np.concatenate([np.linspace(drawn[solver.index[name]], v[0], ramp + 1)[:-1], v])
+                  for name, v in values.items()}
+        result = sweep(mech, inputs, frames=frames, stop_on_failure=True)
+        n = count
+    if len(result.failures):  # the sweep ends there: a design that cannot be assembled fails at once
+        first = result.failures.iloc[0]
+        k = int(first["sample"]) - ramp
+        where = f"pose {pose!r}: " if pose is not None else ""
+        what = f"position {k + 1} of {n}" if k >= 0 else "the way from the drawn position to its first position"
+        raise MechatronError(f"{where}{what} cannot be assembled: {first['reason']}")
+    if not ramp:
+        return _Positions(result.table, result.q)
+    return _Positions(result.table.iloc[ramp:].reset_index(drop=True), result.q[ramp:])
+
+
+def _load_case(mech, opts: dict[str, Any]) -> tuple[Any, list | None]:
+    """(the mechanism the forces are of, the loads): the task's payload on ``mech`` and its loads with the
+    ``load`` on the point (module docstring, "The load case")."""
+    loads = list(_loads(opts["point"], opts) or [])
+    if opts["task"] is not None:
+        from ...dynamics.task import read_task
+
+        task = read_task(opts["task"], mech)
+        mech, loads = task.mechanism, [*task.loads, *loads]
+    return mech, loads or None
 
 
 def _evaluate(mech, opts: dict[str, Any]) -> tuple[dict[str, float], _Sweep]:
     """The outputs for checked options ``opts`` (:func:`_options`) and what they were computed from."""
-    from ...kinematics.sweeps import sweep
-
     point = opts["point"]
-    result = sweep(mech, samples=opts["samples"], frames=[point], stop_on_failure=True)
-    if len(result.failures):  # the sweep ends there: a design that cannot be assembled fails at once
-        first = result.failures.iloc[0]
-        raise MechatronError(f"position {int(first['sample']) + 1} of {opts['samples']} cannot be assembled: "
-                             f"{first['reason']}")
-    x, y = result.table[f"{point}_x"].to_numpy(), result.table[f"{point}_y"].to_numpy()
+    case = _load_case(mech, opts)
+    positions = _positions(mech, opts, opts["hold"], [point])
+    cloud = None
     if opts["working_range"]:
         from ...machines.excavator import working_range
 
-        cloud = working_range(mech, samples=opts["samples"])
-        x, y = np.concatenate([cloud.cloud[:, 0], *[a[:, 0] for a in cloud.arcs]]), \
-            np.concatenate([cloud.cloud[:, 1], *[a[:, 1] for a in cloud.arcs]])
+        box = working_range(mech, samples=opts["samples"])
+        cloud = np.concatenate([box.cloud[:, 0], *[a[:, 0] for a in box.arcs]]), \
+            np.concatenate([box.cloud[:, 1], *[a[:, 1] for a in box.arcs]])
+    out, swept = _measured(mech, positions, point, opts, case, cloud)
+    swept.poses = {}
+    for pose in opts["poses"]:
+        values, swept.poses[pose.name] = _pose(mech, opts, pose, case)
+        out.update({f"{pose.name}.{k}": v for k, v in values.items()})
+    return out, swept
+
+
+def _pose(mech, opts: dict[str, Any], pose: Pose, case) -> tuple[dict[str, float], _Sweep]:
+    """The outputs of a pose (module docstring) and what they were computed from."""
+    point = opts["point"]
+    positions = _positions(mech, opts, pose.inputs, list(dict.fromkeys([point, pose.point])), pose.name)
+    if pose.pick is not None:
+        kind, name = pose.pick
+        values = _per_position(mech, name, positions, point, opts, case)
+        positions = positions.at(int(np.argmin(values) if kind == "lowest" else np.argmax(values)))
+    out, swept = _measured(mech, positions, pose.point, opts, case)
+    if pose.single(mech):
+        out = {k: v for k, v in out.items() if k not in _TRAVELS}
+    return out, swept
+
+
+def _per_position(mech, name: str, positions: _Positions, point: str, opts: dict[str, Any], case) -> np.ndarray:
+    """The output ``name`` of each position alone, of ``point``: x, y or −y, the smallest transmission angle
+    (deg), a cylinder's |force| or pressure."""
+    table = positions.table
+    if name in ("reach_m", "height_m", "depth_m"):
+        values = table[f"{point}_{'x' if name == 'reach_m' else 'y'}"].to_numpy()
+        return -values if name == "depth_m" else values
+    if name == "min_transmission_angle_deg":
+        angles = [m.name for m in mech.measures if m.kind == "transmission_angle"]
+        return np.degrees(table[angles].to_numpy().min(axis=1))
+    forces, _ = _cylinder_outputs(mech, positions.q, opts, case)
+    cylinder, kind = name.rsplit("_max_", 1)
+    f = forces[:, mech.actuated.index(cylinder)]
+    return np.abs(f) if kind == "force_N" else np.array([opts["cylinders"][cylinder].pressure(v) for v in f])
+
+
+def _measured(mech, positions: _Positions, point: str, opts: dict[str, Any], case, cloud=None
+              ) -> tuple[dict[str, float], _Sweep]:
+    """The outputs of ``positions`` for ``point`` (the extents over ``cloud``, (x, y), where given) and what they
+    were computed from."""
+    table = positions.table
+    x, y = (table[f"{point}_x"].to_numpy(), table[f"{point}_y"].to_numpy()) if cloud is None else cloud
     out = {"reach_m": float(x.max()), "height_m": float(y.max()), "depth_m": float(-y.min()) + 0.0,
            "x_travel_m": float(x.max() - x.min()), "y_travel_m": float(y.max() - y.min())}
     z = None
-    if f"{point}_z" in result.table:  # a spatial loop: the travel along z too
-        z = result.table[f"{point}_z"].to_numpy()
+    if f"{point}_z" in table:  # a spatial loop: the travel along z too
+        z = table[f"{point}_z"].to_numpy()
         out["z_travel_m"] = float(z.max() - z.min())
     angles = [m.name for m in mech.measures if m.kind == "transmission_angle"]
     if angles:
-        out["min_transmission_angle_deg"] = float(np.degrees(result.table[angles].to_numpy().min()))
+        out["min_transmission_angle_deg"] = float(np.degrees(table[angles].to_numpy().min()))
     forces = None
     if mech.cylinders:
-        forces, cylinder = _cylinder_outputs(mech, result.q, point, opts)
+        forces, cylinder = _cylinder_outputs(mech, positions.q, opts, case)
         out.update(cylinder)
-    return out, _Sweep(result, x, y, z, forces)
+    return out, _Sweep(positions, x, y, z, forces, point)
 
 
 def _loads(point: str, opts: dict[str, Any]) -> list | None:
@@ -201,12 +425,13 @@ def _loads(point: str, opts: dict[str, Any]) -> list | None:
     return [Load(point, [*opts["load"], 0.0])] if opts["load"] is not None else None
 
 
-def _cylinder_outputs(mech, Q: np.ndarray, point: str, opts: dict[str, Any]
-                      ) -> tuple[np.ndarray, dict[str, float]]:
-    """The holding forces (N, n_actuated) and each cylinder's largest force and pressure."""
+def _cylinder_outputs(mech, Q: np.ndarray, opts: dict[str, Any], case) -> tuple[np.ndarray, dict[str, float]]:
+    """The holding forces (N, n_actuated) of the load case ``case`` (:func:`_load_case`) and each cylinder's largest
+    force and pressure."""
     from ...dynamics.trajectory import holding_forces
 
-    forces = holding_forces(mech, Q, _loads(point, opts))
+    loaded, loads = case
+    forces = holding_forces(loaded, Q, loads)
     out = {}
     for j, name in enumerate(mech.actuated):
         if name not in mech.cylinders:
@@ -226,16 +451,21 @@ GRADIENT_OUTPUTS = OUTPUTS
 
 def gradient_outputs(mech, options: dict[str, Any]) -> list[str]:
     """The names of the outputs :func:`gradients` gives gradients of for ``options``, without running: every output
-    of :func:`output_names`."""
-    return output_names(mech, options)
+    of :func:`output_names`, but the forces and pressures with a ``task`` (a payload's mechanism has no symbolic
+    form)."""
+    names = output_names(mech, options)
+    if _options(mech, options)["task"] is None:
+        return names
+    return [n for n in names if not n.endswith(("_max_force_N", "_max_pressure_Pa"))]
 
 
 def gradients(mech, options: dict[str, Any], parameters: list[str]
               ) -> tuple[dict[str, float], dict[str, np.ndarray]]:
     """The outputs of one design (exactly as :func:`outputs` gives them, one sweep) and the exact gradient of each
-    with respect to the named geometric ``parameters`` of ``mech`` (shape (len(parameters),): m per m, m per rad,
-    deg per m for the transmission angle, N and Pa per unit of the parameter), the inputs held at their samples
-    (module docstring).
+    output of :func:`gradient_outputs` with respect to the named geometric ``parameters`` of ``mech`` (shape
+    (len(parameters),): m per m, m per rad, deg per m for the transmission angle, N and Pa per unit of the
+    parameter), the inputs held at their samples (module docstring); a pose's the same at its positions (a picked
+    pose's position held).
 
     Raises:
         InputError: for wrong options or a name that is no parameter of ``mech``; for cylinder outputs of a
@@ -251,34 +481,40 @@ def gradients(mech, options: dict[str, Any], parameters: list[str]
     out, swept = _evaluate(mech, opts)
     if not names:
         return out, {key: np.zeros(0) for key in out}
-    point = opts["point"]
-    result = swept.result
-    Q = result.q
-    n_l = len(names)
     at = _PointDerivatives(mech, derivatives)
-    grad: dict[str, np.ndarray] = {}
+    extents = _working_range_extents(mech, opts, swept, at) if opts["working_range"] else None
+    grad = _gradients_of(mech, names, swept, opts, at, out, extents)
+    for pose in opts["poses"]:
+        for key, value in _gradients_of(mech, names, swept.poses[pose.name], opts, at, out).items():
+            if not (pose.single(mech) and key in _TRAVELS):
+                grad[f"{pose.name}.{key}"] = value
+    n_l = len(names)
+    return out, {key: np.asarray(value, dtype=float).reshape(n_l) + 0.0 for key, value in grad.items()}
+
+
+def _gradients_of(mech, names: tuple[str, ...], swept: _Sweep, opts: dict[str, Any], at: _PointDerivatives,
+                  out: dict[str, float], extents: dict | None = None) -> dict[str, np.ndarray]:
+    """The gradients of the outputs of one set of positions (the sweep's or a pose's; ``extents``: those of the
+    stroke box with ``working_range``)."""
+    point, Q = swept.point, swept.result.q
 
     def coordinate(values: np.ndarray, axis: int, largest: bool) -> np.ndarray:
         i = int(np.argmax(values) if largest else np.argmin(values))
         return at(Q[i], point)[axis]
 
-    if opts["working_range"]:
-        extents = _working_range_extents(mech, opts, swept, at)
-    else:
+    if extents is None:
         extents = {"x": (coordinate(swept.x, 0, True), coordinate(swept.x, 0, False)),
                    "y": (coordinate(swept.y, 1, True), coordinate(swept.y, 1, False))}
     (x_max, x_min), (y_max, y_min) = extents["x"], extents["y"]
-    grad.update({"reach_m": x_max, "height_m": y_max, "depth_m": -y_min, "x_travel_m": x_max - x_min,
-                 "y_travel_m": y_max - y_min})
+    grad = {"reach_m": x_max, "height_m": y_max, "depth_m": -y_min, "x_travel_m": x_max - x_min,
+            "y_travel_m": y_max - y_min}
     if swept.z is not None:
         grad["z_travel_m"] = coordinate(swept.z, 2, True) - coordinate(swept.z, 2, False)
     if "min_transmission_angle_deg" in out:
-        grad["min_transmission_angle_deg"] = _angle_gradient(mech, result, at)
-    if swept.forces is not None:
-        grad.update(_cylinder_gradients(mech, names, Q, swept.forces, point, opts))
-    for key, value in grad.items():
-        grad[key] = np.asarray(value, dtype=float).reshape(n_l) + 0.0
-    return out, grad
+        grad["min_transmission_angle_deg"] = _angle_gradient(mech, swept.result, at)
+    if swept.forces is not None and opts["task"] is None:
+        grad.update(_cylinder_gradients(mech, names, Q, swept.forces, opts["point"], opts))
+    return grad
 
 
 class _PointDerivatives:

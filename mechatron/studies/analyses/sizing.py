@@ -12,7 +12,7 @@ spelling ``pressure_mpa`` is read for one more release, with a warning (:data:`m
 
 Outputs (SI; :mod:`mechatron.quantities`): ``feasible``; ``drive_mass_kg`` and ``drive_cost`` (Σ of the drives'
 catalog masses and prices); ``smallest_margin`` (min over the drives' checks of 1 − value/limit, a
-cylinder's rated pressure — a pass/fail filter — only when it fails);
+cylinder's rated pressure and stroke — pass/fail filters — only when they fail);
 ``energy_per_cycle_J`` (energy drawn per cycle: ∫ max(P_bus, 0) dt of the common DC bus plus the pump's ∫ p Q dt,
 :meth:`~mechatron.drives.sizing.SizingResult.totals`);
 ``peak_power_W`` (the bus's peak power plus the pump's peak power p·Q; each alone when the mechanism has only
