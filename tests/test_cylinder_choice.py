@@ -4,8 +4,9 @@ need — against hand calculations, Euler's load and the energy balance of a lif
 
 The rated pressure is a pass/fail filter (rating p_r ≥ relief pressure p_s): its "margin" 1 − p_s/p_r is 0 for every
 row rated at the system pressure, by construction, and says nothing of the load. The checks that can bind are the
-push and pull pressure (p = F/A against min(p_r, p_s): margin 1 − F/(p A), the force left), the stroke and rod
-buckling (F against F_E/3.5, F_E = π² E (π d⁴/64)/(K L)²).
+push and pull pressure (p = F/A against min(p_r, p_s): margin 1 − F/(p A), the force left) and rod buckling (F
+against F_E/3.5, F_E = π² E (π d⁴/64)/(K L)²); the stroke is a filter too since issue 32 (its margin is the row's
+stroke left, no load).
 """
 
 from __future__ import annotations

@@ -144,6 +144,8 @@ READERS: dict[str, Callable[[Path], object]] = {
     "examples/data/turret_arm.urdf": _urdf,
     "examples/data/turret_arm.srdf": _srdf,
     "examples/data/pick_and_place.toml": _task("puma560"),
+    "examples/data/pick_and_release.toml": _task("puma560"),
+    "examples/data/cartesian_line.toml": _task("planar_2r"),
     "examples/data/puma560_move.csv": _trajectory("puma560"),
     "examples/data/scara_move.csv": _trajectory("scara"),
     "examples/data/planar_2r_move.csv": _trajectory("planar_2r"),

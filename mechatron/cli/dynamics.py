@@ -68,9 +68,11 @@ def _move_names(mech: Mechanism) -> list[str]:
 
 def cmd_dynamics(args: argparse.Namespace) -> int:
     from ..drives.loads import trajectory_loads
+    from ..dynamics.joint_reactions import joint_reactions
 
     mech = _carrying(_load(args), args)
-    emit(trajectory_loads(mech, _trajectory(mech, args)), args)
+    analysis = joint_reactions if args.reactions else trajectory_loads
+    emit(analysis(mech, _trajectory(mech, args)), args)
     return 0
 
 
@@ -95,6 +97,9 @@ def register(sub) -> None:
                    help="rest at every point after the first (s)")
     p.add_argument("--dt", type=Number(minimum=_MIN_STEP, unit="s"), default=0.005,
                    help=f"sampling step (s, >= {_MIN_STEP:g})")
+    p.add_argument("--reactions", action="store_true",
+                   help="the force (N) and moment (N·m) each joint transmits, world axes, about the joint's origin, "
+                        "and a closed loop's pin forces, instead of the driving loads (--move 'Q;Q': one pose)")
     _payload_arguments(p)
     add_output_options(p)
     p.set_defaults(func=cmd_dynamics)

@@ -36,6 +36,7 @@ from ..model.mechanism import Mechanism
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dynamics.motion import Trajectory
+    from ..dynamics.segments import PayloadSchedule
 
 
 #: The envelope's full pass (:meth:`JointDuty.envelope`) is done when it compares at most this many times as many
@@ -258,7 +259,8 @@ def mount_drives(mech: Mechanism, mounts: list[DriveMount]) -> Mechanism:
 
 
 def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *,
-                 kinematics: Mechanism | None = None, moving: NDArray[np.bool_] | None = None) -> list[JointDuty]:
+                 kinematics: Mechanism | None = None, moving: NDArray[np.bool_] | None = None,
+                 payload: PayloadSchedule | None = None) -> list[JointDuty]:
     """The duty of every driven coordinate along a :class:`~mechatron.dynamics.motion.Trajectory` (``loads``:
     external :class:`~mechatron.model.Load` s, N and N·m, as in :func:`mechatron.dynamics.tree.inverse_dynamics`),
     from the model with its drive inertia (armature) removed and the friction of its file's drives added at the
@@ -274,7 +276,10 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
     the trajectory's moves and dwells (:func:`~mechatron.dynamics.task.moving_intervals`). ``kinematics``: a
     mechanism of the same linkage whose loops to solve (``mech`` with its drives mounted changes only masses; the
     loops' compiled kernels are kept by the mechanism that built them), default ``mech``; ``moving``: the
-    trajectory's moves (:func:`~mechatron.dynamics.task.moving_intervals`), when already known."""
+    trajectory's moves (:func:`~mechatron.dynamics.task.moving_intervals`), when already known; ``payload``: a
+    payload carried on part of the task only (:class:`~mechatron.dynamics.segments.PayloadSchedule`), attached to
+    ``mech`` at the samples where it is carried (torques, static torques and load inertias of each set of samples
+    from its own mechanism)."""
     from ..dynamics.task import moving_intervals
 
     model = pin.Model(mech.model)
@@ -285,7 +290,7 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         raise InputError("a sizing task needs at least two samples at increasing times")
     V, A = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (trajectory.v, trajectory.a))
     if mech.closures:
-        Q, tau, holding, inertia = _closed_loop(bare, kinematics or mech, trajectory, loads)
+        Q, tau, holding, inertia = _closed_loop(bare, kinematics or mech, trajectory, loads, payload)
         static = _Columns(holding)  # the holding forces are computed when first read
         names = list(mech.actuated)
         kinds = ["cylinder" if n in mech.cylinders else mech.joint_kind(n) for n in names]
@@ -304,10 +309,17 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         Q = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
         if Q.shape[1] != mech.nq:  # the trajectory was given in joint coordinates only
             Q = mech.configuration(positions)
-        tau = inverse_dynamics(bare, Q, V, A, loads)
-        static = _Columns(lambda: inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads))
         step = max(1, len(Q) // 200)
-        inertia = np.max(np.diagonal(mass_matrix(bare, Q[::step]), axis1=1, axis2=2), axis=0)
+        if payload is None:
+            tau = inverse_dynamics(bare, Q, V, A, loads)
+            static = _Columns(lambda: inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads))
+            inertia = np.max(np.diagonal(mass_matrix(bare, Q[::step]), axis1=1, axis2=2), axis=0)
+        else:
+            tau = payload.inverse_dynamics(bare, Q, V, A, loads)
+            static = _Columns(lambda: payload.inverse_dynamics(bare, Q, np.zeros_like(V), np.zeros_like(A), loads))
+            inertia = np.max(payload.thinned(step).per_sample(
+                bare, lambda m, q: np.diagonal(np.atleast_3d(mass_matrix(m, q)).reshape(len(q), m.nv, m.nv),
+                                               axis1=1, axis2=2), Q[::step]), axis=0)
         kinds = [mech.joint_kind(n) for n in names]
         columns = [mech.model.joints[mech.joint_id(n)].idx_v for n in names]
     moving = moving_intervals(trajectory) if moving is None else moving
@@ -353,13 +365,17 @@ class _Columns:
         return self._array
 
 
-def _closed_loop(mech: Mechanism, kinematics: Mechanism, trajectory: Trajectory, loads: Loads
+def _closed_loop(mech: Mechanism, kinematics: Mechanism, trajectory: Trajectory, loads: Loads,
+                 payload: PayloadSchedule | None = None
                  ) -> tuple[NDArray[np.float64], NDArray[np.float64], Callable[[], NDArray[np.float64]],
                             NDArray[np.float64]]:
     """(Q, forces, the holding forces (a function making them), largest reduced inertia of each actuated coordinate)
     along the trajectory: the loops of ``kinematics``, the masses of ``mech``
-    (:func:`~mechatron.dynamics.trajectory.actuator_duty`)."""
+    (:func:`~mechatron.dynamics.trajectory.actuator_duty`; with ``payload``,
+    :func:`~mechatron.dynamics.segments.closed_loop_duty`)."""
+    from ..dynamics.segments import closed_loop_duty
     from ..dynamics.trajectory import actuator_duty
 
-    duty = actuator_duty(mech, trajectory, loads, kinematics=kinematics)
+    duty = (actuator_duty(mech, trajectory, loads, kinematics=kinematics) if payload is None else
+            closed_loop_duty(mech, kinematics, trajectory, loads, payload))
     return duty.q, duty.forces, lambda: duty.holding, duty.inertia

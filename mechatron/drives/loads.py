@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..dynamics.motion import coordinate_names, warn_limits
+from ..dynamics.segments import PayloadSchedule, closed_loop_duty
 from ..dynamics.series import UNITS, coordinate_columns, load_label, plot_lines, stacked_axes, text_table
 from ..dynamics.trajectory import actuator_forces
 from ..dynamics.tree import inverse_dynamics
@@ -163,11 +164,14 @@ def loads_bytes(nv: int, closed: bool = False) -> float:
     return 8.0 * (8 + 8 * nv) + (2048.0 if closed else 0.0)
 
 
-def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> TrajectoryLoads:
+def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *,
+                     payload: PayloadSchedule | None = None) -> TrajectoryLoads:
     """Joint (or, for a closed-loop mechanism, actuator) forces along ``trajectory`` (a
     :class:`~mechatron.dynamics.motion.Trajectory` of the joints, or of the actuated coordinates of a closed-loop
     mechanism) under gravity and ``loads``: τ = M q̈ + h − Σ Jᵀ F (RNEA) or the constrained inverse dynamics, with
-    the drives' motor side (:func:`~mechatron.drives.transmission.motor_loads`, [Egorov, 4.59])."""
+    the drives' motor side (:func:`~mechatron.drives.transmission.motor_loads`, [Egorov, 4.59]). ``payload``: a
+    payload carried on part of the motion only (:class:`~mechatron.dynamics.segments.PayloadSchedule`, a task's
+    ``schedule``), attached to ``mech`` at the samples where it is carried."""
     warn_limits(mech, trajectory)
     t = np.asarray(trajectory.t, dtype=float)
     from ..io.budget import count, require, seconds
@@ -180,12 +184,14 @@ def trajectory_loads(mech: Mechanism, trajectory: Trajectory, loads: Loads = Non
     positions, speeds, accelerations = trajectory.coordinates, trajectory.v, trajectory.a
     if mech.closures:
         names = list(mech.actuated)
-        forces = actuator_forces(mech, trajectory, loads)[1]
+        forces = (actuator_forces(mech, trajectory, loads)[1] if payload is None
+                  else closed_loop_duty(mech, mech, trajectory, loads, payload).forces)
         angular = [mech.joint_kind(n) == "revolute" for n in names]
         counts = [mech.cylinders[n].count if n in mech.cylinders else 1 for n in names]
         return TrajectoryLoads(mech.name, "actuator", names, angular, t, positions, speeds, accelerations, forces,
                                counts=counts)
-    forces = inverse_dynamics(mech, trajectory.q, speeds, accelerations, loads)
+    forces = (inverse_dynamics(mech, trajectory.q, speeds, accelerations, loads) if payload is None
+              else payload.inverse_dynamics(mech, trajectory.q, speeds, accelerations, loads))
     motor = motor_loads(mech, speeds, accelerations, forces)
     names = coordinate_names(mech)
     driven = [name in mech.drives for name in names]

@@ -293,6 +293,9 @@ class SizingResult(Result):
         if self.objective == "time":
             lines.append(f"fastest feasible pace: the moves replayed ×{self.time_scale:.3f} in time, the dwells kept "
                          f"({duration:.3f} s instead of {self.task_duration or duration:.3f} s)")
+        schedule = getattr(self.given, "schedule", None)
+        if schedule is not None:
+            lines.append(f"payload: {schedule.mass:g} kg at {schedule.frame}, {schedule.label}")
         lines += self._method_lines()
         for j in self.joints:
             lines += [""] + j.lines()
@@ -386,7 +389,8 @@ class SizingResult(Result):
                                           **dict(zip(("Mx (N·m)", "My (N·m)", "Mz (N·m)"), load.moment))}
                                          for load in task.loads]), "the task's constant loads (world axes)", "loads")
                      ] if task.loads else []
-            sections += [Section("Task", [Text(f"{task.name} ({task.source}): payload {task.payload:g} kg"), Table(
+            sections += [Section("Task", [Text(f"{task.name} ({task.source}): payload {task.payload:g} kg"
+                                              + (f", {task.schedule.label}" if task.schedule else "")), Table(
                 pd.DataFrame(trajectory.as_dict()["coordinates"]), f"{trajectory.duration:.4g} s as given (SI)",
                 "task"), *loads] + ([Code(task.text)] if given is None and task.text else [])),
                 Section("Binding pose", [Text(where), Chart(configuration_figure(

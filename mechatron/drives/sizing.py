@@ -103,7 +103,8 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
     catalogs = {kind: read_catalog(value, kind) if value is not None and not isinstance(value, pd.DataFrame)
                 else value for kind, value in (("motors", motors), ("gearboxes", gearboxes), ("linear", linear),
                                                ("cylinders", cylinders))}
-    result = size_mechanism(task.mechanism, task.trajectory, **catalogs, objective=objective,
+    result = size_mechanism(task.mechanism if task.schedule is None else task.unloaded, task.trajectory,
+                            **catalogs, objective=objective, payload=task.schedule,
                             inertia_ratio_max=inertia_ratio_max, loads=[*as_loads(task.loads), *as_loads(loads)],
                             task=task.name, direct=direct, pressure=pressure, chain_efficiency=chain_efficiency,
                             single_pass=single_pass, max_iterations=max_iterations, progress=progress,

@@ -28,6 +28,7 @@ from .search import CHUNK, fastest_scale, motor_passes
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dynamics.motion import Trajectory
+    from ..dynamics.segments import PayloadSchedule
 
 
 #: The most sizing passes of the fixed point (:func:`size_mechanism`) before it reports that it did not converge.
@@ -87,7 +88,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                    loads: Loads = None, task: str = "task", direct: bool = True, pressure: float = 32e6,
                    chain_efficiency: float = 1.0, single_pass: bool = False, max_iterations: int = MAX_ITERATIONS,
                    progress: Callable[[int, int], None] | None = None,
-                   limits: DriveLimits | None = None) -> SizingResult:
+                   limits: DriveLimits | None = None, payload: PayloadSchedule | None = None) -> SizingResult:
     """Size every coordinate of ``mech`` that moves or carries load along ``trajectory``, as a system.
 
     The duty of every coordinate comes from the inverse dynamics without drive inertia
@@ -131,6 +132,9 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         max_iterations: The most passes (≥ 2).
         progress: Called with (done, total) after each coordinate of each pass.
         limits: Emergency-stop limit, required screw life, supply voltage (:class:`~.checks.DriveLimits`).
+        payload: A payload carried on part of the trajectory only (a task's
+            :class:`~mechatron.dynamics.segments.PayloadSchedule`; ``mech`` then without it): every pass attaches
+            it, at the samples where it is carried, to the mechanism with that pass's drives.
     """
     from ..io.budget import count, require
     from .catalogs import default_catalog
@@ -143,7 +147,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
             sizing_bytes(mech.nv, single_pass) + loads_bytes(mech.nv, bool(mech.closures)),
             fixed=sizing_fixed_bytes(len(trajectory.t), *_catalog_counts(motors, gearboxes, linear)),
             advice="use fewer samples (a larger time step of the trajectory)")
-    bare = {d.name: d for d in joint_duties(mech, trajectory, loads)
+    bare = {d.name: d for d in joint_duties(mech, trajectory, loads, payload=payload)
             if np.abs(d.speed).max() > 0 or np.abs(d.torque).max() > 0}
     if not bare:
         raise InputError(f"no joint of {mech.name} moves or carries load in the task")
@@ -227,7 +231,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         if key not in known:
             known.clear()
             loaded = joint_duties(mount_drives(mech, moving), trajectory, loads, kinematics=mech,
-                                  moving=bare[names[0]].moving)
+                                  moving=bare[names[0]].moving, payload=payload)
             known[key] = {d.name: d for d in loaded if d.name in bare}
         return known[key]
 

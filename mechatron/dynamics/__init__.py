@@ -23,6 +23,8 @@ _EXPORTS = {
                     ".kinetostatics"),
     **dict.fromkeys(["Task", "read_task", "default_task", "generic_task"], ".task"),
     **dict.fromkeys(["parameter_sensitivities", "ParameterSensitivities"], ".sensitivity"),
+    **dict.fromkeys(["joint_reactions", "JointReactions"], ".joint_reactions"),
+    **dict.fromkeys(["PayloadSchedule"], ".segments"),
     "rk4_step": ".integrate",
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)

@@ -54,9 +54,9 @@ class PayloadSchedule:
 
     def per_sample(self, mech: Mechanism, compute: Callable[..., Array], *rows: Array) -> Array:
         """(N, …): ``compute(mechanism, *rows)`` of the samples where the payload is carried with ``mech`` carrying
-        it, of the others with ``mech`` as it is — one call for each set — put back in the samples' order.
-        ``rows`` are (N, …) arrays (configurations, speeds, accelerations); ``compute`` returns one row per
-        sample."""
+        it, of the others with ``mech`` as it is — one call for each set — put back in the samples' order, as
+        (N, k) (each sample's result flattened). ``rows`` are (N, …) arrays (configurations, speeds,
+        accelerations); ``compute`` returns one result per sample."""
         carried = np.asarray(self.carried, dtype=bool)
         if any(len(r) != len(carried) for r in rows):
             raise InputError(f"the payload's schedule has {len(carried)} samples, the motion "
@@ -65,14 +65,16 @@ class PayloadSchedule:
         for mask, m in ((carried, self.on(mech) if carried.any() else None), (~carried, mech)):
             if not mask.any():
                 continue
-            part = np.asarray(compute(m, *(r[mask] for r in rows)), dtype=float)
-            part = part.reshape(int(mask.sum()), *part.shape[part.ndim - max(part.ndim - 1, 1):]) \
-                if part.ndim > 1 else part.reshape(int(mask.sum()), -1)
+            part = np.asarray(compute(m, *(r[mask] for r in rows)), dtype=float).reshape(int(mask.sum()), -1)
             if out is None:
                 out = np.empty((len(carried), *part.shape[1:]))
             out[mask] = part
         assert out is not None
         return out
+
+    def thinned(self, step: int) -> PayloadSchedule:
+        """The schedule of every ``step``-th sample (a trajectory thinned as ``Q[::step]``)."""
+        return PayloadSchedule(self.mass, self.frame, self.com, self.inertia, self.carried[::step], self.label)
 
     def inverse_dynamics(self, mech: Mechanism, Q: Array, V: Array, A: Array, loads: Loads = None) -> Array:
         """τ (N, nv; N·m, N) = M q̈ + h − Σ Jᵀ F of a serial mechanism (RNEA,
@@ -124,7 +126,7 @@ def closed_loop_duty(mech: Mechanism, kinematics: Mechanism, trajectory, loads: 
     Q, V, A = closed_loop_states(kinematics, trajectory)
     forces = payload.per_sample(mech, lambda m, q, v, a: _forces(m, kinematics, q, v, a, (loads,))[0], Q, V, A)
     step = max(1, len(Q) // inertia_samples)
-    thin = PayloadSchedule(payload.mass, payload.frame, payload.com, payload.inertia, payload.carried[::step])
+    thin = payload.thinned(step)
 
     def reduced(m: Mechanism, q: Array) -> Array:
         S = _velocity_matrices(kinematics, q)
@@ -138,3 +140,33 @@ def closed_loop_duty(mech: Mechanism, kinematics: Mechanism, trajectory, loads: 
                                                                    at_rest=(True,))[0], Q, V, A)
 
     return ActuatorDuty(Q, forces, np.max(inertia, axis=0, initial=0.0), holding)
+
+
+def read_span(reader) -> tuple[int | None, int | None]:
+    """The task file's ``payload_from`` and ``payload_until`` (waypoint numbers, 1-based; ``None`` where left out;
+    a :class:`~mechatron.io.schema.FieldReader`)."""
+    return tuple(reader.whole(key, None, minimum=1) if reader.has(key) else None
+                 for key in ("payload_from", "payload_until"))
+
+
+def task_schedule(reader, span: tuple[int | None, int | None], trajectory, waypoints: int | None, mass: float,
+                  frame: str, com: Array, inertia: Array | None) -> PayloadSchedule | None:
+    """The :class:`PayloadSchedule` of a task file whose ``span`` (:func:`read_span`) names a waypoint, ``None``
+    when it names none (the payload is carried along the whole task). Picked at waypoint ``payload_from`` (default
+    1), released at ``payload_until`` (default the last); ``waypoints``: how many the motion was made of (``None``
+    for a trajectory CSV, which has none). A problem names the field."""
+    first, last = span
+    if first is None and last is None:
+        return None
+    key = "payload_from" if first is not None else "payload_until"
+    if waypoints is None:
+        raise reader.error(key, "needs waypoints (a trajectory file has none)")
+    if not mass > 0:
+        raise reader.error(key, "needs a payload mass > 0")
+    first, last = first or 1, last or waypoints
+    try:
+        carried = carried_between(trajectory, first, last, waypoints)
+    except InputError as exc:
+        raise reader.error(key, exc.message) from None
+    return PayloadSchedule(mass, frame, np.asarray(com, dtype=float), inertia, carried,
+                           f"carried from waypoint {first} to waypoint {last}")

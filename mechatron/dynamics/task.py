@@ -9,6 +9,8 @@ A task file (TOML; every field optional except the motion)::
     payload_com = [0.0, 0.0, 0.05]    # m in that frame (or payload_com_mm)
     payload_inertia = [2e-3, 3e-3, 3e-3]   # kg·m² about the payload's centre, that frame's axes: Ixx, Iyy, Izz
                                       # (or six: Ixx, Iyy, Izz, Ixy, Ixz, Iyz); default a point mass
+    payload_from = 2                  # picked at waypoint 2 (1-based; default the whole task) ...
+    payload_until = 4                 # ... and released at waypoint 4 (mechatron.dynamics.segments)
     profile = "trapezoidal"           # triangular, trapezoidal, scurve, quintic
     dwell = 0.25                      # s of rest at every waypoint after the first
     dt = 0.005                        # s, sampling step
@@ -17,6 +19,10 @@ A task file (TOML; every field optional except the motion)::
     jmax_deg = 3000                   # for the scurve profile (or jmax)
     waypoints_deg = [[0, 0, 0, 0, 0, 0], [45, -30, 20, 0, 30, 90]]   # (or waypoints in rad and m)
     # trajectory = "motion.csv"       # instead of waypoints: a trajectory CSV, relative to this file
+    # [cartesian]                     # instead of waypoints: tool waypoints, solved by inverse kinematics
+    # points_mm = [[600, -200, 0], [600, 300, 0]]   # (mechatron.dynamics.cartesian; docs/task_file.md)
+    # speed = 0.5                     # m/s and m/s² along each straight line
+    # acceleration = 2.0
 
     [[loads]]                         # constant external forces, world axes
     frame = "tool"
@@ -54,6 +60,7 @@ from .motion import (
     cycle,
     read_trajectory,
 )
+from .segments import PayloadSchedule, read_span, task_schedule
 
 
 @dataclass
@@ -69,6 +76,10 @@ class Task:
     payload: float = 0.0
     source: str = ""
     text: str = ""
+    #: The payload carried on part of the task only (``payload_from``, ``payload_until``;
+    #: :mod:`mechatron.dynamics.segments`); ``mechanism`` then carries it throughout and ``unloaded`` is without it.
+    schedule: PayloadSchedule | None = None
+    unloaded: Mechanism | None = None
 
     @property
     def duration(self) -> float:
@@ -207,6 +218,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     at = _frame(reader, "payload_at", mech, mech.tool_frame)
     com = reader.lengths("payload_com", 3, np.zeros(3))
     inertia = _payload_inertia(reader)
+    span = read_span(reader)
     loaded = mech
     if payload or inertia is not None:
         from ..model.payload import with_payload
@@ -225,8 +237,22 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
             raise reader.error("trajectory", "give either a trajectory file or waypoints, not both")
         csv = Path(reader.string("trajectory"))
         trajectory = read_trajectory(csv if csv.is_absolute() else path.parent / csv, mech)
+        task_schedule(reader, span, trajectory, None, payload, at, com, inertia)
         reader.finish()
         return Task(name, loaded, trajectory, loads, payload, str(path), text)
+    if reader.has("cartesian"):  # tool waypoints, solved by inverse kinematics (mechatron.dynamics.cartesian)
+        from .cartesian import cartesian_cycle, read_cartesian
+
+        if reader.has("waypoints") or reader.has("waypoints_deg"):
+            raise reader.error("cartesian", "give either tool waypoints ([cartesian]) or joint waypoints, not both")
+        route = read_cartesian(reader.table("cartesian"), mech, angular)
+        trajectory = cartesian_cycle(
+            mech, route, profile=reader.string("profile", "trapezoidal", choices=PROFILES),
+            dwell=reader.number("dwell", 0.0, minimum=0.0), dt=reader.number("dt", 0.005, positive=True),
+            vmax=_per_axis(reader, "vmax", angular), amax=_per_axis(reader, "amax", angular))
+        schedule = task_schedule(reader, span, trajectory, len(route.points), payload, at, com, inertia)
+        reader.finish()
+        return Task(name, loaded, trajectory, loads, payload, str(path), text, schedule, mech if schedule else None)
     points = _waypoints(reader, angular)
     if points is None:
         raise reader.error("waypoints", "missing the motion: give waypoints, waypoints_deg or trajectory")
@@ -243,7 +269,8 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     if mech.closures:
         trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names,
                                 angular=[bool(x) for x in angular])
-    return Task(name, loaded, trajectory, loads, payload, str(path), text)
+    schedule = task_schedule(reader, span, trajectory, len(points), payload, at, com, inertia)
+    return Task(name, loaded, trajectory, loads, payload, str(path), text, schedule, mech if schedule else None)
 
 
 #: The cycles made last (:func:`_remembered_cycle`), newest last.

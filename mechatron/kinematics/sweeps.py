@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import math
+import textwrap
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -162,11 +163,11 @@ class SweepResult(Result):
                 unit = "rad" if angular.get(name) else "m"
                 lines.append(f"  input {name}: {span[0]:.6g} … {span[1]:.6g} {unit} at rate {rate} {unit}/s")
         heads = ("x min (m)", "x max (m)", "y min (m)", "y max (m)", "|v| max (m/s)", "|a| max (m/s²)")
-        lines += ["", f"{'point':<10} " + " ".join(f"{h:>14}" for h in heads)]
+        lines += ["", f"{'point':<10}" + "".join(f"{h:>16}" for h in heads)]
         for name, p in data["points"].items():
             if p["x"]:
-                lines.append(f"{name:<10} {p['x'][0]:14.4f} {p['x'][1]:14.4f} {p['y'][0]:14.4f} {p['y'][1]:14.4f} "
-                             f"{p['v_max']:14.4g} {p['a_max']:14.4g}")
+                lines.append(f"{name:<10}{p['x'][0]:16.4f}{p['x'][1]:16.4f}{p['y'][0]:16.4f}{p['y'][1]:16.4f}"
+                             f"{p['v_max']:16.4g}{p['a_max']:16.4g}")
         if data["measures"] and data["assembled"]:
             lines += ["", f"{'measure':<28} {'min':>10} {'max':>10}  unit check"]
             for m in data["measures"]:
@@ -249,7 +250,8 @@ class SweepResult(Result):
         draw_positions(mech, self.q[picks], ax_mech)
         if trace and f"{trace}_x" in table:
             ax_mech.plot(table[f"{trace}_x"], table[f"{trace}_y"], color="tab:red", lw=1, label=f"path of {trace}")
-        ax_mech.set_title(title or mech.description or mech.name, fontsize=10)
+        # wrapped to the drawing's width (about 64 characters of 10 pt): a long description is not clipped
+        ax_mech.set_title(textwrap.fill(title or mech.description or mech.name, 64), fontsize=10)
         if ax is not None:
             ax_mech.legend(loc="upper right", fontsize=8)
             return figure

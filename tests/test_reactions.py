@@ -1,0 +1,112 @@
+"""``mechatron dynamics --reactions``: the force and moment each joint transmits (mechatron.dynamics.joint_reactions).
+References: free-body diagrams of a vertical 2R arm by hand — at rest the base joint carries the whole weight,
+F = (m1 + m2 + m_p) g upwards, and the moment M_z = g Σ m_i x_i; in motion Newton's law for the links beyond each
+joint, F = Σ m_i (c̈_i − g), with the centres' accelerations by hand, c̈ = l (θ̈ e⊥ − θ̇² e)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import mechatron
+from mechatron.cli import main
+from mechatron.dynamics.joint_reactions import joint_reactions
+from mechatron.dynamics.motion import cycle
+from mechatron.model.payload import with_payload
+from tests.protocol import check_result
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
+G, M1, M2, L1, L2 = 9.81, 2.0, 1.5, 0.5, 0.4
+
+
+@pytest.fixture()
+def arm_file(tmp_path):
+    """robots/planar_2r.toml in a vertical plane (gravity −y)."""
+    text = (ROOT / "robots" / "planar_2r.toml").read_text()
+    path = tmp_path / "arm.toml"
+    path.write_text(text.replace('convention = "standard"', 'convention = "standard"\ngravity = [0.0, -9.81, 0.0]'))
+    return path
+
+
+def test_static_free_body(arm_file):
+    mech = with_payload(mechatron.load(str(arm_file)), 1.2)  # 1.2 kg at the tool (the tip)
+    q1, q2 = math.radians(30), math.radians(40)
+    result = joint_reactions(mech, cycle(mech, [[q1, q2], [q1, q2]]))
+    c1, c12 = math.cos(q1), math.cos(q1 + q2)
+    x2 = L1 * c1
+    masses = [(M1, L1 / 2 * c1), (M2, x2 + L2 / 2 * c12), (1.2, x2 + L2 * c12)]
+    base, elbow = result.wrenches[0]
+    np.testing.assert_allclose(base, [0, G * (M1 + M2 + 1.2), 0, 0, 0, G * sum(m * x for m, x in masses)],
+                               rtol=0, atol=1e-9)
+    np.testing.assert_allclose(elbow, [0, G * (M2 + 1.2), 0, 0, 0, G * sum(m * (x - x2) for m, x in masses[1:])],
+                               rtol=0, atol=1e-9)
+    check_result(result)
+
+
+def test_moving_newton(arm_file):
+    """Along a move the force each joint transmits is Σ m (c̈ − g) of the links beyond it (centres by hand)."""
+    mech = mechatron.load(str(arm_file))
+    motion = cycle(mech, [[0.2, 0.3], [1.1, -0.6]], vmax=2.0, amax=6.0, dt=0.01)
+    result = joint_reactions(mech, motion)
+    q1, q2 = motion.q.T
+    w1, w2 = motion.v.T
+    a1, a2 = motion.a.T
+
+    def acceleration(l, th, w, a):
+        e, n = np.stack([np.cos(th), np.sin(th)], 1), np.stack([-np.sin(th), np.cos(th)], 1)
+        return l * (a[:, None] * n - (w**2)[:, None] * e)
+
+    elbow = acceleration(L1, q1, w1, a1)  # joint 2's origin
+    c1 = acceleration(L1 / 2, q1, w1, a1)
+    c2 = elbow + acceleration(L2 / 2, q1 + q2, w1 + w2, a1 + a2)
+    g = np.array([0.0, -G])
+    np.testing.assert_allclose(result.wrenches[:, 0, :2], M1 * (c1 - g) + M2 * (c2 - g), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(result.wrenches[:, 1, :2], M2 * (c2 - g), rtol=0, atol=1e-9)
+    frame = result.to_frame()
+    assert list(frame.columns[:7]) == ["t", "q1_Fx", "q1_Fy", "q1_Fz", "q1_Mx", "q1_My", "q1_Mz"]
+
+
+def test_cli(arm_file, tmp_path, capsys):
+    csv = tmp_path / "r.csv"
+    assert main(["dynamics", str(arm_file), "--move", "30,40;30,40", "--deg", "--reactions", "--json",
+                 "--csv", str(csv)]) == 0
+    data = json.loads(capsys.readouterr().out)
+    c1, c12 = math.cos(math.radians(30)), math.cos(math.radians(70))
+    moment = G * (M1 * L1 / 2 * c1 + M2 * (L1 * c1 + L2 / 2 * c12))
+    np.testing.assert_allclose(data["joints"]["q1"]["force_N"][0], [0, G * (M1 + M2), 0], atol=1e-9)
+    np.testing.assert_allclose(data["joints"]["q1"]["moment_Nm"][0], [0, 0, moment], atol=1e-9)
+    frame = pd.read_csv(csv)
+    assert frame["q1_Fy"].iloc[0] == pytest.approx(G * (M1 + M2), abs=1e-9)
+    assert main(["dynamics", str(arm_file), "--move", "30,40;30,40", "--deg", "--reactions"]) == 0
+    text = capsys.readouterr().out
+    assert "Fy (N)" in text and "34.335" in text
+
+
+def test_closed_loop_balance(tmp_path):
+    """A boom on a cylinder at rest: the cylinder's prismatic joint transmits along its axis the actuator force that
+    the sizing's constrained inverse dynamics finds by virtual work (trajectory_loads), a second computation."""
+    import pinocchio as pin
+
+    from mechatron.drives.loads import trajectory_loads
+    from mechatron.dynamics.trajectory import closed_loop_states
+    from tests.boom import boom
+
+    path = tmp_path / "boom.toml"
+    path.write_text(boom())
+    mech = mechatron.load(str(path))
+    pose = cycle(None, [[0.55], [0.55]])
+    result = joint_reactions(mech, pose)
+    check_result(result)
+    force = trajectory_loads(mech, pose).forces[0, 0]
+    lift = result.joints.index("lift")
+    q = closed_loop_states(mech, pose)[0][0]
+    data = mech.model.createData()
+    pin.forwardKinematics(mech.model, data, q)
+    j = mech.model.getJointId("lift")
+    assert mech.model.joints[j].shortname() == "JointModelPX"
+    axis = data.oMi[j].rotation @ np.array([1.0, 0.0, 0.0])  # the cylinder's axis in world axes
+    assert abs(result.wrenches[0, lift, :3] @ axis) == pytest.approx(abs(force), rel=1e-9)
