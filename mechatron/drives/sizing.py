@@ -34,6 +34,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..dynamics.task import Task
     from ..model.loads import Loads
     from ..model.mechanism import Mechanism
+    from .report import DriveSizing
 
 __all__ = ["MAX_ITERATIONS", "MAX_PASSES", "MIN_EFFICIENCY", "OBJECTIVES", "Iteration", "JointSizing", "SizingResult",
            "fastest_scale", "size", "size_joint", "size_mechanism", "sizing_bytes", "sizing_fixed_bytes"]
@@ -45,7 +46,7 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
          objective: str = "mass", loads: Loads = None, inertia_ratio_max: float = 10.0, direct: bool = True,
          pressure: float = 32e6, chain_efficiency: float = 1.0, single_pass: bool = False,
          max_iterations: int = MAX_ITERATIONS, progress: Callable[[int, int], None] | None = None,
-         limits: DriveLimits | None = None) -> SizingResult:
+         limits: DriveLimits | None = None, start: dict[str, DriveSizing] | None = None) -> SizingResult:
     """Choose the drive of every joint of ``mech`` for a task — motor, gearbox and ratio (revolute joints), motor
     and ball screw or rack (prismatic joints), catalog cylinder (hydraulic cylinders of a closed-loop mechanism) —
     with every check vendors run (:mod:`~mechatron.drives.checks`, :mod:`~mechatron.drives.cylinders`), the chosen
@@ -82,6 +83,9 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
         limits: The emergency-stop torque or current limit, the required screw life and the supply voltage
             (:class:`~mechatron.drives.checks.DriveLimits`); default: the motors' peak torque, 20 000 h, the
             catalog's voltage.
+        start: Drives to start the fixed point from (another design's ``{d.joint: d for d in result.joints}``):
+            the same result, sooner where the drives load only coordinates sized after them
+            (:func:`~mechatron.drives.system.size_mechanism`).
 
     Returns:
         A :class:`SizingResult`; ``result.feasible`` is false when some joint has no feasible drive (its closest
@@ -108,6 +112,6 @@ def size(mech: Mechanism, task: Task | Trajectory | str | Path | None = None, *,
                             inertia_ratio_max=inertia_ratio_max, loads=[*as_loads(task.loads), *as_loads(loads)],
                             task=task.name, direct=direct, pressure=pressure, chain_efficiency=chain_efficiency,
                             single_pass=single_pass, max_iterations=max_iterations, progress=progress,
-                            limits=limits)
+                            limits=limits, start=start)
     result.given = task
     return result

@@ -7,6 +7,7 @@ the body that carries it, until the choice no longer changes (the fixed point).
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -38,6 +39,30 @@ MAX_PASSES = 1000
 #: The lowest efficiency of the rest of the chain (``chain_efficiency``): below it the drives' currents overflow.
 MIN_EFFICIENCY = 0.01
 
+
+
+#: The arrays built from catalogs that do not change (:func:`keep_arrays`), by the catalog's id: (the catalog,
+#: weakly; its arrays by what they were built for).
+_kept: dict[int, tuple[weakref.ref, dict]] = {}
+
+
+def keep_arrays(catalog: pd.DataFrame) -> pd.DataFrame:
+    """``catalog``, marked as one that does not change (a catalog read once per process, e.g. by a study): the
+    arrays a sizing builds from it — the motors' (:class:`~mechatron.drives.checks.MotorArrays`), the converters to
+    try (:func:`~mechatron.drives.converters.converters_for`) — are then built once, not once per sizing."""
+    key = id(catalog)
+    _kept[key] = (weakref.ref(catalog, lambda _, key=key: _kept.pop(key, None)), {})
+    return catalog
+
+
+def _arrays_of(catalog: pd.DataFrame | None, key: tuple, build: Callable[[], object]):
+    """``build()``, once per ``key`` for a catalog of :func:`keep_arrays`, else every time."""
+    entry = _kept.get(id(catalog)) if catalog is not None else None
+    if entry is None or entry[0]() is not catalog:
+        return build()
+    if key not in entry[1]:
+        entry[1][key] = build()
+    return entry[1][key]
 
 
 def distal_first(mech: Mechanism, names: list[str]) -> list[str]:
@@ -88,7 +113,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
                    loads: Loads = None, task: str = "task", direct: bool = True, pressure: float = 32e6,
                    chain_efficiency: float = 1.0, single_pass: bool = False, max_iterations: int = MAX_ITERATIONS,
                    progress: Callable[[int, int], None] | None = None,
-                   limits: DriveLimits | None = None, payload: PayloadSchedule | None = None) -> SizingResult:
+                   limits: DriveLimits | None = None, payload: PayloadSchedule | None = None,
+                   start: dict[str, DriveSizing] | None = None) -> SizingResult:
     """Size every coordinate of ``mech`` that moves or carries load along ``trajectory``, as a system.
 
     The duty of every coordinate comes from the inverse dynamics without drive inertia
@@ -135,6 +161,13 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         payload: A payload carried on part of the trajectory only (a task's
             :class:`~mechatron.dynamics.segments.PayloadSchedule`; ``mech`` then without it): every pass attaches
             it, at the samples where it is carried, to the mechanism with that pass's drives.
+        start: Drives (by coordinate) to start the fixed point from, e.g. another design's choice in a study: used
+            only where every drive loads only coordinates sized after it (:func:`sees_every_drive`: a serial arm with
+            its drives on the proximal links), where pass 1 then sizes each coordinate with the drives chosen
+            distal to it already — the fixed point at once, whatever ``start`` is (a coordinate's torque
+            τ_k = S_kᵀ Σ_{i ∈ subtree(k)} f_i and its inertia M_kk involve the bodies it moves only), so that pass 2
+            only confirms it; ``start`` saves the inverse dynamics of the drives it guessed right. Not with the
+            ``time`` objective (its pace is the slowest coordinate's, over every duty).
     """
     from ..io.budget import count, require
     from .catalogs import default_catalog
@@ -156,7 +189,7 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     gearboxes = gearboxes if gearboxes is not None or "revolute" not in kinds else default_catalog("gearboxes")
     linear = linear if linear is not None or "prismatic" not in kinds else default_catalog("linear")
     cylinders = cylinders if cylinders is not None or "cylinder" not in kinds else default_catalog("cylinders")
-    motor_arrays = MotorArrays.of(motors) if motors is not None else None
+    motor_arrays = _arrays_of(motors, ("motors",), lambda: MotorArrays.of(motors)) if motors is not None else None
     names = list(bare)
     order = distal_first(mech, names)
     carriers = {n: drive_carrier(mech, n) for n in names if bare[n].kind != "cylinder"}
@@ -193,7 +226,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         efficiency of the file's drive, a factor of every converter's)."""
         key = (duty.kind, duty.stroke if duty.kind == "prismatic" else None, duty.efficiency)
         if key not in built:
-            built[key] = converters_for(duty, gearboxes, linear, direct, chain_efficiency)
+            built[key] = _arrays_of(gearboxes if duty.kind == "revolute" else linear, (*key, direct, chain_efficiency),
+                                    lambda: converters_for(duty, gearboxes, linear, direct, chain_efficiency))
         return built[key]
 
     fastest: dict[tuple, float] = {}
@@ -238,8 +272,8 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     chosen: dict[str, DriveSizing] = {}
     iterations: list[Iteration] = []
 
-    def run_pass(weighted: bool) -> tuple:
-        before = dict(chosen)
+    def run_pass(weighted: bool, first: bool = False) -> tuple:
+        before = {} if first else dict(chosen)
         scale = pace(duties_with(chosen) if weighted else bare)
         for k, name in enumerate(order):
             chosen[name] = size_one((duties_with(chosen) if weighted else bare)[name], scale)
@@ -250,9 +284,13 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
         iterations.append(Iteration(len(iterations) + 1, weighted, scale or 1.0, changes))
         return tuple(chosen[n].choice() for n in order), scale
 
-    history = [run_pass(False)]
-    converged, cycle = True, ()
     included = mech.link_masses_include_drives
+    warm = start is not None and not single_pass and not included and objective != "time" and \
+        sees_every_drive(mech, order, carriers)
+    if warm:
+        chosen.update((n, s) for n, s in start.items() if n in carriers)
+    history = [run_pass(warm, first=True)]
+    converged, cycle = True, ()
     if not single_pass and not included and any(m.parent > 0 and m.mass > 0 for m in mounts(chosen).values()):
         converged = False
         while len(iterations) < max_iterations:
@@ -269,6 +307,21 @@ def size_mechanism(mech: Mechanism, trajectory: Trajectory, motors: pd.DataFrame
     duration = bare[names[0]].duration
     return SizingResult(mech.name, task, objective, sized, scale, iterations, single_pass, converged,
                         mounts(chosen), cycle, duration, masses_included=included and not single_pass)
+
+
+def sees_every_drive(mech: Mechanism, order: list[str], carriers: dict[str, tuple]) -> bool:
+    """Whether sizing the coordinates in ``order`` meets every drive that loads a coordinate before it: each drive's
+    body (``carriers``: :func:`~mechatron.drives.duty.drive_carrier`) lies in the subtree of no coordinate sized
+    before it, nor of its own, so a pass that mounts each choice at once sizes every coordinate with its final load.
+    Never for closed loops (their constraint forces couple every coordinate)."""
+    if mech.closures:
+        return False
+    subtrees = mech.model.subtrees
+    for k, name in enumerate(order):
+        moved = set(subtrees[mech.joint_id(name)])
+        if any(carriers[other][0] in moved for other in order[k:] if other in carriers):
+            return False
+    return True
 
 
 def check_arguments(inertia_ratio_max: float, pressure: float, chain_efficiency: float, max_iterations: int

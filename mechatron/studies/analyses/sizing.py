@@ -112,8 +112,9 @@ def field_file(analysis: str, options: dict, field: str) -> Path | None:
 def _catalog(path: str, stamp: int, kind: str) -> pd.DataFrame:
     """A catalog read once per process (and again when the file changes: ``stamp`` is its modification time)."""
     from ...drives.catalogs import read_catalog
+    from ...drives.system import keep_arrays
 
-    return read_catalog(path, kind)
+    return keep_arrays(read_catalog(path, kind))
 
 
 def catalog_files(options: dict) -> dict[str, Path]:
@@ -237,13 +238,21 @@ def summary(mech: Mechanism, result: SizingResult) -> dict[str, float | bool]:
     return {key: value if key == "feasible" else float(value) for key, value in out.items()}
 
 
+#: The drives the last sizing of each mechanism (by name) chose in this process: the next design's start
+#: (``start`` of :func:`mechatron.drives.sizing.size`: the same result, with fewer inverse dynamics).
+_last_choice: dict[str, dict] = {}
+
+
 def run(mech: Mechanism, options: dict) -> SizingResult:
     """The sizing of ``mech`` with the options: :func:`mechatron.drives.sizing.size` (the task's mechanism, payload
-    included, is the one sized)."""
+    included, is the one sized), started from the drives the design before chose."""
     from ...drives.sizing import size
 
     kwargs = arguments(mech, options)
-    return size(mech, kwargs.pop("task"), **kwargs)
+    result = size(mech, kwargs.pop("task"), **kwargs, start=_last_choice.get(mech.name))
+    _last_choice.clear()
+    _last_choice[mech.name] = {j.joint: j for j in result.joints}
+    return result
 
 
 def outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float | bool]:
