@@ -145,10 +145,13 @@ def load_file(path: str | Path) -> Mechanism:
     links = data.get("links")
     structural = "pairs" in data or (isinstance(links, list) and bool(links)
                                      and all(isinstance(x, (str, int)) for x in links))
-    if structural:
-        lacks = "" if "pairs" in data else " (it lacks its [[pairs]])"
-        raise InputError(f"a structural description (moving links, pairs and loops){lacks}, not a mechanism: use "
+    if structural and "pairs" in data:
+        raise InputError("a structural description (moving links, pairs and loops), not a mechanism: use "
                          "'mechatron structure' with it; see docs/structure_file.md", file=path)
+    if structural:  # a list of names: neither a robot file's tables nor, without its pairs, a structural description
+        raise InputError("a list of names, not a robot file's links (one [[links]] table per link with its joint and "
+                         "DH parameters, docs/robot_file.md); a structural description lists its links so but needs "
+                         "its [[pairs]] too (docs/structure_file.md)", file=path, field="links")
     if "links" in data:
         from .model.robotfile import read_robot_file
 

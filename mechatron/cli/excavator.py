@@ -16,6 +16,15 @@ def cmd_excavator(args: argparse.Namespace) -> int:
     rated lift capacity [ISO 10567], the rated tool forces [ISO 6015, 5.2.1–5.2.2] and the digging capability
     (mechatron's estimate) of the design on the machine of its ``[machine]`` table
     (:func:`~mechatron.machines.capacity.capacity_report`)."""
+    try:
+        return _excavator(args)
+    except InputError as exc:  # a field of the design file found wanting after it was read: name the file
+        if args.design and exc.field and exc.file is None:
+            raise InputError(exc.message, file=args.design, field=exc.field) from None
+        raise
+
+
+def _excavator(args: argparse.Namespace) -> int:
     from ..machines.excavator import excavator_report, read_design, write_shovel
     from ..machines.shovel_machine import read_machine
     from ..report.progress import progress_bar

@@ -19,6 +19,7 @@ import pandas as pd
 from ..errors import InputError
 from ..io.data import data_dir
 from ..io.tables import number, read_csv
+from ..model.robotfile import EFFICIENCY_MIN
 from ..units import SI, UNITS, offset
 from .motor import ELECTRICAL_COLUMNS
 from .shafts import end_fixing
@@ -29,7 +30,7 @@ class Field:
     """One column of a catalog: its name, kind of quantity (a key of :data:`mechatron.units.UNITS`), whether every
     row must give it, whether it must be > 0 (else ≥ 0), its largest value and its smallest (SI); ``table``: a cell
     holds ``x:y`` pairs separated by ``;``, x of the field's kind (its column's unit), y a plain number
-    (:func:`_rate_table`)."""
+    (:func:`_rate_table`). A field of kind ``count`` holds whole numbers."""
 
     name: str
     kind: str
@@ -38,7 +39,19 @@ class Field:
     maximum: float | None = None
     minimum: float | None = None
     table: bool = False
+    #: mechatron's plausible range (SI), its own rule (docs/catalogs.md, "Plausible ranges"): a value outside it is
+    #: refused as a slip of unit or digit, not a product; ``None``: none beyond the bounds above.
+    plausible: tuple[float, float] | None = None
 
+
+#: mechatron's plausible range of a motor's thermal resistances (K/W): a motor of a few millimetres sheds its heat
+#: through some 100 K/W, a large water-cooled one through 0.01 K/W.
+THERMAL_RESISTANCE = (1e-3, 1e3)
+#: mechatron's plausible range of a converter's efficiency: a worm or a lead screw loses most of its input, none
+#: keeps less than 1 % (below it 1/η overflows the torque asked of the motor); a robot file's drive has the same.
+EFFICIENCY = (EFFICIENCY_MIN, 1.0)
+#: mechatron's plausible largest shock factor of a gearbox maker's table (the makers' tables stop below 3).
+SHOCK_FACTOR_MAX = 10.0
 
 SCHEMAS: dict[str, tuple[Field, ...]] = {
     "motors": (
@@ -49,11 +62,13 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("rated_power", "power", False), Field("resistance", "resistance", False),
         Field("voltage", "voltage", False),
         # the two-node thermal model (mechatron.drives.thermal): all five or none, with k_t and R (at 25 °C)
-        Field("rth_winding_housing", "thermal_resistance", False), Field("rth_housing_ambient", "thermal_resistance",
-                                                                         False),
-        Field("tau_winding", "time", False), Field("tau_housing", "time", False),
+        Field("rth_winding_housing", "thermal_resistance", False, plausible=THERMAL_RESISTANCE),
+        Field("rth_housing_ambient", "thermal_resistance", False, plausible=THERMAL_RESISTANCE),
+        Field("tau_winding", "time", False, plausible=(1e-2, 1e4)), Field("tau_housing", "time", False,
+                                                                           plausible=(1.0, 1e5)),
         Field("max_winding_temperature", "temperature", False, minimum=273.15, maximum=773.15),
-        Field("temperature_coefficient", "temperature_coefficient", False, positive=False, maximum=0.1),
+        Field("temperature_coefficient", "temperature_coefficient", False, positive=False, maximum=0.1,
+              plausible=(0.0, 0.01)),
         # k_t's temperature coefficient β (mechatron.drives.thermal: the magnets heat too), ≤ 0
         Field("torque_constant_coefficient", "temperature_coefficient", False, minimum=-0.01, maximum=0.0),
         Field("loss_torque", "torque", False, positive=False),
@@ -61,9 +76,10 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
     ),
     "gearboxes": (
         Field("key", "text"), Field("maker", "text", False), Field("type", "text"),
-        Field("stages", "count", False), Field("ratio", "ratio"), Field("rated_torque", "torque"),
+        Field("stages", "count", False, plausible=(1, 10)), Field("ratio", "ratio", plausible=(1.0, 1e4)),
+        Field("rated_torque", "torque"),
         Field("peak_torque", "torque"), Field("emergency_torque", "torque"), Field("max_input_speed", "speed"),
-        Field("rated_input_speed", "speed"), Field("efficiency", "fraction", maximum=1.0),
+        Field("rated_input_speed", "speed"), Field("efficiency", "fraction", maximum=1.0, plausible=EFFICIENCY),
         Field("cycle_rating", "rate", False), Field("emergency_stops", "count", False),
         # the maker's rule of the peak torque (docs/catalogs.md, "Gearbox duty"; mechatron.drives.converters)
         Field("peak_rule", "text", False), Field("shock_factors", "rate", False, table=True),
@@ -72,7 +88,8 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
     ),
     "linear": (
         Field("key", "text"), Field("maker", "text", False), Field("type", "text"), Field("diameter", "length"),
-        Field("lead", "length"), Field("efficiency", "fraction", maximum=1.0), Field("inertia", "inertia", False),
+        Field("lead", "length"), Field("efficiency", "fraction", maximum=1.0, plausible=EFFICIENCY),
+        Field("inertia", "inertia", False),
         Field("inertia_per_length", "inertia_per_length", False), Field("max_speed", "speed"),
         Field("dynamic_load", "force", False), Field("root_diameter", "length", False),
         Field("end_fixing", "text", False), Field("max_length", "length", False),
@@ -135,7 +152,8 @@ def read_catalog(path: str | Path, kind: str) -> pd.DataFrame:
     """A validated catalog of ``kind`` (a key of :data:`SCHEMAS`) as a DataFrame in SI units with the schema's field
     names (extra columns kept as text; a value left empty in an optional column is NaN).
 
-    Every cell is checked (a number, finite, > 0 or ≥ 0, within the field's maximum), converted by the unit of its
+    Every cell is checked (a number, finite, > 0 or ≥ 0, within the field's maximum and mechatron's plausible range
+    :attr:`Field.plausible`, whole for a count), converted by the unit of its
     column (:data:`mechatron.units.UNITS`), and so are keys (unique) and relations between columns (peak ≥ rated…).
     The same bytes are parsed once per process (:data:`_PARSED`); each call returns its own copy.
 
@@ -219,6 +237,12 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
                              field=column)
         if field.maximum is not None and value > field.maximum:
             raise InputError(f"must be <= {field.maximum:g}, got {text}", file=path, row=row, field=column)
+        if field.kind == "count" and not value.is_integer():
+            raise InputError(f"must be a whole number (a count), got {text}", file=path, row=row, field=column)
+        if field.plausible is not None and not field.plausible[0] <= value <= field.plausible[1]:
+            raise InputError(f"must be between {_shown(field.plausible[0], field)} and "
+                             f"{_shown(field.plausible[1], field)} (mechatron's plausible range), got {text}"
+                             f"{' ' + suffix if suffix else ''}", file=path, row=row, field=column)
         values.append(value)
     return values
 
@@ -226,7 +250,7 @@ def _column_values(cells: pd.Series, field: Field, factor: float, path: Path, co
 def _rate_table(text: str, factor: float, path: Path, row: int, column: str) -> tuple[tuple[float, float], ...]:
     """A cell of ``rate:factor`` pairs separated by ``;`` (``1000:1;3000:1.2``) as ((rate (1/s), factor), …): each
     rate > 0 in the column's unit (× ``factor`` to 1/s), rising from pair to pair, each factor ≥ 1 (a maker's shock
-    factor multiplies the load; it never raises the rating)."""
+    factor multiplies the load; it never raises the rating) and ≤ :data:`SHOCK_FACTOR_MAX` (mechatron's rule)."""
     pairs = []
     for part in text.split(";"):
         cells = part.split(":")
@@ -239,6 +263,9 @@ def _rate_table(text: str, factor: float, path: Path, row: int, column: str) -> 
         if value < 1:
             raise InputError(f"a shock factor must be >= 1 (it multiplies the peak torque asked for), got "
                              f"{cells[1].strip()}", file=path, row=row, field=column)
+        if value > SHOCK_FACTOR_MAX:
+            raise InputError(f"a shock factor must be <= {SHOCK_FACTOR_MAX:g} (mechatron's plausible range), got "
+                             f"{cells[1].strip()}", file=path, row=row, field=column)
         if pairs and rate * factor <= pairs[-1][0]:
             raise InputError(f"the rates must rise from pair to pair, got {cells[0].strip()} after a larger or equal "
                              "one", file=path, row=row, field=column)
@@ -248,7 +275,7 @@ def _rate_table(text: str, factor: float, path: Path, row: int, column: str) -> 
 
 def _shown(value: float, field: Field) -> str:
     """A bound of ``field`` (SI) as an error says it: ``273.15 K (0 °C)`` for a temperature."""
-    text = f"{value:g} {SI.get(field.kind, '')}".strip()
+    text = f"{value:g} {SI.get(field.kind, '').strip('-')}".strip()
     return f"{text} ({value - 273.15:g} °C)" if field.kind == "temperature" else text
 
 

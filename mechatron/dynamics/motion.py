@@ -377,21 +377,33 @@ def _sample_budget(dt: float, samples: float, n: int, shorter: str, name: str = 
 
 def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: float = 0.0,
           profile: str = "trapezoidal", vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
-          jmax: ArrayLike | None = None, dt: float = 0.005, dt_name: str = "dt") -> Trajectory:
+          jmax: ArrayLike | None = None, dt: float = 0.005, dt_name: str = "dt", dwell_name: str = "dwell"
+          ) -> Trajectory:
     """Moves (:func:`move`) through ``waypoints`` (one coordinate per joint each: rad, m) one after another,
-    resting ``dwell`` seconds at every waypoint after the first. ``dt_name`` names ``dt`` in a refusal
-    (:mod:`mechatron.io.budget`: ``dt``, ``--dt`` on the command line, or a file's field)."""
+    resting ``dwell`` seconds at every waypoint after the first. ``dt_name`` and ``dwell_name`` name ``dt`` and
+    ``dwell`` in a refusal (:mod:`mechatron.io.budget`: ``dt``, ``--dt`` on the command line, or a file's field);
+    the refusal names the dwell where the rests make most of the samples."""
     if len(waypoints) < 2:
         raise InputError("a cycle needs at least two waypoints")
-    dwell = number(option("dwell"), dwell, minimum=0.0, unit="s")
+    dwell = number(option(dwell_name), dwell, minimum=0.0, unit="s")
     dt = number(option(dt_name), dt, minimum=MIN_STEP, unit="s")
     points = [np.asarray(w, dtype=float) for w in waypoints]
     if all(p.ndim == 1 and p.shape == points[0].shape and np.all(np.isfinite(p)) for p in points):
         # the whole cycle's samples, before any is made
-        total = sum(_samples(_shape(mech, a, b, profile, vmax, amax, jmax, None), None, dt)
-                    + (_samples(None, dwell, dt) if dwell > 0 else 0.0) for a, b in zip(points[:-1], points[1:]))
-        shorter = "shorter or faster moves (vmax, amax, jmax)" + (" and dwells" if dwell > 0 else "")
-        _sample_budget(dt, total, len(points[0]), shorter, dt_name)
+        moves = sum(_samples(_shape(mech, a, b, profile, vmax, amax, jmax, None), None, dt)
+                    for a, b in zip(points[:-1], points[1:]))
+        rests = (len(points) - 1) * _samples(None, dwell, dt) if dwell > 0 else 0.0
+        if rests > moves:  # the dwells make most of the samples: name them first
+            from ..io.budget import count, require
+
+            shorter = option(dwell_name) if " " not in dwell_name else "dwell"
+            larger = option(dt_name) if " " not in dt_name else "dt"
+            require(f"{option(dwell_name)} {dwell:g} at {larger} {dt:g} gives {count(moves + rests)} samples",
+                    moves + rests, trajectory_bytes(len(points[0])),
+                    advice=f"use a shorter {shorter} (the dwells make most of the samples) or a larger {larger}")
+        limits = ", ".join(option(k) for k in ("vmax", "amax", "jmax"))
+        shorter = f"shorter or faster moves ({limits})" + (" and dwells" if dwell > 0 else "")
+        _sample_budget(dt, moves + rests, len(points[0]), shorter, dt_name)
     parts: list[Trajectory] = []
     t = 0.0
     for a, b in zip(waypoints[:-1], waypoints[1:]):

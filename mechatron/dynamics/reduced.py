@@ -62,7 +62,10 @@ def _one_dof(mech: Mechanism, input: str | None) -> str:
     """The input coordinate (default: the actuated one), or an error if the one-mass model does not apply."""
     input = input if input is not None else mech.actuated[0]
     if input not in mech.actuated:
-        raise InputError(f"{input!r} is not an actuated coordinate of {mech.name} ({', '.join(mech.actuated)})")
+        from ..io.budget import option
+
+        raise InputError(f"{option('input')} {input!r} is not an actuated coordinate of {mech.name} "
+                         f"({', '.join(mech.actuated)})")
     if mech.mobility() != 1 or len(mech.actuated) != 1:
         raise InputError(f"{mech.name} has {mech.mobility()} degrees of mobility; the one-mass model needs 1")
     return input

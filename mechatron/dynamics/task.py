@@ -265,7 +265,7 @@ def read_task(path: str | Path, mech: Mechanism) -> Task:
     limits = {k: _per_axis(reader, k, angular) for k in ("vmax", "amax", "jmax")}
     reader.finish()
     trajectory = _remembered_cycle(None if mech.closures else mech, points, dwell=dwell, profile=profile, dt=dt,
-                                   dt_name=f"{path}: field 'dt'", **limits)
+                                   dt_name=f"{path}: field 'dt'", dwell_name=f"{path}: field 'dwell'", **limits)
     if mech.closures:
         trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.v, trajectory.a, names,
                                 angular=[bool(x) for x in angular])

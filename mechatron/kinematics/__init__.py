@@ -1,7 +1,7 @@
 """Kinematics: frames and points of serial chains ([Egorov, 4.40–4.57]), position, velocity and acceleration
 analysis of closed loops, transfer functions ([Egorov, 4.1–4.16]), planar geometry (transmission angles, lever
-arms), sweeps over the inputs' strokes, velocity and acceleration plans ([Egorov, fig. 4.10]), drawings of
-mechanisms, and the results of ``mechatron show``, ``fk`` and ``jacobian``.
+arms), sweeps over the inputs' strokes, the workspace of two inputs, velocity and acceleration plans ([Egorov,
+fig. 4.10]), drawings of mechanisms, and the results of ``mechatron show``, ``fk`` and ``jacobian``.
 
 Every function takes the :class:`~mechatron.model.Mechanism` first, e.g.
 ``point_velocity(mech, q, v, "H")``; names are imported on first use.
@@ -19,6 +19,7 @@ _EXPORTS = {
     **dict.fromkeys(["point_positions", "line_angle", "lever_arm", "distance", "transmission_angles", "lever_arms",
                      "distances", "measure_values"], ".geometry"),
     **dict.fromkeys(["SweepResult", "sweep", "default_inputs"], ".sweeps"),
+    **dict.fromkeys(["WorkspaceResult", "workspace"], ".workspaces"),
     **dict.fromkeys(["Plans", "plans"], ".vector_plans"),
     **dict.fromkeys(["MechanismSummary", "mechanism_summary", "FramePose", "frame_pose", "JacobianSummary",
                      "jacobian_summary"], ".summary"),

@@ -394,14 +394,20 @@ def position_bytes(mech: Mechanism) -> tuple[float, float]:
 
 
 def positions_budget(mech: Mechanism, count: float, name: str, *, per_position: int = 1,
-                     seconds_per_position: float = POSITION_SECONDS) -> None:
+                     seconds_per_position: float = POSITION_SECONDS, value: float | None = None) -> None:
     """Refuse (:mod:`mechatron.io.budget`) ``count`` closed-loop positions (``per_position`` assemblies each of
     ``seconds_per_position``) asked for by ``name`` (``samples``: fewer samples; ``inputs``: fewer input values)
-    past the memory or time limit."""
+    past the memory or time limit. ``value``: the value of ``name`` that implies ``count`` positions where they
+    differ (``--samples 300`` per stroke of three cylinders: 300³ positions)."""
     from ..io.budget import count as shown
     from ..io.budget import option, require, seconds
 
     label = option(name)
+    if value is not None:
+        what = f"{label} {shown(value)} gives {shown(count)} positions of {mech.name}"
+        require(what, count, position_bytes(mech)[1], fixed=position_bytes(mech)[0], advice=f"use fewer {label}")
+        seconds(what, count * per_position, seconds_per_position, advice=f"use fewer {label}")
+        return
     what = f"{label} {shown(count)}" if name == "samples" else f"{shown(count)} values of the {label}"
     what += f" gives {shown(count * per_position)} positions of {mech.name}" if per_position > 1 else \
         f": positions of {mech.name}"

@@ -184,7 +184,11 @@ def digging_forces(design: FrontShovelDesign | None = None, machine: ShovelMachi
     shovel = synthesize(design)
     mech = build_linkage(shovel_spec(shovel))
     if lengths is None:
+        from ..kinematics.sweeps import BATCHED_POSITION_SECONDS, positions_budget
+
         samples = number("samples", samples, integer=True, minimum=2)
+        positions_budget(mech, float(samples) ** len(mech.actuated), "samples", value=samples,
+                         seconds_per_position=BATCHED_POSITION_SECONDS)
         inputs = stroke_grid(mech, samples)
     else:
         inputs = {n: np.atleast_1d(np.asarray(lengths[n], dtype=float)) for n in mech.actuated}
@@ -202,8 +206,10 @@ def digging_forces(design: FrontShovelDesign | None = None, machine: ShovelMachi
     lip = found[LIP]
     ahead = lip[:, 0] - machine.slew_axis > machine.tipping_lines["front"]
     if not ahead.any():
+        given = "front_tipping_line" if machine.front_tipping_line is not None else "track_length"
         raise InputError(f"{mech.name}: the lip reaches no position ahead of the front tipping line "
-                         f"({machine.tipping_lines['front']:g} m from the slew axis)")
+                         f"({machine.tipping_lines['front']:g} m from the slew axis; the lip reaches "
+                         f"{float(np.nanmax(lip[:, 0])) - machine.slew_axis:.4g} m)", field=f"machine.{given}")
     Q, lip, F0, R = Q[ahead], lip[ahead], F0[ahead], [r[ahead] for r in R]
     inputs = {n: v[ahead] for n, v in inputs.items()}
     g = gravity(mech)

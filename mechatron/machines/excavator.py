@@ -50,6 +50,7 @@ from ..model.linkage_file import write_linkage_file
 from ..model.mechanism import Mechanism
 from ..model.planar import GROUND
 from ..report.result import Result
+from . import plausible
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -131,6 +132,22 @@ def transmission_angle(lever: float, other: float, psi: float) -> float:
 
 
 # ------------------------------------------------------------------------------------------------- design
+#: The plausible range of each field of a design (mechatron's, docs/front_shovel_design.md).
+DESIGN_RANGES = {
+    **dict.fromkeys(("max_digging_radius", "max_digging_depth", "max_digging_height", "min_digging_radius", "boom",
+                     "stick", "bucket", "boom_cylinder_lever", "stick_cylinder_lever", "bucket_cylinder_lever"),
+                    plausible.LENGTH),
+    **dict.fromkeys(("ground_angle_deg", "dump_angle_deg"), plausible.BUCKET_ANGLE),
+    **dict.fromkeys(("boom_lever_offset_deg", "stick_lever_angle_deg", "bucket_lever_angle_deg"), plausible.ANGLE),
+    "bucket_start_angle_deg": plausible.INCLUDED_ANGLE,
+    "boom_foot": plausible.POSITION,
+    **dict.fromkeys(("boom_ratio", "stick_ratio", "bucket_ratio"), plausible.STROKE_RATIO),
+    "arm_ratio_k": plausible.ARM_RATIO,
+    "boom_cylinders": plausible.BOOM_CYLINDERS,
+    **dict.fromkeys(("boom_mass", "stick_mass", "bucket_mass"), plausible.LINK_MASS),
+}
+
+
 @dataclass(frozen=True)
 class FrontShovelDesign:
     """Inputs of the design (the report's values by default; lengths m, angles in degrees as named).
@@ -166,13 +183,20 @@ class FrontShovelDesign:
     bucket_mass: float = 3800.0
 
     def __post_init__(self) -> None:
-        for name in ("max_digging_radius", "max_digging_depth", "max_digging_height", "min_digging_radius", "boom",
-                     "stick", "bucket", "boom_cylinder_lever", "stick_cylinder_lever", "bucket_cylinder_lever"):
-            if not getattr(self, name) > 0:
-                raise InputError(f"front shovel design: {name} must be > 0 m, got {getattr(self, name)!r}")
-        for name in ("boom_mass", "stick_mass", "bucket_mass"):
-            if not getattr(self, name) >= 0:
-                raise InputError(f"front shovel design: {name} must be >= 0 kg, got {getattr(self, name)!r}")
+        """Refuse a field outside its plausible range (:data:`DESIGN_RANGES`, mechatron's), naming the field."""
+        for name, bounds in DESIGN_RANGES.items():
+            value = getattr(self, name)
+            if name == "boom_foot":
+                if len(value) != 2:
+                    raise InputError(f"needs two numbers x, y (m), got {value!r}", field=name)
+                for x in value:
+                    bounds.check(name, x)
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+                raise InputError(f"expected a number, got {type(value).__name__} {value!r}", field=name)
+            if name == "boom_cylinders" and value != math.floor(value):
+                raise InputError(f"expected a whole number, got {value!r}", field=name)
+            bounds.check(name, value)
 
 
 @dataclass(frozen=True)
@@ -249,10 +273,17 @@ class Maths:
     maximum: Callable[[Any, Any], Any]
 
 
+#: The field of a design that asks for each working dimension the range formulas check.
+REQUIRED_BY = {"digging radius": "max_digging_radius", "minimum radius": "min_digging_radius",
+               "digging height": "max_digging_height", "digging depth": "max_digging_depth",
+               "radius at ground level": "boom_foot"}
+
+
 def _checked(f: Callable[[float], float]) -> Callable[[float, str], float]:
     def checked(x: float, what: str) -> float:
         if not -1 <= x <= 1:
-            raise InputError(f"front shovel: the links cannot reach the required {what}")
+            raise InputError(f"front shovel: the links (boom, stick, bucket) cannot reach the required {what}",
+                             field=REQUIRED_BY.get(what))
         return f(x)
 
     return checked
@@ -316,14 +347,29 @@ def synthesize(d: FrontShovelDesign | None = None) -> FrontShovel:
     for name, (t_lo, t_hi), ratio, lever in (("L1", th1, d.boom_ratio, d.boom_cylinder_lever),
                                              ("L2", th2, d.stick_ratio, d.stick_cylinder_lever)):
         offset = included_angle_offset(t_lo, t_hi, ratio, d.arm_ratio_k)
-        s, r = lever_synthesis(t_hi + offset, t_lo + offset, ratio)
+        s, r = _levers(t_hi + offset, t_lo + offset, ratio, "boom_ratio" if name == "L1" else "stick_ratio",
+                       "arm_ratio_k")
         fixed, driven = (lever, s * lever) if name == "L1" else (s * lever, lever)
         cylinders.append(CylinderDesign(name, fixed, driven, offset, (r * lever, ratio * r * lever), (t_lo, t_hi)))
     offset = d.bucket_start_angle_deg * DEG - th3[0]
-    s, r = lever_synthesis(th3[1] + offset, th3[0] + offset, d.bucket_ratio)
+    s, r = _levers(th3[1] + offset, th3[0] + offset, d.bucket_ratio, "bucket_ratio", "bucket_start_angle_deg")
     lever = d.bucket_cylinder_lever
     cylinders.append(CylinderDesign("L3", s * lever, lever, offset, (r * lever, d.bucket_ratio * r * lever), th3))
     return FrontShovel(d, th1, th2, th3, *cylinders, theta3_max_candidates=candidates)
+
+
+def _levers(psi_end: float, psi_start: float, ratio: float, name: str, angle: str) -> tuple[float, float]:
+    """:func:`lever_synthesis`, an error naming the design's field ``name`` (the cylinder's stroke ratio); an included
+    angle ψ that passes 0° or 180° over the stroke (a triangle folding through its dead point, where the cylinder
+    loses the joint) names the field ``angle`` that sets it."""
+    if math.floor(psi_start / math.pi) != math.floor(psi_end / math.pi) or math.sin(psi_start) == 0:
+        raise InputError(f"the cylinder's included angle goes from {psi_start / DEG:.4g}° to {psi_end / DEG:.4g}° "
+                         "over its stroke, through a dead point (0° or 180°) where the cylinder cannot turn the "
+                         "joint", field=angle)
+    try:
+        return lever_synthesis(psi_end, psi_start, ratio)
+    except InputError as exc:
+        raise InputError(exc.message, field=name) from None
 
 
 # ------------------------------------------------------------------------------------------ special positions
@@ -588,7 +634,7 @@ def read_design(path: str | Path) -> FrontShovelDesign:
     try:
         return replace(FrontShovelDesign(), **values)
     except InputError as exc:
-        raise InputError(exc.message, file=path) from None
+        raise InputError(exc.message, file=path, field=exc.field) from None
 
 
 # ------------------------------------------------------------------------------------------------ loads

@@ -25,7 +25,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ..report.result import Result
 from .excavator import FrontShovel, FrontShovelDesign, synthesize
@@ -47,6 +47,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..model.mechanism import Mechanism
 
+Array = NDArray[np.float64]
+
 #: The lift point: the arm's nose pin (stick–bucket pin) [ISO 10567].
 LIFT_POINT = "Q"
 #: ISO 10567's factors: rated = min(TIPPING_FACTOR · tipping load, HYDRAULIC_FACTOR · hydraulic capacity).
@@ -65,20 +67,24 @@ def lift_mechanism(design: FrontShovelDesign) -> tuple[FrontShovel, Mechanism]:
     return shovel, build_linkage(shovel_spec(shovel))
 
 
-def lift_angles(shovel: FrontShovel, x: float, y: float) -> tuple[float, float] | None:
-    """(θ1, θ2) (rad) that put the nose pin Q at (x, y) (m, design coordinates), or ``None`` where Q cannot get there
-    within the designed joint ranges (see the module docstring)."""
+def lift_angles(shovel: FrontShovel, x: ArrayLike, y: ArrayLike) -> tuple[Array, Array, Array]:
+    """(θ1, θ2, reached): the angles (rad) that put the nose pin Q at (x, y) (m, design coordinates; arrays of one
+    shape) and where Q gets there within the designed joint ranges (see the module docstring; the angles are
+    meaningless where it does not)."""
     d = shovel.design
     l1, l2 = d.boom, d.stick
     cx, cy = d.boom_foot
-    dist = math.hypot(x - cx, y - cy)
-    if not abs(l1 - l2) < dist < l1 + l2:
-        return None
-    t2 = math.acos((l1 * l1 + l2 * l2 - dist * dist) / (2 * l1 * l2))
-    t1 = math.atan2(y - cy, x - cx) + math.acos((l1 * l1 + dist * dist - l2 * l2) / (2 * l1 * dist))
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    dist = np.hypot(x - cx, y - cy)
+    reached = (abs(l1 - l2) < dist) & (dist < l1 + l2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t2 = np.arccos(np.clip((l1 * l1 + l2 * l2 - dist * dist) / (2 * l1 * l2), -1.0, 1.0))
+        t1 = np.arctan2(y - cy, x - cx) + np.arccos(np.clip((l1 * l1 + dist * dist - l2 * l2) / (2 * l1 * dist),
+                                                            -1.0, 1.0))
     tol = 1e-12
-    inside = all(lo - tol <= t <= hi + tol for t, (lo, hi) in ((t1, shovel.theta1), (t2, shovel.theta2)))
-    return (t1, t2) if inside else None
+    for t, (lo, hi) in ((t1, shovel.theta1), (t2, shovel.theta2)):
+        reached &= (lo - tol <= t) & (t <= hi + tol)
+    return t1, t2, reached
 
 
 def reach_boundary(shovel: FrontShovel, samples: int = 60) -> NDArray[np.float64]:
@@ -207,6 +213,37 @@ class LiftChart(Result):
             *self.table()])
 
 
+#: Memory (bytes) of one cell of the grid while the reached cells are found, and of one reached cell's analysis
+#: (its closed-loop position on the path through the cells, its forces and its rows), measured with tracemalloc with
+#: a margin; a reached cell's analysis takes at least CELL_SECONDS (s).
+GRID_BYTES, CELL_BYTES, CELL_SECONDS = 200.0, 2000.0, 2e-5
+GRID_ADVICE = "give fewer lift_radii or lift_heights in the [machine] table"
+
+
+def grid_cells(mech: Mechanism, radii: list[float], heights: list[float]) -> tuple[Array, Array]:
+    """(R, H): the radius and the height (m) of every cell of the grid ``radii`` × ``heights`` in a serpentine order
+    (the heights up at one radius, down at the next: short steps between cells), refused (:mod:`mechatron.io.budget`)
+    where the grid alone would not fit in memory."""
+    from ..io.budget import count, require
+
+    n = float(len(radii)) * len(heights)
+    require(f"the lift chart's grid of {count(len(radii))} radii × {count(len(heights))} heights ({count(n)} cells) "
+            f"of {mech.name}", n, GRID_BYTES, advice=GRID_ADVICE)
+    R, H = np.meshgrid(np.asarray(radii, dtype=float), np.asarray(heights, dtype=float), indexing="ij")
+    H[1::2] = H[1::2, ::-1]
+    return R.ravel(), H.ravel()
+
+
+def cells_budget(mech: Mechanism, reached: int) -> None:
+    """Refuse (:mod:`mechatron.io.budget`) the analysis of ``reached`` cells past the memory or time limit."""
+    from ..io.budget import count, require, seconds
+    from ..kinematics.sweeps import position_bytes
+
+    what = f"the lift chart's {count(reached)} cells the lift point of {mech.name} reaches"
+    require(what, reached, CELL_BYTES, fixed=position_bytes(mech)[0], advice=GRID_ADVICE)
+    seconds(what, reached, CELL_SECONDS, advice=GRID_ADVICE)
+
+
 def _value(row: dict[str, Any]) -> str:
     return f"{row['rated_kg']:.0f}" + ("*" if row["limit"] == "hydraulic" else "")
 
@@ -225,16 +262,13 @@ def lift_chart(design: FrontShovelDesign | None = None, machine: ShovelMachine |
     grid = default_grid(shovel, machine)
     radii = sorted(radii if radii is not None else grid[0])
     heights = sorted(heights if heights is not None else grid[1])
-    cells, lengths = [], {"L1": [], "L2": [], "L3": []}
+    R, H = grid_cells(mech, radii, heights)
+    t1, t2, reached = lift_angles(shovel, machine.slew_axis + R, H)
+    cells_budget(mech, int(reached.sum()))
+    cells = list(zip(R[reached].tolist(), H[reached].tolist()))
     bucket_mid = sum(shovel.theta3) / 2
-    for i, radius in enumerate(radii):
-        for height in heights if i % 2 == 0 else heights[::-1]:  # a serpentine: short steps between cells
-            angles = lift_angles(shovel, machine.slew_axis + radius, height)
-            if angles is None:
-                continue
-            cells.append((radius, height))
-            for cylinder, angle in zip(shovel.cylinders, (*angles, bucket_mid)):
-                lengths[cylinder.name].append(cylinder.length(angle))
+    lengths = {c.name: [c.length(a) for a in angles] for c, angles in
+               zip(shovel.cylinders, (t1[reached].tolist(), t2[reached].tolist(), [bucket_mid] * len(cells)))}
     rows: list[dict[str, Any]] = []
     names: list[str] = []
     if cells:

@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from . import plausible
 from .excavator import DEFAULT_CYLINDERS, RELIEF_PRESSURE, CylinderSpec, FrontShovelDesign
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -141,29 +142,38 @@ def check_machine(m: ShovelMachine) -> None:
     centre outside its tracks, the upper structure and undercarriage together not standing on their tracks over the
     front, the rear or the side, tipping lines that do not enclose the slew axis (a distance ≤ 0), a friction
     coefficient outside (0, 2], pressures outside 1 bar … 100 MPa (≤ 0 among them), bore ≤ rod ≤ 0 or a bore over 2 m
-    (a bore in mm), a grid radius ≤ 0."""
+    (a bore in mm), a grid radius ≤ 0; and every field within its plausible range (mechatron's,
+    :mod:`~mechatron.machines.plausible`: masses up to 2e6 kg, lengths 0.01 … 100 m, coordinates ±100 m, bores
+    0.01 … 2 m)."""
     def bad(name: str, message: str) -> InputError:
         return InputError(message, field=name)
 
     for name in ("upper_mass", "undercarriage_mass"):
         if not getattr(m, name) > 0:
             raise bad(name, f"must be > 0 kg, got {getattr(m, name):g}")
+        plausible.BODY_MASS.check(name, getattr(m, name))
     for name in ("upper_centre", "undercarriage_centre"):
         centre = getattr(m, name)
         if len(centre) != 2 or not all(math.isfinite(c) for c in centre):
             raise bad(name, f"needs two finite numbers x, y (m), got {centre!r}")
         if centre[1] < 0:
             raise bad(name, f"the centre is below the ground (y = {centre[1]:g} m < 0)")
+        plausible.POSITION.check(name, centre[0])
+        plausible.HEIGHT.check(name, centre[1])
     for name in ("track_length", "track_gauge"):
         if not getattr(m, name) > 0:
             raise bad(name, f"must be > 0 m, got {getattr(m, name):g}")
+        plausible.LENGTH.check(name, getattr(m, name))
     for name in ("front_tipping_line", "rear_tipping_line", "side_tipping_line"):
         value = getattr(m, name)
         if value is not None and not value > 0:
             raise bad(name, f"the tipping line does not enclose the slew axis: its distance from the axis must be "
                             f"> 0 m, got {value:g}")
+        if value is not None:
+            plausible.LENGTH.check(name, value)
     if not math.isfinite(m.slew_axis):
         raise bad("slew_axis", f"must be a finite number (m), got {m.slew_axis!r}")
+    plausible.POSITION.check("slew_axis", m.slew_axis)
     lines = m.tipping_lines
     x = m.undercarriage_centre[0] - m.slew_axis
     if not -lines["rear"] < x < lines["front"]:
@@ -189,12 +199,17 @@ def check_machine(m: ShovelMachine) -> None:
     if set(m.bores) != set(CYLINDER_TABLES.values()):
         raise bad("bores", f"needs the cylinders L1, L2, L3, got {sorted(m.bores)}")
     for name, (bore, rod) in m.bores.items():
+        plausible.BORE.check(f"{name}.bore", bore)
+        plausible.ROD.check(f"{name}.rod", rod)
         if not (2 > bore > rod > 0):
             raise bad(f"{name}.bore", f"need 2 m > bore > rod > 0 m, got bore {bore:g}, rod {rod:g}")
     if m.lift_radii is not None and (not m.lift_radii or min(m.lift_radii) <= 0):
         raise bad("lift_radii", f"needs radii > 0 m, got {list(m.lift_radii)}")
     if m.lift_heights is not None and not m.lift_heights:
         raise bad("lift_heights", "needs at least one height (m)")
+    for name, plausible_range in (("lift_radii", plausible.LENGTH), ("lift_heights", plausible.POSITION)):
+        for value in getattr(m, name) or ():
+            plausible_range.check(name, value)
 
 
 # ------------------------------------------------------------------------------------------------ the file

@@ -167,6 +167,10 @@ class Drive:
             raise InputError(f"efficiency must be in (0, 1], got {self.efficiency:g}", field="efficiency")
         if not self.viscous_friction >= 0:
             raise InputError(f"viscous friction must be >= 0, got {self.viscous_friction:g}", field="viscous_friction")
+        positive, negative = (float(x) for x in self.coulomb_friction)
+        if not (positive >= 0 >= negative and math.isfinite(positive) and math.isfinite(negative)):
+            raise InputError(f"Coulomb friction opposes the motion: (T_c+ >= 0 for positive motor speed, T_c- <= 0 for "
+                             f"negative), got ({positive:g}, {negative:g})", field="coulomb_friction")
         offset = tuple(float(x) for x in np.ravel(self.offset))
         if len(offset) != 3 or not all(math.isfinite(x) for x in offset):
             raise InputError(f"a drive's offset is 3 finite numbers (m), got {self.offset!r}", field="offset")

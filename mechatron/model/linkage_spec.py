@@ -354,11 +354,18 @@ def _check_points_are_fixed(spec: LinkageSpec) -> None:
 def declared_partners(spec: LinkageSpec, body: BodySpec, lengths: Mapping[str, object]) -> dict[str, list]:
     """For every drawn point of ``body`` the declared lengths that place it: [(earlier point, length name)] for
     each named length in ``lengths`` between it and a point listed before it on the body."""
-    ends = {frozenset(length.points): length.name for length in spec.lengths if length.name in lengths}
     drawn = [p for p in body.points if spec.point(p).at is not None]
+    order = {p: k for k, p in enumerate(drawn)}
+    ends: dict[str, dict[str, str]] = {}  # point → {other point: length name}; the last length of a pair counts
+    for length in spec.lengths:
+        if length.name in lengths and len(set(length.points)) == 2:
+            a, b = length.points
+            ends.setdefault(a, {})[b] = length.name
+            ends.setdefault(b, {})[a] = length.name
     out: dict[str, list] = {}
     for k, p in enumerate(drawn):
-        out[p] = [(q, ends[frozenset((p, q))]) for q in drawn[:k] if frozenset((p, q)) in ends]
+        earlier = [(order[q], q, name) for q, name in ends.get(p, {}).items() if order.get(q, k) < k]
+        out[p] = [(q, name) for _, q, name in sorted(earlier)]
     return out
 
 

@@ -70,16 +70,39 @@ def _inertial(link: FieldReader) -> Inertial:
     return _checked(link, Inertial, mass, com, inertia, physical)
 
 
+#: mechatron's plausible range of a drive's efficiency η (its own rule, docs/robot_file.md; the catalogs' too): no
+#: transmission keeps less than 1 % of its input, and below it the torque asked of the motor, τ/(u η), overflows.
+EFFICIENCY_MIN = 0.01
+#: mechatron's plausible range of |u|, a drive's gear ratio (rad/rad, or rad/m for a screw: 2π/lead; its own rule,
+#: docs/robot_file.md): from a large pulley driving a small joint to a fine-pitch screw's 2π/0.1 mm ≈ 6.3e4 rad/m.
+GEAR_RATIO_RANGE = (1e-3, 1e6)
+
+
 def _drive(link: FieldReader) -> Drive | None:
+    """The ``drive`` table of a link, checked: besides each field's own bounds (:class:`~mechatron.model.dh.Drive`),
+    the efficiency and |gear ratio| within mechatron's plausible ranges (:data:`EFFICIENCY_MIN`,
+    :data:`GEAR_RATIO_RANGE`) and the Coulomb friction opposing the motion, T_c+ ≥ 0 ≥ T_c− (friction dissipates:
+    T_c(ω)·ω ≥ 0)."""
     table = link.table("drive", None)
     if table is None:
         return None
     coulomb = table.vector("coulomb_friction", 2, np.zeros(2))
+    if not (coulomb[0] >= 0 and coulomb[1] <= 0):
+        raise table.error("coulomb_friction", f"Coulomb friction opposes the motion: [T_c+ >= 0 for positive motor "
+                          f"speed, T_c- <= 0 for negative], got [{coulomb[0]:g}, {coulomb[1]:g}]")
+    ratio = table.number("gear_ratio", 1.0, nonzero=True)
+    if not GEAR_RATIO_RANGE[0] <= abs(ratio) <= GEAR_RATIO_RANGE[1]:
+        raise table.error("gear_ratio", f"|gear ratio| must be between {GEAR_RATIO_RANGE[0]:g} and "
+                          f"{GEAR_RATIO_RANGE[1]:g} (mechatron's plausible range), got {ratio:g}")
+    efficiency = table.number("efficiency", 1.0, positive=True)
+    if efficiency < EFFICIENCY_MIN:
+        raise table.error("efficiency", f"efficiency must be between {EFFICIENCY_MIN:g} and 1 (mechatron's plausible "
+                          f"range), got {efficiency:g}")
     drive = _checked(
         table, Drive,
         rotor_inertia=table.number("rotor_inertia", 0.0, minimum=0.0),
-        gear_ratio=table.number("gear_ratio", 1.0, nonzero=True),
-        efficiency=table.number("efficiency", 1.0, positive=True),
+        gear_ratio=ratio,
+        efficiency=efficiency,
         viscous_friction=table.number("viscous_friction", 0.0, minimum=0.0),
         coulomb_friction=(float(coulomb[0]), float(coulomb[1])),
         placement=table.string("placement", None),

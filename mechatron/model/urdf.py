@@ -28,6 +28,7 @@ from ..io.values import LARGEST
 from .derivatives import PlacementDerivatives, empty
 from .dh import Drive
 from .mechanism import Mechanism, Parameter, find_frame
+from .robotfile import GEAR_RATIO_RANGE
 
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 _AXIS_NAMES = ("x", "y", "z")
@@ -209,11 +210,55 @@ def _build(path: Path, locked_joints: Sequence[str]) -> pin.Model:
         model = pin.buildReducedModel(model, ids, pin.neutral(model))
     srdf = path.with_suffix(".srdf")
     if srdf.is_file() and "rotor_params" in srdf.read_text(errors="replace"):
+        _check_rotor_numbers(srdf)
         try:
             pin.loadRotorParameters(model, str(srdf), False)
         except (RuntimeError, ValueError) as exc:
             raise InputError(f"cannot read rotor parameters: {exc}", file=srdf) from None
+        _check_rotor_parameters(model, srdf)
     return model
+
+
+def _check_rotor_numbers(srdf: Path) -> None:
+    """Every ``mass`` and ``gear_ratio`` attribute of the SRDF's ``<rotor_params>`` joints is a finite number (what
+    Pinocchio's reader reports without naming the joint); else an error naming the SRDF, the joint and the
+    attribute. A file that is not XML is left to Pinocchio's reader."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(srdf).getroot()
+    except ET.ParseError:
+        return
+    for joint in root.iter("joint"):
+        for attribute in ("mass", "gear_ratio"):
+            text = joint.get(attribute)
+            if text is None:
+                continue
+            try:
+                finite = math.isfinite(float(text))
+            except ValueError:
+                finite = False
+            if not finite:
+                raise InputError(f"expected a finite number, got {text!r}", file=srdf,
+                                 field=f"rotor_params.{joint.get('name')}.{attribute}")
+
+
+def _check_rotor_parameters(model: pin.Model, srdf: Path) -> None:
+    """Every joint's rotor inertia ``mass`` (kg·m²) ≥ 0 and at most :data:`~mechatron.io.values.LARGEST`, its
+    ``gear_ratio`` u with |u| within mechatron's plausible range (:data:`~mechatron.model.robotfile.GEAR_RATIO_RANGE`,
+    as a robot file's); else an error naming the SRDF, the joint and the attribute."""
+    low, high = GEAR_RATIO_RANGE
+    for j in range(1, model.njoints):
+        if model.joints[j].nv != 1:
+            continue
+        i, field = model.joints[j].idx_v, f"rotor_params.{model.names[j]}"
+        inertia, ratio = float(model.rotorInertia[i]), float(model.rotorGearRatio[i])
+        if not 0 <= inertia <= LARGEST:
+            raise InputError(f"the rotor inertia (attribute 'mass', kg m^2) must be >= 0 and <= {LARGEST:g}, got "
+                             f"{inertia:g}", file=srdf, field=f"{field}.mass")
+        if not low <= abs(ratio) <= high:
+            raise InputError(f"|gear ratio| must be between {low:g} and {high:g} (mechatron's plausible range), got "
+                             f"{ratio:g}", file=srdf, field=f"{field}.gear_ratio")
 
 
 def _origin_parameters(model: pin.Model) -> dict[str, Parameter]:
