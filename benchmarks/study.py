@@ -34,7 +34,12 @@ design in every chunk alike; 1,000 designs of the same spec 30.6 s, 600 designs 
 two-core virtual machine's speed varies by some 15 % from hour to hour). With the periodic thermal state in machine
 code (2026-12-02, the same command and machine): 10,000 designs in 304 s user + 2.7 s system, peak memory 220 MB; with
 the magnets' heating and the gearbox peak rules added the same day, 322 s + 2.5 s (the 300-design study took 9.0 to
-12.0 s within the hour: this machine's own variation). No 16-core machine was lent to this task:
+12.0 s within the hour: this machine's own variation). With each design's sizing started from the design before's
+drives (2026-12-02; the same fixed point, one weighted pass and a confirming one where every drive loads only joints
+sized after it, ``tests/test_sizing_start.py``) and the catalogs' arrays built once a study: 10,000 designs in
+178.1 s user + 2.0 s system, peak memory 222 MB, every design feasible and its outputs identical to those of the
+sizing without the start (a 300-design table compared value for value); ``benchmarks/sizing.py`` on the same
+machine: 22.1 ms a design, the default sizing 0.99× its floor (single pass 1.27×). No 16-core machine was lent to this task:
 the 1, 2, 4, 8 and 16 worker table is still to be measured there.
 """
 
