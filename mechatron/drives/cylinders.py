@@ -290,6 +290,17 @@ class CylinderSizing(DriveSizing):
                                                                      / self.fixing_factor)
         return euler_load(self.cylinder_data["rod"], length, self.fixing_factor, STEEL_MODULUS) / BUCKLING_SAFETY
 
+    def chart_frame(self) -> pd.DataFrame:
+        """The data of :meth:`plot`, one row per point (SI): ``series`` — ``operating point`` (every sample of the
+        task: ``t_s`` (s), the cylinder speed and the force of one cylinder, F/``count``, signed, + pushes) and
+        ``rod buckling limit`` (F_E(L)/3.5 at each sample, :meth:`buckling_limit`) —, ``speed_m_s`` (m/s) and
+        ``force_per_cylinder_N`` (N: what one catalog cylinder carries, as the checks take it)."""
+        n = len(self.duty.t)
+        return pd.DataFrame({"series": ["operating point"] * n + ["rod buckling limit"] * n,
+                             "t_s": np.tile(self.duty.t, 2), "speed_m_s": np.tile(self.duty.speed, 2),
+                             "force_per_cylinder_N": np.concatenate([self.duty.torque / self.count,
+                                                                     self.buckling_limit()])})
+
     def plot(self, ax: Axes | None = None) -> Figure:
         """The force per cylinder (the coordinate's force / ``count``) over the cylinder speed along the task,
         coloured by time (the colour bar), with the push limit p A_p and the pull limit −p A_a at the pressure of

@@ -291,6 +291,7 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
     V, A = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (trajectory.v, trajectory.a))
     if mech.closures:
         Q, tau, holding, inertia = _closed_loop(bare, kinematics or mech, trajectory, loads, payload)
+        check_strokes(mech, Q, t)
         static = _Columns(holding)  # the holding forces are computed when first read
         names = list(mech.actuated)
         kinds = ["cylinder" if n in mech.cylinders else mech.joint_kind(n) for n in names]
@@ -331,6 +332,31 @@ def joint_duties(mech: Mechanism, trajectory: Trajectory, loads: Loads = None, *
         duties.append(JointDuty(name, kind, t, V[:, j], A[:, j], torque, static.column(j), float(inertia[j]),
                                 float(strokes[j]), moving, friction, efficiency))
     return duties
+
+
+#: How far (m) a cylinder's length may pass its stroke's ends in :func:`check_strokes` (rounding of the loops).
+STROKE_TOLERANCE = 1e-9
+
+
+def check_strokes(mech: Mechanism, Q: NDArray[np.float64], t: NDArray[np.float64]) -> None:
+    """Refuse (:class:`~mechatron.errors.MechatronError`, one line) a task that moves a hydraulic cylinder of
+    ``mech`` beyond its stroke [L_min, L_max] (m): its length (the cylinder joint's coordinate in the configurations
+    ``Q`` of the samples at times ``t``, s) outside it by more than :data:`STROKE_TOLERANCE` at some sample. A
+    passive cylinder's length follows the loops (no catalog cylinder of that stroke can follow the motion, whatever
+    its other checks); a driven one's is the task's own (refused where the task is read)."""
+    from ..errors import MechatronError
+
+    for name, spec in mech.cylinders.items():
+        length = np.asarray(Q, dtype=float)[:, mech.model.joints[mech.joint_id(name)].idx_q]
+        low, high = spec.stroke
+        outside = (length < low - STROKE_TOLERANCE) | (length > high + STROKE_TOLERANCE)
+        if outside.any():
+            k = int(np.argmax(np.maximum(low - length, length - high)))  # the farthest out
+            role = "driven" if name in mech.actuated else "passive: its length follows the loops"
+            raise MechatronError(
+                f"{mech.name}: cylinder {name} ({role}) is {length.min() * 1e3:.1f} … {length.max() * 1e3:.1f} mm "
+                f"long along the task, outside its stroke [{low * 1e3:g}, {high * 1e3:g}] mm (farthest at t = "
+                f"{t[k]:g} s, {length[k] * 1e3:.1f} mm): no cylinder of that stroke can follow the motion")
 
 
 def drive_losses(mech: Mechanism, name: str) -> tuple[tuple[float, float, float], float]:

@@ -39,9 +39,9 @@ REPORTED = 5
 COLUMNS = ("joint", "motor", "converter", "ratio", "check", "value", "limit", "unit", "margin", "pass")
 #: Runners-up reported of each kind: the nearest better-ranked candidates that fail a check, the next feasible ones.
 RUNNERS_UP = 2
-#: The columns of a chart's data (:meth:`DriveSizing.chart_frame`) by the kind of coordinate: speed, force.
-CHART_COLUMNS = {"revolute": ("speed_rad_s", "torque_Nm"), "prismatic": ("speed_m_s", "force_N"),
-                 "cylinder": ("speed_m_s", "force_N")}
+#: The columns of a chart's data (:meth:`DriveSizing.chart_frame`) by the kind of coordinate: speed, force (a
+#: cylinder's: :meth:`~mechatron.drives.cylinders.CylinderSizing.chart_frame`, per cylinder).
+CHART_COLUMNS = {"revolute": ("speed_rad_s", "torque_Nm"), "prismatic": ("speed_m_s", "force_N")}
 
 
 class Later:

@@ -120,7 +120,8 @@ class SizingResult(Result):
         return "weightless" if self.single_pass else "included" if self.masses_included else "added"
 
     def _drive_masses_line(self) -> str:
-        """The report's line saying which of :attr:`drive_masses` applied."""
+        """The report's line saying which of :attr:`drive_masses` applied; a cylinder's catalog mass is never added
+        (the mechanism file's ``barrel_mass`` and ``rod_mass`` are its cylinders' bodies), and the line says so."""
         if self.drive_masses == "weightless":
             return "drive masses: not added (single pass: the drives weightless)"
         total = self.totals()["drive_mass_kg"]
@@ -130,7 +131,17 @@ class SizingResult(Result):
                     f"not added; the chosen drives weigh {chosen} in all, the link masses as given stand for them")
         passes = f"{len(self.iterations)} pass" + ("es" if len(self.iterations) > 1 else "")
         state = f"fixed point after {passes}" if self.converged else f"no fixed point after {passes}"
-        return f"drive masses: added at their mounts ({chosen} in all), {state}"
+        cylinders = [j for j in self.joints if j.kind == "cylinder"]
+        if not cylinders:
+            return f"drive masses: added at their mounts ({chosen} in all), {state}"
+        masses = [j.drive_mass() for j in cylinders]
+        weigh = "" if None in masses else f" ({sum(masses):.4g} kg in all)"
+        barrels = (f"the cylinders' catalog masses{weigh} are not in the model, which carries the barrel_mass and "
+                   f"rod_mass of {self.mechanism}'s cylinder joints as given")
+        if not self.mounts:
+            return f"drive masses: none added — {barrels}"
+        moved = sum(m.mass for m in self.mounts.values())
+        return f"drive masses: the motors' added at their mounts ({moved:.4g} kg in all), {state}; {barrels}"
 
     def critical(self) -> DriveSizing:
         """The joint whose drive has the smallest margin (an infeasible one first)."""

@@ -31,7 +31,7 @@ import pinocchio as pin
 
 from ..errors import InputError
 from ..io.schema import FieldReader
-from ..kinematics.inverse import inverse_kinematics, pose_error
+from ..kinematics.inverse import into_limits, inverse_kinematics, limit_violation, pose_error
 from ..model.mechanism import Mechanism
 from .motion import Trajectory, coordinate_names, make_profile
 
@@ -161,6 +161,10 @@ def _line(follower: _Follower, k: int, q: np.ndarray, profile: str, dt: float, v
             current, residual = follower.solve(current, start + si * delta, rotation)
             if residual > REACHED:
                 raise _unreachable(follower, k, current, si, follower.miss_at(current, start + si * delta, rotation))
+            outside = limit_violation(follower.mech, current)
+            if outside is not None:
+                where = "at this waypoint" if i == len(s) - 1 else f"at {100 * si:.4g} % of the line to this waypoint"
+                raise path.error(k, f"the inverse kinematics (the seed's branch) puts {outside} {where}")
             Q[i] = current
             V[i], A[i] = follower.rates(current, direction, ds[i], dds[i])
         stretch = max(1.0, float(np.max(np.abs(V) / vlim)), math.sqrt(float(np.max(np.abs(A) / alim))))
@@ -201,7 +205,9 @@ def cartesian_cycle(mech: Mechanism, path: CartesianPath, *, profile: str = "tra
     lines through the waypoints timed by ``profile`` at the frame's limits, sampled every ``dt`` s, resting
     ``dwell`` s at every waypoint after the first, slowed where the joint limits ``vmax`` (rad/s, m/s; default the
     model's) and ``amax`` (rad/s², m/s²; default none) would be passed. An unreachable waypoint or line is an
-    :class:`~mechatron.errors.InputError` naming the waypoint and the residual."""
+    :class:`~mechatron.errors.InputError` naming the waypoint and the residual; so is a solution, at a waypoint or
+    along the line to it, outside a joint's position limits (the model's, where finite: naming the joint,
+    :func:`~mechatron.kinematics.inverse.limit_violation`)."""
     if mech.closures:
         raise InputError(f"{mech.name} has closed loops: Cartesian waypoints need a serial arm (give the inputs' "
                          "waypoints instead)", file=path.file, field="cartesian")
@@ -213,6 +219,10 @@ def cartesian_cycle(mech: Mechanism, path: CartesianPath, *, profile: str = "tra
     if residual > REACHED:
         raise path.error(0, f"unreachable: frame '{path.frame}' comes no nearer to this waypoint than "
                             f"{follower.miss(q, 0)} (from the seed configuration)")
+    q = into_limits(mech, q)  # the same pose: a solution a turn away from the seed comes back within the limits
+    outside = limit_violation(mech, q)
+    if outside is not None:
+        raise path.error(0, f"the inverse kinematics (from the seed configuration) puts {outside} at this waypoint")
     zeros = np.zeros((1, mech.nv))
     times, Qs, Vs, As = [np.zeros(1)], [q[None]], [zeros], [zeros]
     end = 0.0

@@ -29,6 +29,8 @@ from ..model.mechanism import Mechanism
 TOLERANCE = 1e-12
 #: The most Levenberg–Marquardt iterations of one solve.
 MAX_ITERATIONS = 200
+#: How far (rad, m) a solution may pass a joint's position limit in :func:`limit_violation` (rounding).
+LIMIT_TOLERANCE = 1e-9
 
 
 def pose_error(model: pin.Model, data: pin.Data, q: np.ndarray, fid: int, position: np.ndarray,
@@ -77,3 +79,44 @@ def inverse_kinematics(mech: Mechanism, position: ArrayLike, seed: ArrayLike, *,
         else:
             break  # no step reduces the error: the nearest the frame comes to the target
     return q, norm
+
+
+def _limited(mech: Mechanism):
+    """(joint name, its coordinate's index in q, lower, upper) of every joint of one coordinate (limits may be
+    infinite)."""
+    model = mech.model
+    for name in mech.joint_names:
+        joint = model.joints[mech.joint_id(name)]
+        if joint.nq == 1:  # a continuous or multi-coordinate joint has no position limit of one coordinate
+            i = joint.idx_q
+            yield name, i, float(model.lowerPositionLimit[i]), float(model.upperPositionLimit[i])
+
+
+def into_limits(mech: Mechanism, q: ArrayLike) -> NDArray[np.float64]:
+    """q (nq,) with every revolute joint's angle outside its finite limits turned by a whole number of turns,
+    q + 2π k, where that brings it inside: the same pose (an inverse kinematics solution from a seed may come out a
+    turn away, ``pin.integrate`` does not wrap angles). Other values as they are."""
+    q = np.asarray(q, dtype=float).copy()
+    for name, i, low, high in _limited(mech):
+        if mech.joint_kind(name) != "revolute" or not (np.isfinite(low) and np.isfinite(high)) or low <= q[i] <= high:
+            continue
+        turned = low + (q[i] - low) % (2 * np.pi)
+        if turned <= high:
+            q[i] = turned
+    return q
+
+
+def limit_violation(mech: Mechanism, q: ArrayLike, tolerance: float = LIMIT_TOLERANCE) -> str | None:
+    """The first joint of one coordinate whose value in the configuration q (nq,) is outside the model's finite
+    position limits (``lowerPositionLimit``, ``upperPositionLimit``) by more than ``tolerance``, as words (``joint
+    q2 at -100°, outside its limits [-90, 90]°,``; degrees for an angle, mm for a length); ``None`` when every
+    joint is within its limits. The iteration of :func:`inverse_kinematics` knows no limits: the caller checks."""
+    q = np.asarray(q, dtype=float)
+    for name, i, low, high in _limited(mech):
+        value = float(q[i])
+        if not (np.isfinite(low) and value < low - tolerance or np.isfinite(high) and value > high + tolerance):
+            continue
+        scale, unit = (180 / np.pi, "°") if mech.joint_kind(name) == "revolute" else (1e3, " mm")
+        return (f"joint {name} at {value * scale:.6g}{unit}, outside its limits [{low * scale:.6g}, "
+                f"{high * scale:.6g}]{unit},")
+    return None

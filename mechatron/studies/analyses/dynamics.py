@@ -3,7 +3,9 @@
 The motion is a synchronised point-to-point move from ``start`` to ``end`` (one coordinate per joint of a serial
 arm, or per actuated input of a closed loop; rad and m, or ``start_deg``/``end_deg`` with the angles in degrees)
 with the ``profile`` (default trapezoidal) and the limits ``vmax``, ``amax`` (:func:`mechatron.dynamics.motion.move`)
-sampled every ``dt`` s; or the trajectory of a ``task`` file (its payload and loads included); or, with neither,
+sampled every ``dt`` s; or the trajectory of a ``task`` file (its payload and loads included, a payload carried on
+part of the task only where it is carried: ``payload_from``, ``payload_until``, :mod:`mechatron.dynamics.segments`,
+as ``mechatron size`` and :func:`mechatron.drives.loads.trajectory_loads` take it); or, with neither,
 the mechanism's default task (:func:`mechatron.dynamics.task.default_task`).
 
 The loads: for a serial arm the joint torques and forces τ = M(q) q̈ + C(q, q̇) q̇ + g(q) (RNEA,
@@ -126,26 +128,36 @@ def input_files(mech, options: dict[str, Any]) -> list[Path]:
 
 
 def _motion(mech, opts: dict[str, Any]):
-    """(mechanism with the task's payload, trajectory, loads) of one design."""
+    """(mechanism with the task's payload, trajectory, loads, schedule) of one design; with a payload carried on
+    part of the task (``payload_from``, ``payload_until``) the mechanism without it and the task's
+    :class:`~mechatron.dynamics.segments.PayloadSchedule`, else ``None``."""
     from ...dynamics.motion import move
     from ...dynamics.task import default_task, read_task
 
     if opts["start"] is not None:
         trajectory = move(None if mech.closures else mech, opts["start"], opts["end"], profile=opts["profile"],
                           vmax=opts["vmax"], amax=opts["amax"], duration=opts["duration"], dt=opts["dt"])
-        return mech, trajectory, None
+        return mech, trajectory, None, None
     task = read_task(opts["task"], mech) if opts["task"] is not None else default_task(mech)
-    return task.mechanism, task.trajectory, task.loads or None
+    if task.schedule is not None:
+        return task.unloaded, task.trajectory, task.loads or None, task.schedule
+    return task.mechanism, task.trajectory, task.loads or None, None
 
 
 def outputs(mech, options: dict[str, Any], seed: int) -> dict[str, float]:
     """Peak and RMS load of every actuator (N·m or N) along the motion. ``seed`` is not used (no random draw)."""
     opts = _options(mech, options)
-    mech, trajectory, loads = _motion(mech, opts)
-    if mech.closures:
+    mech, trajectory, loads, schedule = _motion(mech, opts)
+    if mech.closures and schedule is not None:
+        from ...dynamics.segments import closed_loop_duty
+
+        loads_ = closed_loop_duty(mech, mech, trajectory, loads, schedule).forces
+    elif mech.closures:
         from ...dynamics.trajectory import actuator_forces
 
         _, loads_ = actuator_forces(mech, trajectory, loads)
+    elif schedule is not None:
+        loads_ = schedule.inverse_dynamics(mech, trajectory.q, trajectory.v, trajectory.a, loads)
     else:
         from ...dynamics.tree import inverse_dynamics
 

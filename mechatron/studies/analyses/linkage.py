@@ -20,7 +20,10 @@ poses): static, at rest — gravity on the mechanism's bodies, plus, with a ``ta
 :func:`mechatron.dynamics.task.read_task`), the task's payload (its mass and centre on the body that carries
 ``payload_at``) and its ``[[loads]]``, plus the ``load`` (Fx, Fy) on the point: the forces are those of the
 ``dynamics`` analysis of the same task and payload wherever the motion is at rest (v = a = 0). The task's motion is
-not used: the positions are the sweep's.
+not used: the positions are the sweep's. A payload the task carries on part of its motion only (``payload_from``,
+``payload_until``, :mod:`mechatron.dynamics.segments`) gives two load cases, with and without it, since a position
+of the sweep has no time in the task: at each position the force is that of the case of the larger magnitude and
+the largest pressure that of either case (our rule: the envelope of the static forces the task can see there).
 
 **Held inputs and named poses.** ``hold = { INPUT = value }`` (m or rad, within the input's limits) keeps those
 inputs at their values while the others sweep from their lower to their upper limit together (a sweep of one input
@@ -334,16 +337,19 @@ def _positions(mech, opts: dict[str, Any], held: dict[str, float], frames: list[
     return _Positions(result.table.iloc[ramp:].reset_index(drop=True), result.q[ramp:])
 
 
-def _load_case(mech, opts: dict[str, Any]) -> tuple[Any, list | None]:
-    """(the mechanism the forces are of, the loads): the task's payload on ``mech`` and its loads with the
-    ``load`` on the point (module docstring, "The load case")."""
+def _load_case(mech, opts: dict[str, Any]) -> tuple[tuple[Any, ...], list | None]:
+    """(the mechanisms the forces are of, the loads): the task's payload on ``mech`` — with a payload carried on
+    part of the task, ``mech`` with it and without it — and its loads with the ``load`` on the point (module
+    docstring, "The load case")."""
     loads = list(_loads(opts["point"], opts) or [])
+    cases: tuple[Any, ...] = (mech,)
     if opts["task"] is not None:
         from ...dynamics.task import read_task
 
         task = read_task(opts["task"], mech)
-        mech, loads = task.mechanism, [*task.loads, *loads]
-    return mech, loads or None
+        cases = (task.mechanism,) if task.schedule is None else (task.mechanism, task.unloaded)
+        loads = [*task.loads, *loads]
+    return cases, loads or None
 
 
 def _evaluate(mech, opts: dict[str, Any]) -> tuple[dict[str, float], _Sweep]:
@@ -430,8 +436,9 @@ def _cylinder_outputs(mech, Q: np.ndarray, opts: dict[str, Any], case) -> tuple[
     force and pressure."""
     from ...dynamics.trajectory import holding_forces
 
-    loaded, loads = case
-    forces = holding_forces(loaded, Q, loads)
+    mechanisms, loads = case
+    each = np.stack([np.atleast_2d(holding_forces(m, Q, loads)) for m in mechanisms])  # (cases, N, n_actuated)
+    forces = np.take_along_axis(each, np.argmax(np.abs(each), axis=0)[None], axis=0)[0]
     out = {}
     for j, name in enumerate(mech.actuated):
         if name not in mech.cylinders:
@@ -439,7 +446,7 @@ def _cylinder_outputs(mech, Q: np.ndarray, opts: dict[str, Any], case) -> tuple[
         out[f"{name}_max_force_N"] = float(np.abs(forces[:, j]).max())
         if name in opts["cylinders"]:
             spec = opts["cylinders"][name]
-            out[f"{name}_max_pressure_Pa"] = float(max(spec.pressure(f) for f in forces[:, j]))
+            out[f"{name}_max_pressure_Pa"] = float(max(spec.pressure(f) for f in each[:, :, j].ravel()))
     return forces, out
 
 
