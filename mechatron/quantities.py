@@ -217,6 +217,15 @@ def suffix(name: str) -> str | None:
     return max(found, key=len) if found else None
 
 
+def unit_of(column: str) -> str:
+    """The unit of an output column: of a quantity of the registry its unit (:func:`unit`: ``reach_m`` → m); of a
+    column that is none, the unit its name ends with (:data:`SUFFIXES`), else ``-``."""
+    if is_quantity(column):
+        return unit(column)
+    end = suffix(column)
+    return "-" if end is None else SUFFIXES[end]
+
+
 def axis_label(name: str) -> str:
     """The label of a plot axis for the quantity ``name``: the name without its unit suffix, underscores as spaces,
     the unit in brackets unless it is ``-`` (``reach_m`` → ``reach (m)``, ``energy_per_cycle_J`` → ``energy per

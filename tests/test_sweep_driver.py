@@ -116,10 +116,11 @@ def test_uneven_input_steps(monkeypatch, driver):
     rng = np.random.default_rng(7)
     mech = mechatron.load("crank_slider")
     steps = rng.uniform(1e-4, 0.045, 499)
-    steps[::50] = 0.07  # ten steps longer than the continuation's 0.05 rad: left to the Python continuation
+    steps[::50] = 0.07  # ten steps longer than the continuation's 0.05 rad: each cut in two for the driver
     angles = 0.2 + np.concatenate([[0.0], np.cumsum(steps)])
     result = sweeps.sweep(mech, {"q1": angles}, links=["rod"])
-    assert driver == [500] and len(result.table) == 500 and result.failures.empty
+    assert driver == [510] and len(result.table) == 500 and result.failures.empty
+    np.testing.assert_array_equal(result.table["q1"], angles)  # the samples asked for, exactly
     assert len(driver.left) <= 20  # the driver solved the others
     assert_same(result, python_path(monkeypatch, mech, {"q1": angles}, links=["rod"]))
     check_crank_slider(result)

@@ -19,6 +19,12 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     from ..io.toml import read_toml
     from ..studies.design_spec import is_design_file
 
+    if args.out:  # no input is one of the files -o replaces or removes (the spec, its mechanism, …)
+        from ..io.output import will_write
+        from ..studies.design import output_files
+
+        for path in output_files(args.out):
+            will_write(path, "-o")
     general = is_design_file(read_toml(args.spec))
     if args.out and not general:
         raise InputError("-o writes the designs of a design file (docs/design_file.md); this is a named problem's "

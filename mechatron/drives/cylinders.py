@@ -98,6 +98,14 @@ def cylinder_lengths(mech: Mechanism, trajectory: Trajectory) -> dict[str, NDArr
             for name in mech.cylinders}
 
 
+
+def cylinder_areas(bore: ArrayLike, rod: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The piston area A₁ = π D²/4 and the annulus area A₂ = π (D² − d²)/4 (m²) of a cylinder of bore D and rod d
+    (m; arrays of rows alike): the push force is p A₁, the pull force p A₂."""
+    bore, rod = np.asarray(bore, dtype=float), np.asarray(rod, dtype=float)
+    piston = math.pi * bore**2 / 4
+    return piston, piston - math.pi * rod**2 / 4
+
 @dataclass
 class CylinderSizing(DriveSizing):
     """The chosen catalog cylinder of one cylinder coordinate (or the closest one when none is feasible), a result:

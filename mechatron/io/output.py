@@ -525,6 +525,15 @@ def stale_failures(path: str | Path) -> Path | None:
     return companion if header.split(",")[-1] == "reason" else None
 
 
+def will_write(path: str | Path, option: str) -> None:
+    """Tell the current transaction that ``path`` (named by ``option``, e.g. ``-o DIR``) may be replaced or removed
+    by this command (:meth:`Transaction.writes`): from now on a read of it is refused. Outside a transaction nothing
+    happens."""
+    current = _CURRENT.get()
+    if current is not None:
+        current.writes(path, option)
+
+
 def written_so_far() -> list[Path]:
     """Commit the current transaction's outputs now (before a command prints that it wrote them)."""
     current = _CURRENT.get()

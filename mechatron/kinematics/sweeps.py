@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError, MechatronError
+from ..errors import InputError, MechatronError, UnreachableError
 from ..io.values import number
 from ..model.batched import BatchedFrames, batched_frames
 from ..model.mechanism import Measure, Mechanism
@@ -499,8 +499,16 @@ def _analysed(base: LoopSolver, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: 
     ``stop`` the positions end at the first sample that does not assemble."""
     mech, n = base.mech, len(U)
     kernel = _kernel(base, points, links, measures, n) if BATCHED else None
-    if kernel is not None and kernel.driven:  # the compiled continuation and analysis, straight into the table
+    # the compiled continuation and analysis, straight into the table; for input steps longer than the
+    # continuation's (a sweep of a few samples), where its guess one step on can land on another assembly branch,
+    # in shorter steps, checked (_in_steps), else as below: every long step walked (_Continuation.solve)
+    long = n > 1 and bool(np.any(np.abs(np.diff(U, axis=0)) > base.max_step))
+    if kernel is not None and kernel.driven and not long:
         return _driven(base, kernel, U, R, A, q, failures, progress, names, points, links, measures, stop)
+    if kernel is not None and kernel.driven:
+        result = _in_steps(base, kernel, U, R, A, q, failures, progress, names, points, links, measures, stop)
+        if result is not None:
+            return result
     if kernel is not None and n < COMPILED_MIN:
         kernel = None  # CasADi's virtual machine: only for long sweeps
     wanted = list(dict.fromkeys(points + [p for m in measures for p in m.points] + links))
@@ -588,7 +596,14 @@ class _Continuation:
             del history[:-1]  # the step changed: only the last solution is a good start
         trial = _extrapolate(history, self.q)
         trial[solver.act] = self.U[k]
-        if self.kernel is not None and len(history) >= 2 and self._compiled_newton(trial, history):
+        if history and np.any(np.abs(self.U[k] - history[-1][solver.act]) > solver.max_step):
+            try:  # a long step: walked on the branch
+                trial, J = solver.newton(self._walk(history[-1], self.U[k]), polish=self.polish)
+            except MechatronError as exc:
+                self.failures[k] = str(exc)
+                history.clear()
+                return None
+        elif self.kernel is not None and len(history) >= 2 and self._compiled_newton(trial, history):
             J = None
         else:
             try:
@@ -607,6 +622,48 @@ class _Continuation:
             del history[0]
         self.q = trial
         return trial, J
+
+    def _walk(self, before: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """The solution at the inputs ``u`` on the assembly branch of the solution ``before``, when the input step is
+        longer than :attr:`~mechatron.kinematics.loops.LoopSolver.max_step` (a sweep of a few samples, where
+        Newton's method from a guess one long step on can land on another branch: a crank-slider's rod folded the
+        other way): the step walked in equal steps of at most ``max_step``, each checked (:meth:`_step`)."""
+        solver = self.solver
+        start = before[solver.act]
+        steps = max(1, int(np.ceil(np.max(np.abs(u - start) / solver.max_step, initial=0.0))))
+        q, S = before, solver.velocity_matrix(before)
+        for j in range(1, steps + 1):
+            q, S = self._step(q, S, start + (u - start) * j / steps)
+        return q
+
+    def _step(self, q: np.ndarray, S: np.ndarray, u: np.ndarray, depth: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """One step of :meth:`_walk` from the solution q (its velocity map S) to the inputs u: Newton's method from
+        the prediction q + S Δu, accepted where the change of the dependent coordinates follows the velocity maps,
+        |Δq_d − ½ (S + S_after) Δu| ≤ :data:`batch.JUMP_RATIO` |Δq_d| (the trapezoidal rule, the batched check),
+        else the step halved and each half walked, at most :data:`WALK_HALVINGS` times. A step that cannot be
+        followed so (next to a singular position, where two branches nearly meet: a crank-slider whose rod is
+        about as long as its crank) is an :class:`~mechatron.errors.UnreachableError` naming the inputs. Returns
+        the solution and its velocity map."""
+        solver = self.solver
+        du = u - q[solver.act]
+        trial = q + S @ du
+        trial[solver.act] = u
+        try:
+            after, J = solver.newton(trial)
+            S_after = solver.velocity_matrix(after, J)
+            change = after[solver.dep] - q[solver.dep]
+            error = np.abs(change - 0.5 * ((S + S_after)[solver.dep] @ du)).max(initial=0.0)
+            if error <= max(batch.JUMP_RATIO * np.abs(change).max(initial=0.0), batch.JUMP_FLOOR):
+                return after, S_after
+        except MechatronError:
+            pass
+        if depth >= WALK_HALVINGS:
+            raise UnreachableError(f"{solver.mech.name}: the assembly branch cannot be followed from "
+                                   f"{solver._describe_inputs(q)} to {_inputs_text(solver, u)}: a singular "
+                                   "position, or two branches nearly meeting, lies between",
+                                   inputs=dict(zip(solver.mech.actuated, map(float, u))))
+        middle = self._step(q, S, (q[solver.act] + u) / 2, depth + 1)
+        return self._step(*middle, u, depth + 1)
 
     def _compiled_newton(self, trial: np.ndarray, history: list[np.ndarray]) -> bool:
         """Solve ``trial`` in place by the kernel's Newton steps; accepted only if it converged within half the
@@ -642,6 +699,14 @@ class _Continuation:
             if self.progress is not None and (i % every == 0 or i == len(samples) - 1):
                 self.progress(i + 1, len(samples))
         return Q, ok, saved if self.keep else None
+
+
+#: The most halvings of an input step walked on its branch (:meth:`_Continuation._walk`).
+WALK_HALVINGS = 12
+
+
+def _inputs_text(solver: LoopSolver, u: np.ndarray) -> str:
+    return ", ".join(f"{n} = {x:.6g}" for n, x in zip(solver.mech.actuated, u))
 
 
 def _same_steps(U: np.ndarray) -> np.ndarray:
@@ -920,6 +985,67 @@ def _driven(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray
     _finish_columns(table, layout.where, links, measures)
     return SweepResult(mech, layout.frame(table, good), _failure_frame(U, names, failures), *motion, measures, points,
                        links)
+
+
+def _in_steps(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: np.ndarray,
+              failures: dict[int, str], progress: ProgressCallback | None, names: list[str], points: list[str],
+              links: list[str], measures: list[Measure], stop: bool = False) -> SweepResult | None:
+    """A driven sweep (:func:`_driven`) whose input steps are longer than the continuation's
+    (:attr:`~mechatron.kinematics.loops.LoopSolver.max_step`): the inputs swept with every step cut into equal steps
+    of at most ``max_step`` (the rates and accelerations interpolated linearly), the samples asked for kept and
+    numbered as asked, their failures as the finer sweep found them (with ``stop``, a failure between two samples
+    asked for is the later one's). Every step of the finer sweep is checked as :meth:`_Continuation._step` checks
+    one (the velocity maps of all its samples at once, by the kernel): where one left the branch (two branches
+    nearly meeting), None — the caller walks the steps instead. ``failures`` is updated only when it returns a
+    result."""
+    n = len(U)
+    steps = np.ceil(np.max(np.abs(np.diff(U, axis=0)) / solver.max_step, axis=1)).astype(int).clip(1)
+    keep = np.concatenate([[0], np.cumsum(steps)])
+    at = np.concatenate([[0.0], *[k + np.arange(1, m + 1) / m for k, m in enumerate(steps)]])
+    i = np.minimum(at.astype(int), n - 2)
+    f = (at - i)[:, None]
+
+    def finer(X: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(X[i] + f * (X[i + 1] - X[i]))
+
+    Uf = finer(U)
+    Uf[keep] = U  # the samples asked for exactly
+    fine = {**_out_of_range(solver, Uf, names), **{int(keep[k]): r for k, r in failures.items()}}
+    told = None if progress is None else (lambda done, total: progress(min(n, done * n // max(total, 1)), n))
+    result = _driven(solver, kernel, Uf, finer(R), finer(A), q, fine, told, names, points, links, measures, stop)
+    sample = result.table["sample"].to_numpy()
+    if _left_branch(solver, kernel, result.q, Uf[sample], np.diff(sample) == 1):
+        return None
+    index = np.full(len(Uf), -1)
+    index[keep] = np.arange(n)
+    if stop and fine:  # the first failure of the finer sweep: the sample asked for at or after it
+        first = min(fine)
+        fine = {int(keep[np.searchsorted(keep, first)]): fine[first]}
+        index[keep[np.searchsorted(keep, first):]] = -1
+    rows = index[sample] >= 0
+    table = result.table[rows].reset_index(drop=True)
+    table["sample"] = index[sample[rows]]
+    asked = {int(k): j for j, k in enumerate(keep)}
+    failures.update({asked[k]: r for k, r in fine.items() if k in asked})
+    return SweepResult(result.mechanism, table, _failure_frame(U, names, failures), result.q[rows],
+                       result.v[rows], result.a[rows], measures, points, links)
+
+
+def _left_branch(solver: LoopSolver, kernel: LoopKernel, Q: np.ndarray, U: np.ndarray, next_to: np.ndarray
+                 ) -> bool:
+    """Whether a step between consecutive solutions (rows of Q at inputs U; ``next_to[k]``: rows k and k + 1 are
+    neighbouring samples) left its branch: the change of the dependent coordinates off the trapezoidal rule's
+    ½ (S_k + S_k+1) Δu by more than :data:`batch.JUMP_RATIO` of it (the velocity maps S_d of every row by the
+    kernel)."""
+    if len(Q) < 2 or not next_to.any() or not len(solver.dep):
+        return False
+    converged, maps = kernel.newton(np.array(Q, dtype=float))
+    dq = np.diff(Q[:, solver.dep], axis=0)
+    du = np.diff(U, axis=0)
+    predicted = 0.5 * np.einsum("kda,ka->kd", maps[1:] + maps[:-1], du)
+    error = np.abs(dq - predicted).max(axis=1)
+    bad = ~(error <= np.maximum(batch.JUMP_RATIO * np.abs(dq).max(axis=1), batch.JUMP_FLOOR))
+    return bool((bad & next_to).any())
 
 
 @dataclass

@@ -229,7 +229,8 @@ def solve_exact(spec: DesignSpec, evaluations: Evaluations) -> dict[str, Any]:
     lower = np.array([p.low for p in spec.variables])
     upper = np.array([p.high for p in spec.variables])
     start = _doe_start(spec, evaluations)
-    options = {"print_time": False, "ipopt": {
+    stop = _StopWhenFailing(model, len(spec.variables), len(names) - 1)
+    options = {"print_time": False, "show_eval_warnings": False, "iteration_callback": stop, "ipopt": {
         "print_level": 0, "sb": "yes", "tol": spec.tolerance, "max_iter": spec.max_iterations,
         "hessian_approximation": "limited-memory", "honor_original_bounds": "yes"}}
     nlp = ca.nlpsol("design", "ipopt", {"x": x, "f": sign * y[0], "g": y[1:]}, options)
@@ -239,9 +240,54 @@ def solve_exact(spec: DesignSpec, evaluations: Evaluations) -> dict[str, Any]:
     stats = nlp.stats()
     best = np.clip(np.array(result["x"]).ravel(), lower, upper)
     evaluations([dict(zip(evaluations.names, (float(v) for v in best)))])
+    status = str(stats.get("return_status", ""))
+    if stop.stopped:
+        status = f"stopped after {sum(model.failed.values())} failed trial designs ({MAX_FAILED_TRIALS} at most)"
     return {"method": "ipopt (exact derivatives, CasADi)", "success": bool(stats["success"]),
-            "status": str(stats.get("return_status", "")), "iterations": int(stats.get("iter_count", 0)),
-            "optimum": {n: float(v) for n, v in zip(evaluations.names, best)}}
+            "status": status, "iterations": int(stats.get("iter_count", 0)),
+            "optimum": {n: float(v) for n, v in zip(evaluations.names, best)},
+            "failed_trials": sum(model.failed.values()),
+            "failed_trial_reasons": dict(sorted(model.failed.items(), key=lambda kv: -kv[1])[:3])}
+
+
+#: ipopt stops once this many of the designs its line search tries have failed (not assembled, refused by an
+#: analysis; each an output NaN, from which the line search steps back): our rule, so that a search pressed
+#: against designs that do not assemble ends in seconds, not minutes, with the best design it reached.
+MAX_FAILED_TRIALS = 200
+
+
+class _StopWhenFailing:
+    """ipopt's iteration callback (CasADi's ``iteration_callback``): stop once :data:`MAX_FAILED_TRIALS` trial
+    designs of the model failed."""
+
+    def __new__(cls, model: ExactModel, nx: int, ng: int):
+        import casadi as ca
+
+        class Stop(ca.Callback):
+            def __init__(self) -> None:
+                ca.Callback.__init__(self)
+                self.stopped = False
+                self.construct("stop_when_failing", {})
+
+            def get_n_in(self) -> int:
+                return ca.nlpsol_n_out()
+
+            def get_n_out(self) -> int:
+                return 1
+
+            def get_name_in(self, i: int) -> str:
+                return ca.nlpsol_out(i)
+
+            def get_sparsity_in(self, i: int):
+                name = ca.nlpsol_out(i)
+                size = {"f": 1, "g": ng, "lam_g": ng, "lam_p": 0, "p": 0}.get(name, nx)
+                return ca.Sparsity.dense(size, 1)
+
+            def eval(self, arg: list) -> list:
+                self.stopped = sum(model.failed.values()) >= MAX_FAILED_TRIALS
+                return [1 if self.stopped else 0]
+
+        return Stop()
 
 
 def _doe_start(spec: DesignSpec, evaluations: Evaluations) -> np.ndarray:
@@ -270,17 +316,27 @@ class ExactModel:
         self.names = [p.name for p in spec.variables]
         self.analyses = {name: analysis(name) for name in spec.study.analyses}
         self._last: tuple[bytes, dict, dict] | None = None
+        self.failed: dict[str, int] = {}  # why a design the solver asked for failed → how many times
 
     def __call__(self, x: np.ndarray) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+        """The outputs and gradients at ``x``; where the design cannot be built or analysed (its links too short
+        to assemble, an analysis refuses it) none (every output NaN: ipopt's line search steps back), the reason
+        counted in :attr:`failed`."""
+        from ..errors import MechatronError
+
         x = np.asarray(x, dtype=float).ravel()
         if self._last is None or self._last[0] != x.tobytes():
-            mech = self.mech.with_parameters(dict(zip(self.names, x.tolist())))
             values: dict[str, float] = {}
             gradients: dict[str, np.ndarray] = {}
-            for name, module in self.analyses.items():
-                out, grad = module.gradients(mech, self.spec.study.options(name, {}), self.names)
-                values.update(out)
-                gradients.update(grad)
+            try:
+                mech = self.mech.with_parameters(dict(zip(self.names, x.tolist())))
+                for name, module in self.analyses.items():
+                    out, grad = module.gradients(mech, self.spec.study.options(name, {}), self.names)
+                    values.update(out)
+                    gradients.update(grad)
+            except MechatronError as exc:
+                self.failed[str(exc)] = self.failed.get(str(exc), 0) + 1
+                values, gradients = {}, {}
             self._last = (x.tobytes(), values, gradients)
         return self._last[1], self._last[2]
 
@@ -354,7 +410,7 @@ class _Outputs:
 
             def eval(self, arg: list) -> list:
                 values, _ = model(np.array(arg[0]))
-                return [np.array([values[k] for k in names], dtype=float)]
+                return [np.array([values.get(k, np.nan) for k in names], dtype=float)]
 
             def has_jacobian(self) -> bool:
                 return True
@@ -398,6 +454,11 @@ class DesignResult(Result):
         """A design meets every requirement (the best one; for two objectives, a design of the front)."""
         return self.best is not None and all(r.met() for r in self.requirements)
 
+    @property
+    def failed(self) -> int:
+        """The designs evaluated that failed (``status`` not ok: not assembled, or refused by an analysis)."""
+        return int((self.evaluations["status"] != "ok").sum()) if "status" in self.evaluations else 0
+
     def to_frame(self) -> pd.DataFrame:
         """Two objectives: the front (its variables and outputs, one design a row, by the first objective). One:
         a row per variable, the objective and each requirement (value, limit, margin, met, verdict, unit:
@@ -430,7 +491,7 @@ class DesignResult(Result):
             "requirements": [{"name": r.name, "kind": r.kind, "value": r.value, "limit": r.limit, "margin": r.margin,
                               "met": r.met(), "verdict": r.verdict, "unit": r.unit} for r in self.requirements],
             "feasible": self.feasible, "solver": self.solver,
-            "evaluated": len(self.evaluations), "evaluated_feasible": feasible,
+            "evaluated": len(self.evaluations), "evaluated_feasible": feasible, "evaluated_failed": self.failed,
             "front": None if self.front is None else frame_records(self.front),
             "notes": self.notes})
 
@@ -465,7 +526,13 @@ class DesignResult(Result):
     def __str__(self) -> str:
         lines = [f"{self.name} ({self.mechanism}): {self.solver['method']}, {self.solver['status']}; "
                  f"{len(self.evaluations)} designs evaluated, "
-                 f"{int(self.evaluations['feasible'].sum()) if len(self.evaluations) else 0} feasible"]
+                 f"{int(self.evaluations['feasible'].sum()) if len(self.evaluations) else 0} feasible"
+                 + (f", {self.failed} failed (not assembled or refused by an analysis: designs.csv's reason)"
+                    if self.failed else "")]
+        if self.solver.get("failed_trials"):
+            first = next(iter(self.solver["failed_trial_reasons"]))
+            lines.append(f"  {self.solver['failed_trials']} trial designs of ipopt's line search failed (skipped): "
+                         f"{first}")
         if self.front is not None:
             (x, _), (y, _) = self.objectives
             lines.append(f"Pareto front of {x} and {y}: {len(self.front)} designs")
@@ -583,6 +650,45 @@ def _variable_units(spec: DesignSpec) -> dict[str, str]:
 
 
 # ------------------------------------------------------------------------------------------------ writing
+#: The mark of a design file written by ``optimize -o`` (its header comment begins so): a file in the folder named
+#: ``design-NNN.toml`` or ``.urdf`` with it is a companion of an earlier run.
+DESIGN_MARK = "mechatron optimize: design "
+
+
+def output_files(folder: str | Path) -> list[Path]:
+    """The files ``optimize -o folder`` may replace or remove: ``optimum.json``, ``designs.csv`` and every
+    ``design-NNN.toml`` or ``.urdf`` already there (no command reads them: :func:`mechatron.io.output.will_write`)."""
+    folder = Path(folder)
+    return [folder / "optimum.json", folder / "designs.csv", *_design_files(folder)]
+
+
+def _design_files(folder: Path) -> list[Path]:
+    import re
+
+    try:
+        names = sorted(p for p in folder.iterdir() if re.fullmatch(r"design-\d{3,}\.(toml|urdf)", p.name))
+    except OSError:
+        return []
+    return [p for p in names if p.is_file()]
+
+
+def earlier_designs(folder: str | Path) -> list[Path]:
+    """The design files an earlier ``optimize -o`` wrote in ``folder`` (named ``design-NNN``, with
+    :data:`DESIGN_MARK` in their first lines); any other file is left alone."""
+    from ..io.output import unchecked
+
+    out = []
+    for path in _design_files(Path(folder)):
+        try:
+            with unchecked(), open(path, "rb") as fh:
+                head = fh.read(400).decode("utf-8", "replace")
+        except OSError:
+            continue
+        if DESIGN_MARK in head:
+            out.append(path)
+    return out
+
+
 @dataclass
 class DesignFile:
     """A design drawn as a mechanism file: its path, its text (written only if it reads back) and, where it does
@@ -617,7 +723,7 @@ def draw_designs(spec: DesignSpec, designs: pd.DataFrame, folder: str | Path) ->
     out = []
     for k, (_, row) in enumerate(designs.iterrows()):
         values = {n: float(row[n]) for n in geometry}
-        header = f"design {k} of {spec.name}: " + ", ".join(f"{n} = {v:.9g}" for n, v in values.items())
+        header = f"{DESIGN_MARK}{k} of {spec.name}: " + ", ".join(f"{n} = {v:.9g}" for n, v in values.items())
         design = mech.with_parameters(values)
         if linkage is None:
             text = to_urdf(design).replace("?>", f"?>\n<!-- {header} -->", 1)
@@ -650,21 +756,25 @@ def write_optimum(spec: DesignSpec, result: DesignResult, folder: str | Path
     """``mechatron optimize -o DIR``: first the results — ``optimum.json`` (:meth:`DesignResult.as_dict`) and
     ``designs.csv`` (every design evaluated: the variables, ``status``, ``reason``, the outputs, ``feasible``) —
     then the best design (two objectives: every design of the front) as mechanism files (:func:`draw_designs`),
-    each one that reads back. Returns the paths written and the errors of the designs not written (each naming
-    its file), so that a design that cannot be written never discards the results."""
+    each one that reads back. The design files of an earlier run there (:func:`earlier_designs`) that this run
+    does not write are removed in the same commit. Returns the paths written and the errors of the designs not
+    written (each naming its file), so that a design that cannot be written never discards the results."""
     import pandas as pd
 
-    from ..io.output import output_directory, transaction, write_table, write_text
+    from ..io.output import output_directory, stage_removal, transaction, write_table, write_text
 
+    files: list[DesignFile] = []
     with transaction():
         folder = output_directory(folder)
         written = [write_text(folder / "optimum.json", result.to_json() + "\n"),
                    write_table(result.evaluations, folder / "designs.csv")]
-        if result.best is None:
-            return written, []
-        front = result.front if result.front is not None else pd.DataFrame([result.best])
-        files = draw_designs(spec, front, folder)
-        written += [write_text(f.path, f.text) for f in files if f.error is None]
+        if result.best is not None:
+            front = result.front if result.front is not None else pd.DataFrame([result.best])
+            files = draw_designs(spec, front, folder)
+            written += [write_text(f.path, f.text) for f in files if f.error is None]
+        for path in earlier_designs(folder):  # an earlier run's designs: removed in the same commit
+            if path not in written:
+                stage_removal(path)
     return written, [f.error for f in files if f.error is not None]
 
 
@@ -672,10 +782,10 @@ def _redrawn(linkage: Any, design: Any, values: dict[str, float]) -> Any:
     """The linkage spec of a design (:func:`~mechatron.model.linkage.parameter_spec`: every length declared at its
     value, the points' coordinates moved) drawn at the design's assembled pose: every drawn point where the
     design's mechanism (``design``, rebuilt as the search evaluated it: its loops closed with the actuated inputs
-    held where the file holds them) has it at its reference configuration, and a point's direction (a slider's
-    line) turned with its body. A design's moved pins (a cylinder's base) can put the *drawn* pose outside a
-    cylinder's stroke; drawn at the assembled pose, each held input is at the value the file held it at, within
-    its stroke, and the loops close as drawn."""
+    held where the file holds them) has it at its reference configuration, a point's direction (a slider's
+    line) turned with its body and a centre of mass given by world coordinates moved with it. A design's moved
+    pins (a cylinder's base) can put the *drawn* pose outside a cylinder's stroke; drawn at the assembled pose,
+    each held input is at the value the file held it at, within its stroke, and the loops close as drawn."""
     import pinocchio as pin
 
     from ..model.linkage import parameter_spec
@@ -694,7 +804,13 @@ def _redrawn(linkage: Any, design: Any, values: dict[str, float]) -> Any:
         if direction is not None and len(direction) == 2:  # planar: the frame's x axis is the point's direction
             direction = tuple(float(v) for v in placement.rotation[:2, 0] * np.linalg.norm(direction))
         points.append(replace(p, at=at, direction=direction))
-    return replace(redrawn, points=tuple(points))
+    bodies = []
+    for b in redrawn.bodies:  # a centre of mass given by world coordinates moves with its body
+        if isinstance(b.com, tuple) and b.mass > 0 and model.existFrame(b.name, pin.FrameType.BODY):
+            joint = model.frames[model.getFrameId(b.name, pin.FrameType.BODY)].parentJoint
+            b = replace(b, com=tuple(float(v) for v in data.oMi[joint].act(model.inertias[joint].lever)[:2]))
+        bodies.append(b)
+    return replace(redrawn, points=tuple(points), bodies=tuple(bodies))
 
 
 def _moved(linkage: Any, values: dict[str, float]) -> Any:
