@@ -540,7 +540,7 @@ class DesignResult(Result):
             for _, row in self.front.iterrows():
                 lines.append("  " + "  ".join(_cell(row[c]) for c in (*self.variables, x, y)))
         if self.best is None:
-            lines.append("NOT FEASIBLE: no design evaluated meets every requirement")
+            lines.append("NOT FEASIBLE: no design evaluated meets every requirement" + _why_all_failed(self))
             return "\n".join(lines + [f"note: {n}" for n in self.notes])
         if self.front is None:
             lines.append("best design: " + ", ".join(f"{v} = {_cell(self.best[v]).strip()}" for v in self.variables))
@@ -553,6 +553,15 @@ class DesignResult(Result):
         if not self.feasible:
             lines.append("NOT FEASIBLE: " + ", ".join(r.name for r in self.requirements if not r.met()))
         return "\n".join(lines + [f"note: {n}" for n in self.notes])
+
+
+def _why_all_failed(result: DesignResult) -> str:
+    """Where every design evaluated failed: ``; none assembled or passed the analyses: REASON`` (the most common
+    reason), else nothing."""
+    table = result.evaluations
+    if not len(table) or "status" not in table or result.failed < len(table) or "reason" not in table:
+        return ""
+    return f"; every design failed, most often: {table['reason'].astype(str).value_counts().index[0]}"
 
 
 def _cell(value: Any) -> str:
@@ -621,7 +630,12 @@ def _result(spec: DesignSpec, evaluations: Evaluations, solver: dict[str, Any], 
     elif "optimum" in solver:  # ipopt: its optimum, evaluated as every design
         key = tuple(solver["optimum"][n] for n in evaluations.names)
         best = evaluations.rows[key]
-        if not evaluations.feasible(best):
+        if best["status"] != "ok":  # its last design failed: the best feasible one evaluated, if any
+            notes = [*notes, f"ipopt ended on a design that failed ({best.get('reason', best['status'])}); "
+                             "reported instead: the best feasible design evaluated, if any"]
+            scores = [evaluations.objectives(rows[i])[0] for i in feasible]
+            best = rows[feasible[int(np.argmin(scores))]] if feasible else None
+        elif not evaluations.feasible(best):
             notes = [*notes, "ipopt's optimum does not meet every requirement (evaluated by the analyses)"]
     elif feasible:
         scores = [evaluations.objectives(rows[i])[0] for i in feasible]
