@@ -44,7 +44,8 @@ import mechatron
 from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop, PerturbedLoops
 from mechatron.accuracy.sources import ErrorSource
 from mechatron.accuracy.streaming import EXACT_SAMPLES
-from mechatron.accuracy.study import CHUNK, draw_errors, run_study
+from mechatron.accuracy.study import CHUNK, draw_errors
+from mechatron.accuracy.study import analyse_tolerances as run_study
 from mechatron.kinematics.loops import assemble
 
 

@@ -17,7 +17,7 @@ whole processes (their CPU from the operating system) run in turns.
    and as one-design studies (``mechatron study``), whole processes.
 3. **optimize against one sizing** (goal ≤ 60×): the least ``drive_mass_kg`` with ``smallest_margin ≥ 0`` over
    P_x ∈ [0.6, 1.6] m (the upper part cannot assemble), differential evolution with 32 evaluations
-   (``mechatron.studies.design.optimize_design``, in this process) against one sizing of a new geometry; then the
+   (``mechatron.optimal.optimize_design``, in this process) against one sizing of a new geometry; then the
    two-variable problem (P_x ∈ [0.6, 1.6], P_y ∈ [−0.4, 0.1] m, 400 evaluations: goal under 5 minutes of CPU) and
    its answer against the best feasible design of a 15 × 15 grid study of the same analyses (goal: no worse).
 
@@ -106,7 +106,7 @@ def one_design(P_x: float, P_y: float = -0.15):
 
 
 def failing_against_passing(repeats: int, folder: Path) -> None:
-    from mechatron.studies.spec import read_spec
+    from mechatron.studies.spec import read_study as read_spec
 
     print("2. a scissor design that cannot assemble along its task against one that does (goal <= 2x)")
     spec = folder / "one.toml"
@@ -154,7 +154,7 @@ def design_file(folder: Path, variables: str, solver: str, name: str) -> Path:
 
 
 def optimize_against_sizing(repeats: int, folder: Path) -> None:
-    from mechatron.studies.design import optimize_design
+    from mechatron.optimal import optimize_design
     from mechatron.studies.runner import run_study
 
     print("3. optimize against one sizing (goal <= 60x); two variables (goal < 5 min, no worse than a 15 x 15 grid)")

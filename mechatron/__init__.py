@@ -15,8 +15,28 @@ The top level holds the calls most work starts from; everything else is in the l
 ``import mechatron`` stays light.
 """
 
+from typing import TYPE_CHECKING
+
 from ._exports import lazy_exports
 from .errors import InputError, LimitWarning, MechatronError, MechatronWarning, SingularityError, UnreachableError
+
+if TYPE_CHECKING:  # the lazy names below, for editors and type checkers; at run time each loads on first use
+    from .accuracy.study import tolerance_study as tolerance_study
+    from .drives.sizing import size as size
+    from .dynamics.constrained import simulate as simulate
+    from .dynamics.motion import move as move
+    from .dynamics.tree import forward_dynamics as forward_dynamics
+    from .dynamics.tree import inverse_dynamics as inverse_dynamics
+    from .kinematics.frames import frame_jacobian as frame_jacobian
+    from .kinematics.frames import frame_placement as frame_placement
+    from .kinematics.loops import assemble as assemble
+    from .kinematics.sweeps import sweep as sweep
+    from .library import available_robots as available_robots
+    from .library import load as load
+    from .model import Load as Load
+    from .model import Mechanism as Mechanism
+    from .model import Parameter as Parameter
+    from .structure.analysis import analyse_structure as analyse_structure
 
 __version__ = "0.1.0"
 

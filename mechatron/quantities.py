@@ -42,7 +42,9 @@ class Quantity:
 
 
 #: Unit suffix of a name → the unit as printed (the longest suffix that ends a name is its unit: ``_m3_s``
-#: before ``_s``).
+#: before ``_s``). The one table of printed units of suffixes; their factors to SI are those of the one unit table,
+#: :data:`mechatron.units.UNITS` (every suffix here but ``J`` and ``m3_s`` is a unit there, printed as its kind's SI
+#: unit where its factor is 1: ``tests/test_formulas.py``).
 SUFFIXES: dict[str, str] = {"m": "m", "mm": "mm", "deg": "deg", "N": "N", "Nm": "N·m", "Pa": "Pa", "MPa": "MPa",
                             "kg": "kg", "s": "s", "h": "h", "W": "W", "J": "J", "m3_s": "m³/s"}
 

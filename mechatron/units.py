@@ -24,6 +24,7 @@ UNITS: dict[str, dict[str, float]] = {
     "linear_density": {"": 1.0, "kg_m": 1.0},
     "mass": {"": 1.0, "kg": 1.0, "g": 1e-3},
     "power": {"": 1.0, "W": 1.0, "kW": 1e3},
+    "energy": {"": 1.0, "J": 1.0, "kJ": 1e3},
     "pressure": {"": 1.0, "Pa": 1.0, "MPa": 1e6, "bar": 1e5},
     "current": {"": 1.0, "A": 1.0},
     "voltage": {"": 1.0, "V": 1.0},
@@ -45,7 +46,8 @@ UNITS: dict[str, dict[str, float]] = {
 SI: dict[str, str] = {"length": "m", "angle": "rad", "torque": "N·m", "force": "N", "speed": "rad/s",
                       "linear_speed": "m/s", "inertia": "kg·m²", "mass": "kg", "power": "W", "pressure": "Pa",
                       "time": "s", "rate": "1/s", "ratio": "-", "fraction": "-", "temperature": "K",
-                      "thermal_resistance": "K/W", "temperature_coefficient": "1/K"}
+                      "thermal_resistance": "K/W", "temperature_coefficient": "1/K",
+                      "energy": "J"}
 
 #: Units whose zero is not SI's: (kind, suffix) → the offset added after the factor (T_K = T_°C + 273.15). A
 #: temperature is read in °C only from a field whose name says so (``_degC``).

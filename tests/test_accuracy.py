@@ -14,7 +14,7 @@ import mechatron
 from mechatron.accuracy.nonlinear import PerturbedChain, PerturbedLoop, PerturbedLoops
 from mechatron.accuracy.sensitivity import sensitivities
 from mechatron.accuracy.sources import ErrorSource, read_poses, read_tolerances, reference_pose, workspace_grid
-from mechatron.accuracy.study import run_study
+from mechatron.accuracy.study import analyse_tolerances as run_study
 from mechatron.accuracy.tables import angle_tolerance, linear_tolerance, tolerance_from_grade
 from mechatron.errors import InputError
 from mechatron.kinematics.frames import frame_placement

@@ -29,6 +29,7 @@ LAYERS = [
     ("machines",),
     ("library",),
     ("studies",),
+    ("optimal",),
     ("cli",),
     ("__main__",),
 ]

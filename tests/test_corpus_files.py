@@ -402,7 +402,7 @@ def test_tiny_tolerances_monte_carlo_agrees_with_the_worst_case():
     one (it was 0 with single-precision draws of 1e-50)."""
     import mechatron
     from mechatron.accuracy.sources import ErrorSource
-    from mechatron.accuracy.study import run_study
+    from mechatron.accuracy.study import analyse_tolerances as run_study
 
     mech = mechatron.load("planar_2r")
     sources = [ErrorSource("a1", "parameter", "m", 1e-9, "uniform")]
@@ -419,7 +419,7 @@ def test_rss_against_a_hand_calculation():
     √(0.1² + 0.2²) ≤ 0.1 + 0.2."""
     import mechatron
     from mechatron.accuracy.sources import ErrorSource
-    from mechatron.accuracy.study import run_study
+    from mechatron.accuracy.study import analyse_tolerances as run_study
 
     mech = mechatron.load("planar_2r")
     pose = [[0.0, 0.0]]  # stretched along x: ∂r/∂a1 = ∂r/∂a2 = (1, 0, 0)

@@ -11,8 +11,11 @@ import pandas as pd
 import pytest
 
 from mechatron.errors import InputError
-from mechatron.studies.design import Evaluations, ExactModel, optimize_design
-from mechatron.studies.design_spec import MAX_EVALUATIONS, read_design
+from mechatron.optimal.evaluations import Evaluations
+from mechatron.optimal.exact import ExactModel
+from mechatron.optimal.problem import MAX_EVALUATIONS
+from mechatron.optimal.reader import read_problem as read_design
+from mechatron.optimal.solve import optimize_design
 from mechatron.studies.result import pareto_mask
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -91,7 +94,7 @@ def test_the_crank_slider_by_the_global_route_meets_the_requirement_near_the_opt
 def test_the_requirement_slack_is_the_documented_one(value, limit, kind, verdict):
     # docs/design_file.md: met for a margin >= 0; a margin down to -1e-6 x max(1, |limit|) counts as met but is
     # reported "met within slack"; below that NOT MET
-    from mechatron.studies.optimal_problem import REQUIREMENT_SLACK, Requirement
+    from mechatron.optimal.requirement import REQUIREMENT_SLACK, Requirement
 
     r = Requirement("q", value, limit, kind, "-")
     assert REQUIREMENT_SLACK == 1e-6
@@ -117,7 +120,7 @@ def test_a_design_met_only_within_the_slack_is_reported_so(crank):
 
 def _grid_best(spec_path: Path, levels: int) -> pd.Series:
     """The best feasible design of a grid study of the design file's variables and analyses."""
-    from mechatron.studies.design import Evaluations
+    from mechatron.optimal.evaluations import Evaluations
 
     spec = read_design(spec_path)
     evaluations = Evaluations(spec)
@@ -314,7 +317,7 @@ def test_bad_design_files_are_refused_naming_the_field(crank, case):
 
 def test_the_front_and_the_optimum_are_written_as_mechanism_files_that_load(crank, tmp_path):
     import mechatron
-    from mechatron.studies.design import write_designs
+    from mechatron.optimal.write import write_designs
 
     spec = read_design(crank)
     designs = pd.DataFrame({"l1": [0.1, 0.11], "l2": [0.36, 0.4]})

@@ -130,7 +130,7 @@ def _design_file(path: Path):
     """A design file, read beside the files it names (the example's mechanism file is copied next to it)."""
     import shutil
 
-    from mechatron.studies.design_spec import read_design
+    from mechatron.optimal.reader import read_problem as read_design
 
     folder = ROOT / "examples" / "design"
     if path.parent != folder:

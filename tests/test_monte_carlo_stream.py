@@ -14,7 +14,8 @@ from mechatron.accuracy import streaming, study
 from mechatron.accuracy.nonlinear import perturbed_positions
 from mechatron.accuracy.sources import ErrorSource
 from mechatron.accuracy.streaming import Moments, Quantiles, variance_shares
-from mechatron.accuracy.study import draw_errors, run_study
+from mechatron.accuracy.study import analyse_tolerances as run_study
+from mechatron.accuracy.study import draw_errors
 
 
 def lstsq_shares(delta, errors):

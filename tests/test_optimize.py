@@ -20,10 +20,11 @@ import mechatron
 from mechatron.kinematics.geometry import point_positions
 from mechatron.kinematics.loops import assemble
 from mechatron.machines.bucket import synthesize
+from mechatron.optimal import optimize
+from mechatron.optimal import read_problem as read_spec
+from mechatron.optimal.problems.bucket import BucketProblem
+from mechatron.optimal.problems.shovel import ShovelProblem
 from mechatron.studies.designs import sample_box
-from mechatron.studies.optimal_bucket import BucketProblem
-from mechatron.studies.optimal_shovel import ShovelProblem
-from mechatron.studies.optimize import optimize, read_spec
 from tests.protocol import check_result
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "optimize"

@@ -15,7 +15,7 @@ import pytest
 
 import mechatron
 from mechatron.accuracy.sources import read_poses, read_tolerances
-from mechatron.studies.optimal_accuracy import PositioningProblem
+from mechatron.optimal.problems.accuracy import PositioningProblem
 from tests.corpus import assert_clean_error, run
 from tests.protocol import check_result
 
@@ -55,7 +55,7 @@ def test_planar_2r_worst_case_equals_the_hand_sensitivities(tmp_path):
 def test_planar_2r_optimum_is_the_lagrange_solution(tmp_path):
     # one pose q = (0, 90°), joint errors ±t only: r = (a1, a2), W = (2 a2 t, a1 t), D = t √(4 a2² + a1²);
     # min D subject to the reach a1 + a2 ≥ R (q = 0): 8 a2 = λ = 2 a1 ⇒ a1 = 4R/5, a2 = R/5, D = 2 t R/√5
-    from mechatron.studies.optimize import optimize
+    from mechatron.optimal import optimize
 
     (tmp_path / "tol.csv").write_text("parameter,tolerance_arcmin\nq1,1\nq2,1\n")
     (tmp_path / "poses.csv").write_text("label,q1_deg,q2_deg\nbent,0,90\n")
@@ -148,14 +148,14 @@ def test_puma_gradients_equal_finite_differences_of_the_pinocchio_model(puma_pro
 
 
 def test_shipped_puma_example_is_feasible_and_beats_its_doe():
-    from mechatron.studies.optimize import optimize
+    from mechatron.optimal import optimize
 
     result = optimize(ROOT / "examples" / "optimize" / "puma_accuracy.toml")
     assert result.success and result.feasible and result.beats_doe
     assert result.objective < result.start_objective
     assert result.model_difference < 1e-9
     # the optimum as the accuracy module sees it: the largest |Δr| of its worst case over the poses
-    from mechatron.accuracy.study import run_study
+    from mechatron.accuracy.study import analyse_tolerances as run_study
 
     mech = mechatron.load("puma560").with_parameters(dict(zip(result.variables, result.x)))
     study = run_study(mech, read_tolerances(ROOT / "examples" / "optimize" / "puma_tolerances.csv", mech),

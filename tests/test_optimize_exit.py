@@ -13,7 +13,7 @@ import warnings
 
 import pytest
 
-from mechatron.studies import optimize as optimize_module
+from mechatron.optimal.problems import named as optimize_module
 from tests.corpus import assert_clean_error, run
 
 #: The six-link bucket asked for a transmission angle it cannot have: the optimum misses it.

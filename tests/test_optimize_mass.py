@@ -23,8 +23,9 @@ import pytest
 
 import mechatron
 from mechatron.kinematics.geometry import point_positions
-from mechatron.studies.optimal_mass import MassProblem
-from mechatron.studies.optimize import optimize, read_spec
+from mechatron.optimal import optimize
+from mechatron.optimal import read_problem as read_spec
+from mechatron.optimal.problems.mass import MassProblem
 from tests.corpus import assert_clean_error
 from tests.protocol import check_result
 

@@ -96,8 +96,9 @@ def test_a_moved_pin_outside_the_drawn_stroke_is_written_at_the_evaluated_pose_a
     import mechatron
     from mechatron.model.linkage import build_linkage, parameter_spec
     from mechatron.model.linkage_file import read_linkage_file
-    from mechatron.studies.design import optimize_design, write_designs
-    from mechatron.studies.design_spec import read_design
+    from mechatron.optimal.reader import read_problem as read_design
+    from mechatron.optimal.solve import optimize_design
+    from mechatron.optimal.write import write_designs
 
     spec = read_design(_files(tmp_path))
     result = optimize_design(spec)

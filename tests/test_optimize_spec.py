@@ -58,7 +58,7 @@ def test_command_writes_json_csv_and_plot(tmp_path, capfd):
 
 
 def test_sqpmethod_finds_the_same_synthesis(tmp_path):
-    from mechatron.studies.optimize import optimize
+    from mechatron.optimal import optimize
 
     spec = tmp_path / "bucket.toml"
     spec.write_text(BUCKET + '[solver]\nmethod = "sqpmethod"\n')

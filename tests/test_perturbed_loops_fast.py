@@ -25,7 +25,7 @@ from mechatron.accuracy.nonlinear import (
     _transposed,
 )
 from mechatron.accuracy.sources import ErrorSource
-from mechatron.accuracy.study import run_study
+from mechatron.accuracy.study import analyse_tolerances as run_study
 from mechatron.kinematics.loops import assemble
 
 PLANAR = [("crank_slider", {"q1": 1.0}, "C"), ("six_bar_bucket", {"L1": 1.5}, "K"),

@@ -23,9 +23,9 @@ import pytest
 
 import mechatron
 from mechatron.errors import InputError
+from mechatron.optimal.reader import read_problem as read_design
+from mechatron.optimal.solve import optimize_design
 from mechatron.studies.analyses import analysis
-from mechatron.studies.design import optimize_design
-from mechatron.studies.design_spec import read_design
 
 ROOT = Path(__file__).resolve().parent.parent
 THETA0, X = 2.0, 0.38
@@ -79,7 +79,7 @@ def test_a_requirement_at_a_named_pose_binds_at_the_hand_optimum(design):
 
 
 def test_the_exact_gradient_at_a_pose_is_the_hand_derivative(design):
-    from mechatron.studies.design import ExactModel
+    from mechatron.optimal.exact import ExactModel
 
     l1, l2 = 0.093, 0.41
     values, gradients = ExactModel(read_design(design))(np.array([l1, l2]))

@@ -184,7 +184,8 @@ def test_every_output_of_every_analysis_of_a_shipped_mechanism_is_a_quantity(nam
 
 @pytest.mark.parametrize("path", sorted((ROOT / "examples" / "studies").glob("*.toml")), ids=lambda p: p.name)
 def test_every_output_of_a_shipped_study_is_a_quantity(path):
-    from mechatron.studies.spec import output_names, read_spec, study_mechanism
+    from mechatron.studies.spec import output_names, study_mechanism
+    from mechatron.studies.spec import read_study as read_spec
 
     spec = read_spec(path)
     names = output_names(spec, study_mechanism(spec.mechanism))
@@ -220,7 +221,7 @@ def test_the_study_chart_labels_its_axes_by_the_registry(tmp_path):
     import pandas as pd
 
     from mechatron.studies.result import StudyResult
-    from mechatron.studies.spec import read_spec
+    from mechatron.studies.spec import read_study as read_spec
 
     spec = read_spec(ROOT / "examples" / "studies" / "crank_slider_sobol.toml")
     result = StudyResult(spec, pd.DataFrame({"design": [0], "status": ["ok"]}))
@@ -232,7 +233,7 @@ def test_a_parameter_that_targets_an_option_is_labelled_with_the_options_unit(tm
     import pandas as pd
 
     from mechatron.studies.result import StudyResult
-    from mechatron.studies.spec import read_spec
+    from mechatron.studies.spec import read_study as read_spec
 
     path = tmp_path / "arm.toml"
     path.write_text('mechanism = "planar_2r"\n[parameters.acceleration]\ntarget = "dynamics.amax"\n'

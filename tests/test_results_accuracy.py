@@ -13,7 +13,7 @@ from protocol import check_result
 
 import mechatron
 from mechatron.accuracy.sources import ErrorSource, read_poses, read_tolerances
-from mechatron.accuracy.study import run_study
+from mechatron.accuracy.study import analyse_tolerances as run_study
 from mechatron.cli import main
 
 

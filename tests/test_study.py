@@ -21,7 +21,7 @@ from mechatron.io.budget import available_cores
 from mechatron.studies.designs import make_designs
 from mechatron.studies.result import pareto_mask
 from mechatron.studies.runner import evaluate, run_study
-from mechatron.studies.spec import read_spec
+from mechatron.studies.spec import read_study as read_spec
 from tests.protocol import check_result
 
 CRANK = """

@@ -10,7 +10,7 @@ import pytest
 from mechatron.io.toml import read_toml
 from mechatron.studies.designs import make_designs
 from mechatron.studies.runner import evaluate
-from mechatron.studies.spec import read_spec
+from mechatron.studies.spec import read_study as read_spec
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGE = ROOT / "docs" / "study_file.md"

@@ -16,7 +16,7 @@ from pandas.testing import assert_frame_equal
 import mechatron
 from mechatron.studies.analyses import analysis
 from mechatron.studies.runner import run_study
-from mechatron.studies.spec import read_spec
+from mechatron.studies.spec import read_study as read_spec
 from tests.corpus import assert_clean_error, run
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -19,7 +19,7 @@ from pandas.testing import assert_frame_equal
 from mechatron.studies.designs import make_designs
 from mechatron.studies.result import study_result
 from mechatron.studies.sensitivity import NOISE, RESOLUTION, sobol_indices, unresolved
-from mechatron.studies.spec import read_spec
+from mechatron.studies.spec import read_study as read_spec
 from tests.corpus import run
 from tests.protocol import check_result
 

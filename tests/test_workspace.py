@@ -65,7 +65,8 @@ def test_every_cell_is_the_closed_form(result):
     np.testing.assert_allclose(result.positions[ok], P[ok], atol=1e-9, rtol=0)
     assert np.isnan(result.positions[~ok]).all()
     assert set(result.reasons) == {tuple(map(int, c)) for c in np.argwhere(~ok)}
-    assert all("do not close" in reason for reason in result.reasons.values())
+    # past the fold (L > 2b) the loops do not close; a cell just past it may be where the branch cannot be followed
+    assert all("do not close" in r or "branch cannot be followed" in r for r in result.reasons.values())
 
 
 def test_the_drawn_branch_is_kept_past_a_fold(five_bar):

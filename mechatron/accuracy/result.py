@@ -1,4 +1,4 @@
-"""What a tolerance study returns: :class:`StudyResult`, with its text report and its charts (the error over the
+"""What a tolerance study returns: :class:`ToleranceResult`, with its text report and its charts (the error over the
 poses, the Monte Carlo spread at the critical pose, each error source's contribution).
 
 It follows the result protocol (:class:`~mechatron.report.result.Result`): ``to_frame()`` is the per-pose table,
@@ -36,7 +36,7 @@ SHOWN_POSES = 20
 
 
 @dataclass
-class StudyResult(Result):
+class ToleranceResult(Result):
     """A tolerance study over every pose [Egorov, chapter 8].
 
     Attributes:

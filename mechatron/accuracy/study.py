@@ -38,19 +38,19 @@ from ..io.values import LARGEST, number, numbers
 from ..kinematics.loops import assemble
 from ..model.mechanism import Mechanism
 from .nonlinear import PerturbedLoop, perturbed_positions
-from .result import StudyResult
+from .result import ToleranceResult
 from .sensitivity import Sensitivities, coordinate_names, sensitivities
 from .sources import POSE_BYTES, ErrorSource
 from .streaming import BINS, EXACT_SAMPLES, Moments, Quantiles, variance_shares
 
-__all__ = ["METHODS", "StudyResult", "configurations", "draw_errors", "run_study", "tolerance_study"]
+__all__ = ["METHODS", "ToleranceResult", "configurations", "draw_errors", "analyse_tolerances", "tolerance_study"]
 
 Floats = NDArray[np.float64]
 
 METHODS = ("given", "worst", "rss", "mc")
 #: Samples per chunk of the vectorized Monte Carlo (and of the one-sample-at-a-time one).
 CHUNK, SLOW_CHUNK = 32768, 1024
-#: The Monte Carlo's Δr samples kept per pose for the charts and :attr:`StudyResult.samples` (the statistics use
+#: The Monte Carlo's Δr samples kept per pose for the charts and :attr:`ToleranceResult.samples` (the statistics use
 #: every sample).
 KEPT_SAMPLES = EXACT_SAMPLES
 
@@ -80,10 +80,11 @@ def _columns(study_sources: Sequence[ErrorSource], sens: Sensitivities) -> Float
     return sens.matrix[:, :, [index[s.name] for s in study_sources]]
 
 
-def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike, labels: Sequence[str] | None = None,
-              *, frame: str | None = None, methods: Sequence[str] = ("worst", "rss"), k: float = 3.0,
-              samples: int = 10000, seed: int = 0, limit: float | None = None,
-              progress: Callable[[int, int], None] | None = None) -> StudyResult:
+def analyse_tolerances(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
+                       labels: Sequence[str] | None = None, *, frame: str | None = None,
+                       methods: Sequence[str] = ("worst", "rss"), k: float = 3.0, samples: int = 10000, seed: int = 0,
+                       limit: float | None = None, progress: Callable[[int, int], None] | None = None
+                       ) -> ToleranceResult:
     """Run the ``methods`` (of :data:`METHODS`, see the module) for the error ``sources`` at every pose.
 
     Args:
@@ -177,8 +178,8 @@ def run_study(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
     if mc_shares is not None:
         contributions["mc_share"] = mc_shares
     contributions = contributions.sort_values("variance_share", ascending=False, kind="stable").reset_index(drop=True)
-    return StudyResult(mech.name, frame, methods, k, list(sources), table, contributions, sens, critical, mc_samples,
-                       limit, notes, tuple(coordinate_names(mech)))
+    return ToleranceResult(mech.name, frame, methods, k, list(sources), table, contributions, sens, critical,
+                           mc_samples, limit, notes, tuple(coordinate_names(mech)))
 
 
 def _nonlinear_given(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: Floats, error: Floats) -> Floats:
@@ -339,15 +340,15 @@ class _Summary:
 
 def tolerance_study(mech: Mechanism, tolerances: Sequence[ErrorSource] | str | Path,
                     poses: ArrayLike | str | Path | None = None, labels: Sequence[str] | None = None,
-                    **options) -> StudyResult:
+                    **options) -> ToleranceResult:
     """The positioning error of a point of ``mech`` from the tolerances of its parameters and joints
-    [Egorov, chapter 8]: :func:`run_study` with its inputs read from files where paths are given.
+    [Egorov, chapter 8]: :func:`analyse_tolerances` with its inputs read from files where paths are given.
 
     Args:
         tolerances: A list of :class:`~mechatron.accuracy.sources.ErrorSource` or a tolerances CSV path.
         poses: Coordinate values (N, n_c) (rad, m), a poses CSV path, or ``None`` for the reference pose.
-        **options: Passed to :func:`run_study` (``frame``, ``methods``, ``k``, ``samples``, ``seed``, ``limit`` in m,
-            ``progress``).
+        **options: Passed to :func:`analyse_tolerances` (``frame``, ``methods``, ``k``, ``samples``, ``seed``,
+            ``limit`` in m, ``progress``).
     """
     from .sources import read_poses, read_tolerances, reference_pose
 
@@ -358,5 +359,5 @@ def tolerance_study(mech: Mechanism, tolerances: Sequence[ErrorSource] | str | P
         poses, labels = reference_pose(mech), ["reference"]
     elif isinstance(poses, (str, Path)):
         poses, labels = read_poses(poses, mech)
-    return run_study(mech, tolerances, poses, labels, **options)
+    return analyse_tolerances(mech, tolerances, poses, labels, **options)
 

@@ -146,7 +146,7 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
 # ------------------------------------------------------------------------------------------- result outputs
 
 class OutputPath:
-    """The ``type=`` of an option naming an output (``kind``: a key of :data:`mechatron.io.output.SUFFIXES`,
+    """The ``type=`` of an option naming an output (``kind``: a key of :data:`mechatron.io.output.FILE_SUFFIXES`,
     ``"figure"``, ``"folder"`` or None): it marks the option, whose path :func:`outputs` checks before any work.
     The value stays the string given."""
 

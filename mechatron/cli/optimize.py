@@ -16,33 +16,32 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     """Solve the file and emit the optimum (or the Pareto front); exit 1 when a requirement is not met at the
     optimum (the Pinocchio model's), as ``size`` does without a feasible drive."""
     from ..errors import InputError
-    from ..io.toml import read_toml
-    from ..studies.design_spec import is_design_file
+    from ..optimal.reader import parse_problem, read_problem
 
     if args.out:  # no input is one of the files -o replaces or removes (the spec, its mechanism, …)
         from ..io.output import will_write
-        from ..studies.design import output_files
+        from ..optimal.write import output_files
 
         for path in output_files(args.out):
             will_write(path, "-o")
-    general = is_design_file(read_toml(args.spec))
-    if args.out and not general:
+    parsed = parse_problem(args.spec)  # parsed once: the form decides what -o may write
+    if args.out and not parsed.is_design:
         raise InputError("-o writes the designs of a design file (docs/design_file.md); this is a named problem's "
                          "spec", field="-o")
-    if general:
-        from ..report.progress import progress_bar
-        from ..studies.design import optimize_design, write_optimum
-        from ..studies.design_spec import read_design
+    from ..optimal.problem import DesignProblem
+    from ..optimal.result import DesignResult
+    from ..optimal.solve import optimize
+    from ..report.progress import progress_bar
 
-        bar = None if args.json else progress_bar(f"{Path(args.spec).name} evaluations")
-        spec = read_design(args.spec)
-        result = optimize_design(spec, workers=args.workers, scheduler=args.scheduler, progress=bar)
-        written, refused = write_optimum(spec, result, args.out) if args.out else ([], [])
-    else:
-        from ..studies.optimize import optimize, read_spec
+    problem = read_problem(parsed)
+    bar = None if args.json or not isinstance(problem, DesignProblem) else \
+        progress_bar(f"{Path(args.spec).name} evaluations")
+    result = optimize(problem, workers=args.workers, scheduler=args.scheduler, progress=bar)
+    written, refused = [], []
+    if args.out and isinstance(problem, DesignProblem) and isinstance(result, DesignResult):
+        from ..optimal.write import write_optimum
 
-        result = optimize(read_spec(args.spec))
-        written, refused = [], []
+        written, refused = write_optimum(problem, result, args.out)
     emit(result, args, written)  # the results printed and saved before any design that cannot be written is told
     if refused:
         more = f" ({len(refused) - 1} more designs not written likewise)" if len(refused) > 1 else ""

@@ -12,9 +12,9 @@ from .values import COUNT
 def cmd_study(args: argparse.Namespace) -> int:
     from ..report.progress import progress_bar
     from ..studies.runner import run_study
-    from ..studies.spec import read_spec
+    from ..studies.spec import read_study
 
-    spec = read_spec(args.spec)
+    spec = read_study(args.spec)
     out = Path(args.out) if args.out else Path(f"{Path(args.spec).stem}_study")
     where = "on " + args.scheduler if args.scheduler else f"on {args.workers} workers" if args.workers > 1 else ""
     bar = None if args.json else progress_bar(f"{Path(args.spec).name} {where}".strip())

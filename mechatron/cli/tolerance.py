@@ -12,7 +12,7 @@ from .values import COUNT, FILE, NAME, Number
 def cmd_tolerance(args: argparse.Namespace) -> int:
     """Positioning error of a point from the tolerances of parameters and coordinates [Egorov, chapter 8]."""
     from ..accuracy.sources import read_poses, read_tolerances, reference_pose, workspace_grid
-    from ..accuracy.study import run_study
+    from ..accuracy.study import analyse_tolerances
     from ..report.progress import progress_bar
 
     mech = _load(args)
@@ -29,7 +29,7 @@ def cmd_tolerance(args: argparse.Namespace) -> int:
         poses, labels = reference_pose(mech), ["reference"]
     limit = args.limit_mm * 1e-3 if args.limit_mm is not None else None
     long_run = "mc" in methods and len(poses) * args.samples >= 200_000 and not args.json
-    result = run_study(mech, sources, poses, labels, frame=args.frame, methods=methods, k=args.k,
+    result = analyse_tolerances(mech, sources, poses, labels, frame=args.frame, methods=methods, k=args.k,
                        samples=args.samples, seed=args.seed, limit=limit,
                        progress=progress_bar(f"{mech.name}: Monte Carlo") if long_run else None)
     written = []

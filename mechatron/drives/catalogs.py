@@ -73,6 +73,15 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("torque_constant_coefficient", "temperature_coefficient", False, minimum=-0.01, maximum=0.0),
         Field("loss_torque", "torque", False, positive=False),
         Field("mass", "mass", False), Field("price", "money", False),
+        # a holding brake (mechatron.drives.brakes): the holding torque wherever another brake column is given
+        Field("brake_holding_torque", "torque", False), Field("brake_inertia", "inertia", False, positive=False),
+        Field("brake_mass", "mass", False, positive=False), Field("brake_stop_energy", "energy", False),
+        Field("brake_energy_per_h", "energy", False),
+    ),
+    "resistors": (  # braking resistors (mechatron.drives.resistors)
+        Field("key", "text"), Field("maker", "text", False), Field("resistance", "resistance"),
+        Field("continuous_power", "power"), Field("pulse_energy", "energy"), Field("pulse_time", "time"),
+        Field("mass", "mass", False), Field("price", "money", False),
     ),
     "gearboxes": (
         Field("key", "text"), Field("maker", "text", False), Field("type", "text"),
@@ -102,6 +111,14 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
         Field("mass", "mass", False), Field("mass_per_stroke", "linear_density", False),
         Field("price", "money", False),
     ),
+    "drives": (  # servo drives (amplifiers), mechatron.drives.servo
+        Field("key", "text"), Field("maker", "text", False),
+        Field("rated_current", "current", plausible=(0.01, 1e4)), Field("peak_current", "current",
+                                                                         plausible=(0.01, 1e4)),
+        Field("peak_time", "time", plausible=(1e-3, 600.0)), Field("dc_link_min", "voltage", plausible=(1.0, 1e4)),
+        Field("dc_link_max", "voltage", plausible=(1.0, 1e4)), Field("mass", "mass", False, plausible=(1e-3, 1e3)),
+        Field("price", "money", False),
+    ),
     "rotary_tables": (  # the direct-drive rotary tables of [Egorov, table 2.11]
         Field("key", "text"), Field("torque_30min", "torque"), Field("torque_5min", "torque"),
         Field("diameter", "length"), Field("height", "length"), Field("positioning_error", "angle"),
@@ -118,7 +135,7 @@ SCHEMAS: dict[str, tuple[Field, ...]] = {
 #: The example catalogs shipped in ``catalogs/``.
 DEFAULT_FILES = {"motors": "servo_motors.csv", "gearboxes": "gearboxes.csv", "linear": "linear_drives.csv",
                  "cylinders": "hydraulic_cylinders.csv", "rotary_tables": "rotary_tables_table_2_11.csv",
-                 "gearmotor_ranges": "gearmotor_ranges_section_2_2.csv"}
+                 "gearmotor_ranges": "gearmotor_ranges_section_2_2.csv", "drives": "servo_drives.csv"}
 
 
 def _column_field(column: str, schema: tuple[Field, ...], path: Path) -> tuple[Field, float] | None:
@@ -288,7 +305,8 @@ def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: di
              "gearboxes": [("peak_torque", "rated_torque", False), ("emergency_torque", "peak_torque", False),
                            ("max_input_speed", "rated_input_speed", False)],
              "linear": [("diameter", "root_diameter", True)],
-             "cylinders": [("bore", "rod", True)], "rotary_tables": [("torque_5min", "torque_30min", False)]}
+             "cylinders": [("bore", "rod", True)], "rotary_tables": [("torque_5min", "torque_30min", False)],
+             "drives": [("peak_current", "rated_current", False), ("dc_link_max", "dc_link_min", False)]}
     for high, low, strict in rules.get(kind, []):
         if high not in table or low not in table:
             continue
@@ -308,6 +326,7 @@ def _check_consistency(table: pd.DataFrame, kind: str, path: Path, column_of: di
     if kind == "motors":
         thermal = _check_thermal(table, path, column_of, lines)
         _check_electrical(table, path, column_of, lines, thermal)
+        _check_brakes(table, path, column_of, lines)
 
 
 def _check_peak_rule(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int]) -> None:
@@ -364,6 +383,21 @@ def _check_thermal(table: pd.DataFrame, path: Path, column_of: dict[str, str], l
                              "their flux below the winding's limit temperature", file=path,
                              row=lines[int(vanishing[0])], field=column_of["torque_constant_coefficient"])
     return True
+
+
+def _check_brakes(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int]) -> None:
+    """A motor row that gives any brake column (:data:`~mechatron.drives.brakes.BRAKE_COLUMNS`) gives the brake's
+    holding torque: else the row names it."""
+    from .brakes import BRAKE_COLUMNS
+
+    given = _given(table, BRAKE_COLUMNS)
+    partial = np.any([given[name] for name in BRAKE_COLUMNS[1:]], axis=0) & ~given["brake_holding_torque"]
+    if partial.any():
+        i = int(np.flatnonzero(partial)[0])
+        other = next(name for name in BRAKE_COLUMNS[1:] if given[name][i])
+        raise InputError(f"missing value: a brake without its holding torque ({column_of[other]} given); give "
+                         "brake_holding_torque (N·m) or none of the brake columns", file=path, row=lines[i],
+                         field=column_of.get("brake_holding_torque", "brake_holding_torque"))
 
 
 def _check_electrical(table: pd.DataFrame, path: Path, column_of: dict[str, str], lines: list[int],

@@ -67,6 +67,8 @@ Beyond these (:data:`ALL_CHECKS`), where the catalogs give the data:
   (:meth:`PairChecks.winding`);
 - the screw and rack checks of :mod:`mechatron.drives.screws` (equivalent load and L10 life, critical speed,
   buckling, rack tooth force, length).
+- the holding brake's checks of :mod:`mechatron.drives.brakes` (holding torque, energy per emergency stop and per
+  hour) on a joint that holds a load at rest, where the motor catalog has brakes.
 
 A check whose data a motor or converter lacks has the limit inf and is not reported.
 """
@@ -81,10 +83,12 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from .brakes import BRAKE_CHECKS, BRAKE_FACTOR, BRAKE_UNITS, NO_BRAKE_FACTOR, STOPS_PER_HOUR, BrakeData, brake_table
 from .converters import Converters
 from .duty import JointDuty
 from .motor import catalog_column, continuous_torque, electrical_data, peak_torque_limit
 from .screws import SCREW_CHECKS, SCREW_LIFE, SCREW_UNITS, screw_checks
+from .servo import DRIVE_CHECKS, DRIVE_UNITS, DriveData, overload
 from .thermal import (
     AMBIENT_RANGE,
     BATCH_ELEMENTS,
@@ -100,10 +104,13 @@ CHECKS = ("peak torque", "speed-torque curve", "RMS torque", "max speed", "inert
           "transmission max input speed", "transmission mean input speed")
 UNITS = ("N·m", "-", "N·m", "rad/s", "-", "N·m", "N·m", "N·m", "rad/s", "rad/s")
 #: Every check of a motor × converter pair: :data:`CHECKS`, the voltage limit, the screw and rack checks.
-ALL_CHECKS = CHECKS + ("voltage limit", "winding temperature rise") + SCREW_CHECKS
-ALL_UNITS = UNITS + ("V", "K") + SCREW_UNITS
+ALL_CHECKS = CHECKS + ("voltage limit", "winding temperature rise") + SCREW_CHECKS + BRAKE_CHECKS + DRIVE_CHECKS
+ALL_UNITS = UNITS + ("V", "K") + SCREW_UNITS + BRAKE_UNITS + DRIVE_UNITS
 _VOLTAGE = len(CHECKS)
 _WINDING = _VOLTAGE + 1  # the thermal model's check (mechatron.drives.thermal)
+_DRIVE = len(ALL_CHECKS) - len(DRIVE_CHECKS)  # the servo drive's checks (mechatron.drives.servo)
+_DRIVE_RMS, _DRIVE_RUN = _DRIVE, _DRIVE + 1
+_BRAKE = _DRIVE - len(BRAKE_CHECKS)  # the holding brake's checks (mechatron.drives.brakes)
 #: Pairs of a joint checked sample by sample over every sample before the samples that can decide are sought
 #: (:meth:`JointDuty.envelope`, worth its cost only for many pairs; :meth:`PairChecks.per_sample`).
 BEFORE_ENVELOPE = 32
@@ -121,7 +128,9 @@ BEYOND = {"speed-torque curve": "outside it (torque asked above the motor's maxi
           "winding temperature rise": "no rise allowed (the ambient is at or above the winding's limit temperature)",
           "RMS torque": "no continuous torque at the mean speed (above the motor's maximum speed)",
           "transmission peak torque": "no rating at this many load peaks per hour (above the last rate of the "
-                                      "catalog's shock_factors)"}
+                                      "catalog's shock_factors)",
+          "brake holding torque": "no brake (the motor catalog gives no brake_holding_torque for this motor) on a "
+                                  "joint that holds a load at rest"}
 NO_LIMIT = "a limit of 0 where a value is needed"
 
 
@@ -165,6 +174,8 @@ class DriveLimits:
         voltage: The supply voltage (V) of the voltage-limit check, instead of each motor's catalog voltage.
         ambient: The ambient temperature (K; default 313.15 K, 40 °C) of the winding temperature check
             (:mod:`~mechatron.drives.thermal`): the winding may rise by its limit temperature minus it.
+        brake_factor: The holding brake's factor f ≥ 1: T_h ≥ f · T_g (:mod:`~mechatron.drives.brakes`; default 2).
+        brake_stops_per_hour: The emergency stops per hour of the brake's energy-per-hour check (> 0; default 1).
     """
 
     stop_torque: float | None = None
@@ -172,8 +183,14 @@ class DriveLimits:
     screw_life: float = SCREW_LIFE
     voltage: float | None = None
     ambient: float = DEFAULT_AMBIENT
+    brake_factor: float = BRAKE_FACTOR
+    brake_stops_per_hour: float = STOPS_PER_HOUR
 
     def __post_init__(self) -> None:
+        if not (isinstance(self.brake_factor, (int, float)) and 1 <= self.brake_factor <= 100):
+            raise InputError(f"brake_factor must be a number of 1 … 100, got {self.brake_factor!r}")
+        if not (isinstance(self.brake_stops_per_hour, (int, float)) and 0 < self.brake_stops_per_hour <= 1e6):
+            raise InputError(f"brake_stops_per_hour must be a number > 0 and <= 1e6, got {self.brake_stops_per_hour!r}")
         for name in ("stop_torque", "stop_current", "voltage"):
             value = getattr(self, name)
             if value is not None and not (math.isfinite(value) and value > 0):
@@ -210,7 +227,8 @@ class MotorArrays:
     <mechatron.drives.catalogs.read_catalog>`), read once for a whole sizing: ``key``; rotor inertia J_m (kg·m²);
     rated and peak torque (N·m); rated and top speed (rad/s); torque constant k_t (N·m/A), winding resistance R (Ω)
     and supply voltage U (V), NaN where the catalog lacks them; mass (kg) and price, 0 where missing; the thermal
-    model's data (:class:`~mechatron.drives.thermal.ThermalData`)."""
+    model's data (:class:`~mechatron.drives.thermal.ThermalData`); the brakes' (:class:`~mechatron.drives.brakes.
+    BrakeData`, ``None`` for a catalog without brakes)."""
 
     key: NDArray[np.str_]
     rotor: NDArray[np.float64]
@@ -224,6 +242,8 @@ class MotorArrays:
     mass: NDArray[np.float64]
     price: NDArray[np.float64]
     thermal: ThermalData | None = None
+    brakes: BrakeData | None = None
+    drive: DriveData | None = None  # the servo drive paired with each motor (mechatron.drives.servo)
 
     @classmethod
     def of(cls, motors: pd.DataFrame | MotorArrays) -> MotorArrays:
@@ -234,7 +254,12 @@ class MotorArrays:
         kt, resistance, voltage = electrical_data(motors)
         return cls(motors["key"].to_numpy(dtype=str), *(motors[name].to_numpy(dtype=float) for name in (
             "rotor_inertia", "rated_torque", "peak_torque", "rated_speed", "max_speed")), kt, resistance, voltage,
-            catalog_column(motors, "mass", 0.0), catalog_column(motors, "price", 0.0), ThermalData.of(motors))
+            catalog_column(motors, "mass", 0.0), catalog_column(motors, "price", 0.0), ThermalData.of(motors),
+            BrakeData.of(motors), DriveData.of(motors))
+
+    def objective_mass(self) -> NDArray[np.float64]:
+        """The mass (kg) the objective counts: the motor's and its paired servo drive's."""
+        return self.mass if self.drive is None else self.mass + self.drive.mass
 
     def __len__(self) -> int:
         return len(self.key)
@@ -281,6 +306,8 @@ def peak_torque_factor(rate: float, shock_rates: ArrayLike, shock_factors: Array
 def failure(name: str, factor: float) -> str:
     """A check that fails, as the reasons say it: ``name ×load factor`` (``peak torque ×1.17``), or for an infinite
     load factor what it means (``speed-torque curve: outside it (…)``, :data:`BEYOND`)."""
+    if name == "brake holding torque" and factor > NO_BRAKE_FACTOR:
+        return f"{name}: {BEYOND[name]}"
     if math.isfinite(factor):
         return f"{name} ×{factor:.2f}"
     return f"{name}: {BEYOND.get(name, NO_LIMIT)}"
@@ -368,6 +395,9 @@ class PairChecks:
         self.back_emf, self.drop = np.where(checked, kt, 0.0), np.where(checked, resistance / kt, 0.0)
         self.voltage = np.where(checked, voltage, math.inf)
         self.stop = limits.stop_torques(motors)
+        self.drive, self.kt = motors.drive, kt
+        self._runs: dict[tuple[int, int], float] = {}  # the drive's longest overload run of the pairs checked
+        self.brakes, self.limits = motors.brakes, limits
         self.inertia_ratio_max = inertia_ratio_max
         # the winding temperature (mechatron.drives.thermal) of the motors with the thermal data, instead of RMS
         self.thermal, self.ambient = motors.thermal or ThermalData.of(pd.DataFrame(index=range(len(motors)))), \
@@ -438,7 +468,11 @@ class PairChecks:
         values[:, 8], values[:, 9] = top_speed, mean_speed
         lim[:, 5:10] = self.transmission[c]
         lim[:, 0], lim[:, 1], lim[:, _VOLTAGE] = self.peak[m], 1.0, self.voltage[m]
-        values[:, _WINDING + 1:], lim[:, _WINDING + 1:] = self.screw_values[c], self.screw_limits[c]
+        values[:, _WINDING + 1:_BRAKE], lim[:, _WINDING + 1:_BRAKE] = self.screw_values[c], self.screw_limits[c]
+        values[:, _BRAKE:_DRIVE], lim[:, _BRAKE:_DRIVE] = brake_table(
+            self._duty, self.brakes, self.rotor, self.conv, m, c, self.limits.brake_factor,
+            self.limits.brake_stops_per_hour)
+        self._drive_table(m, c, values, lim, level == 2 and thermal)
         if level == 0:
             values[:, PER_SAMPLE] = 0.0
         else:
@@ -461,6 +495,10 @@ class PairChecks:
         if len(sharp):
             values[sharp, _WINDING] = self.winding(m[sharp], c[sharp])
             ok[sharp] = _load_factor(values[sharp], lim[sharp]).max(axis=1) <= 1 + PASS_TOLERANCE
+        driven = np.flatnonzero(ok & np.isfinite(lim[:, _DRIVE_RUN]))
+        if len(driven):
+            values[driven, _DRIVE_RUN] = self.overload_run(m[driven], c[driven])
+            ok[driven] = _load_factor(values[driven], lim[driven]).max(axis=1) <= 1 + PASS_TOLERANCE
         for i in np.flatnonzero(ok).tolist():  # kept: the chosen pair's checks are these
             self._passing[int(m[i]), int(c[i])] = values[i], lim[i]
         return ok
@@ -613,6 +651,32 @@ class PairChecks:
         rows = [kept[k] for k in used.tolist()]
         return tuple(np.concatenate([row[j] for row in rows]) for j in range(3))
 
+    def _drive_table(self, m: NDArray[np.intp], c: NDArray[np.intp], values: NDArray[np.float64],
+                     lim: NDArray[np.float64], exact: bool) -> None:
+        """The servo drive's checks into ``values`` and ``lim`` (:mod:`~mechatron.drives.servo`): RMS current
+        √⟨T_m²⟩ / k_t against I_r, the longest run above I_r (exact with ``exact``, else 0, a lower bound) against
+        t_p; limits inf (not applied) for a motor without a drive."""
+        if self.drive is None:
+            values[:, _DRIVE:], lim[:, _DRIVE:] = 0.0, math.inf
+            return
+        values[:, _DRIVE_RMS] = np.where(np.isfinite(self.drive.rated[m]), values[:, 2] / self.kt[m], 0.0)
+        lim[:, _DRIVE_RMS], lim[:, _DRIVE_RUN] = self.drive.rated[m], self.drive.peak_time[m]
+        values[:, _DRIVE_RUN] = 0.0
+        if exact:
+            driven = np.isfinite(lim[:, _DRIVE_RUN])
+            values[driven, _DRIVE_RUN] = self.overload_run(m[driven], c[driven])
+
+    def overload_run(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
+        """The longest run (s) of the motor current |T_m / k_t| above the paired drive's rated current of the pairs
+        (m[i], c[i]) over the task repeated (:func:`~mechatron.drives.servo.overload`), every sample; kept."""
+        m, c = np.asarray(m, dtype=int), np.asarray(c, dtype=int)
+        for pair in zip(m.tolist(), c.tolist()):
+            if pair not in self._runs:
+                _, accel, base = self._full_side(np.array([pair[1]]))
+                current = (self.rotor[pair[0]] * accel[0] + base[0]) / self.kt[pair[0]]
+                self._runs[pair] = overload(self._duty.t, current, float(self.drive.rated[pair[0]]))[1]
+        return np.array([self._runs[pair] for pair in zip(m.tolist(), c.tolist())])
+
     def winding(self, m: ArrayLike, c: ArrayLike) -> NDArray[np.float64]:
         """The winding's highest rise above the ambient (K) of the pairs (m[i], c[i]) over the task repeated to its
         periodic steady state (:func:`~mechatron.drives.thermal.highest_rise`, every sample of the task, the
@@ -689,6 +753,8 @@ class Evaluation:
         values, lim = self.pairs.table(rows.ravel(), cols.ravel(), level=1)
         heated = self.pairs.heated[rows.ravel()]  # the winding's temperature exact from the start, as RMS is
         values[heated, _WINDING] = self.pairs.winding(rows.ravel()[heated], cols.ravel()[heated])
+        driven = np.isfinite(lim[:, _DRIVE_RUN])  # and the drive's overload run (mechatron.drives.servo)
+        values[driven, _DRIVE_RUN] = self.pairs.overload_run(rows.ravel()[driven], cols.ravel()[driven])
         self.values, self.limits = values.reshape(shape + (-1,)), lim.reshape(shape + (-1,))
         self.exact = np.zeros(shape, dtype=bool)
 

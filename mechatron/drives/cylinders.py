@@ -52,6 +52,7 @@ from ..model.mechanism import Cylinder
 from ..report.result import json_ready
 from .checks import PASS_TOLERANCE, Check, _load_factor, failures
 from .duty import JointDuty
+from .options import PRESSURE
 from .report import REPORTED, DriveSizing
 from .shafts import END_FIXINGS, STEEL_MODULUS, end_fixing, euler_load, fixing_factors
 
@@ -146,7 +147,7 @@ class CylinderSizing(DriveSizing):
     closest: pd.DataFrame
     duty: JointDuty
     cylinder_data: dict
-    pressure: float = 32e6
+    pressure: float = PRESSURE
     end_fixing: str = "pinned-pinned"
     buckling_length: float = math.nan
     length: NDArray[np.float64] | None = None
@@ -157,9 +158,10 @@ class CylinderSizing(DriveSizing):
 
     @property
     def areas(self) -> tuple[float, float]:
-        """(A_p, A_a): the chosen cylinder's piston area π D²/4 and annulus area A_p − π d²/4 (m²)."""
-        piston = math.pi * self.cylinder_data["bore"] ** 2 / 4
-        return piston, piston - math.pi * self.cylinder_data["rod"] ** 2 / 4
+        """(A_p, A_a): the chosen cylinder's piston area π D²/4 and annulus area A_p − π d²/4 (m²)
+        (:func:`cylinder_areas`)."""
+        piston, annulus = cylinder_areas(self.cylinder_data["bore"], self.cylinder_data["rod"])
+        return float(piston), float(annulus)
 
     @property
     def standard(self) -> bool:
@@ -349,7 +351,7 @@ def _fixings(catalog: pd.DataFrame, given: str | float | None) -> tuple[NDArray[
     return np.full(len(catalog), factor), [f"K = {factor:g}"] * len(catalog)
 
 
-def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pressure: float = 32e6,
+def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pressure: float = PRESSURE,
                   objective: str = "mass", length: ArrayLike | None = None,
                   end_fixing: str | float | None = None) -> CylinderSizing:
     """Choose a catalog cylinder for the coordinate ``spec`` (its stroke and count) doing ``duty``; ``pressure``
@@ -372,8 +374,7 @@ def size_cylinder(duty: JointDuty, spec: Cylinder, catalog: pd.DataFrame, *, pre
     if length.shape != duty.t.shape or not np.all(np.isfinite(length) & (length > 0)):
         raise InputError(f"cylinder {duty.name}: give a length > 0 (m) at each of the {len(duty.t)} samples")
     bore, rod = catalog["bore"].to_numpy(), catalog["rod"].to_numpy()
-    piston = math.pi * bore**2 / 4
-    annulus = piston - math.pi * rod**2 / 4
+    piston, annulus = cylinder_areas(bore, rod)
     stroke = spec.stroke[1] - spec.stroke[0]
     force = duty.torque / spec.count  # per cylinder
     push = max(float(force.max()), 0.0)

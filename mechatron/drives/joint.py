@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..report.result import json_ready
+from .brakes import with_brakes
 from .checks import (
     ALL_CHECKS,
     PASS_TOLERANCE,
@@ -49,6 +50,7 @@ from .checks import (
 from .converters import Converters, converters_for
 from .duty import JointDuty
 from .motor import continuous_torque, peak_torque_limit
+from .options import CHAIN_EFFICIENCY, INERTIA_RATIO_MAX, OBJECTIVE, check_inertia_ratio, check_objective
 from .report import REPORTED, RPM, Deferred, DriveSizing, Later
 from .search import _growing, _motor_blocks, fastest_scale, feasible_pairs, first_in_order, motor_passes, smallest_worst
 from .thermal import DEFAULT_AMBIENT, ZERO_CELSIUS, ThermalData, duty_type, winding_temperature
@@ -57,7 +59,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-OBJECTIVES = ("mass", "cost", "margin", "time")
 #: The rules whose limit an option sets, by check: what the rule is and the option that changes it (the command
 #: line's; the API's and a study's names in parentheses). A kind of converter that one of them removes whole is
 #: reported (:meth:`Alternatives.ruled_out`).
@@ -66,7 +67,8 @@ RULES: dict[str, tuple[str, str]] = {
         "the emergency-stop torque: the motor's peak torque through the gear against the gearbox's emergency "
         "torque", "--stop-torque or --stop-current (stop_torque, stop_current): the torque or current the drive "
         "limits an emergency stop to"),
-    "inertia ratio": ("the load-to-motor inertia ratio", "--inertia-ratio (inertia_ratio_max; default 10)"),
+    "inertia ratio": ("the load-to-motor inertia ratio",
+                      f"--inertia-ratio (inertia_ratio_max; default {INERTIA_RATIO_MAX:g})"),
     "voltage limit": ("the supply voltage", "--voltage (voltage; default each motor's catalog voltage)"),
     "screw equivalent load": ("the required screw life", "--screw-life-h (screw_life; default 20,000 h)"),
     "transmission peak torque": (
@@ -358,8 +360,9 @@ class JointSizing(DriveSizing):
 
 
 def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | None = None,
-               linear: pd.DataFrame | None = None, *, objective: str = "mass", inertia_ratio_max: float = 10.0,
-               direct: bool = True, time_scale: float | None = None, chain_efficiency: float = 1.0,
+               linear: pd.DataFrame | None = None, *, objective: str = OBJECTIVE,
+               inertia_ratio_max: float = INERTIA_RATIO_MAX, direct: bool = True, time_scale: float | None = None,
+               chain_efficiency: float = CHAIN_EFFICIENCY,
                limits: DriveLimits | None = None, converters: Converters | None = None,
                motor_arrays: MotorArrays | None = None) -> JointSizing:
     """Check the motor × converter pairs for one joint and choose the best feasible one by ``objective``.
@@ -387,21 +390,19 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
             of this duty, the catalogs, ``direct`` and ``chain_efficiency``).
         motor_arrays: ``motors`` as arrays, when already read (:class:`~mechatron.drives.checks.MotorArrays`).
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"unknown objective {objective!r}; expected one of: {', '.join(OBJECTIVES)}")
-    if not inertia_ratio_max > 0:
-        raise InputError(f"the inertia ratio limit must be > 0, got {inertia_ratio_max!r}")
+    check_objective(objective)
+    check_inertia_ratio(inertia_ratio_max)
     if len(motors) == 0:
         raise InputError("the motor catalog is empty")
     conv = converters or converters_for(duty, gearboxes, linear, direct, chain_efficiency)
-    arrays = motor_arrays or MotorArrays.of(motors)
+    arrays = with_brakes(motor_arrays or MotorArrays.of(motors), duty)  # a brake's J_b and m_b where one is needed
     scale = 1.0
     if objective == "time":
         scale = time_scale or fastest_scale(motor_passes(duty, arrays, conv, inertia_ratio_max, limits))
         scale = scale if math.isfinite(scale) else 1.0
         duty = duty.scaled(scale)
     checks = PairChecks(duty, arrays, conv, inertia_ratio_max, limits)
-    table = _Table(arrays.key, conv, (arrays.mass, conv.mass), (arrays.price, conv.price))
+    table = _Table(arrays.key, conv, (arrays.objective_mass(), conv.mass), (arrays.price, conv.price))
     alternatives = Alternatives(checks, table, objective, motors=arrays, limits=limits or DriveLimits(),
                                 inertia_ratio_max=inertia_ratio_max)
     if objective == "margin":
@@ -494,7 +495,7 @@ class Alternatives:
     before: tuple[np.ndarray, np.ndarray] | None = None
     motors: MotorArrays | None = field(default=None, repr=False)
     limits: DriveLimits = field(default_factory=DriveLimits, repr=False)
-    inertia_ratio_max: float = 10.0
+    inertia_ratio_max: float = INERTIA_RATIO_MAX
     _ranking: pd.DataFrame | None = field(default=None, repr=False)
     _rivals: pd.DataFrame | None = field(default=None, repr=False)
     _ruled_out: list[dict] | None = field(default=None, repr=False)

@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..report.html import Report
     from .electrical import ElectricalBalance
     from .hydraulics import HydraulicSupply
+    from .resistors import BrakingSupply
 
 
 @dataclass(frozen=True)
@@ -96,6 +97,9 @@ class SizingResult(Result):
     task_duration: float | None = None
     masses_included: bool = False
     given: Task | None = field(default=None, repr=False, compare=False)
+    #: the braking resistor or regenerative supply of the DC bus (:func:`~mechatron.drives.resistors.size_braking`),
+    #: where a resistor catalog or a regenerative supply was given; ``None`` otherwise
+    braking: BrakingSupply | None = field(default=None, repr=False, compare=False)
 
     @property
     def feasible(self) -> bool:
@@ -179,7 +183,8 @@ class SizingResult(Result):
         balance, supply = self.electrical_balance(), self.hydraulic_supply()
         bus = balance.bus() if balance else None
         pump = supply.rows()[-1] if supply else None
-        return {"drive_mass_kg": None if None in masses else float(sum(masses)),
+        extra = {} if self.braking is None else {"braking_supply": self.braking.as_dict()}
+        return {**extra, "drive_mass_kg": None if None in masses else float(sum(masses)),
                 "drive_cost": None if None in prices else float(sum(prices)),
                 "energy_per_cycle_J": (bus["energy_drawn"] if bus else 0.0) + (pump["energy"] if pump else 0.0),
                 "peak_bus_power_W": bus["peak_power"] if bus else None,
@@ -203,6 +208,8 @@ class SizingResult(Result):
                          f"{number('braking_resistor_peak_W', ' W')}, continuous "
                          f"{number('braking_resistor_continuous_W', ' W')} ({number('regenerated_energy_J', ' J')} "
                          "regenerated per cycle; P = T·n + R·I²)")
+        if self.braking is not None:
+            lines.append(self.braking.line())
         if totals["peak_pump_power_W"] is not None:
             pump = self.hydraulic_supply().rows()[-1]
             lines.append(f"  pump: peak flow {totals['peak_pump_flow_m3_s'] * 6e4:.4g} l/min, peak power "

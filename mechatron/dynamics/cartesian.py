@@ -143,9 +143,9 @@ def _line(follower: _Follower, k: int, q: np.ndarray, profile: str, dt: float, v
     angle = float(np.linalg.norm(axis))
     if length == 0 and angle == 0:
         return None
-    limits = [_limit(getattr(path, name), getattr(path, "angular_" + name), length, angle)
-              for name in ("speed", "acceleration", "jerk")]
-    shape = make_profile(profile, *limits)
+    vmax, amax, jmax = (_limit(getattr(path, name), getattr(path, "angular_" + name), length, angle)
+                        for name in ("speed", "acceleration", "jerk"))
+    shape = make_profile(profile, vmax, amax, jmax)
     for _ in range(4):
         steps = max(1, math.ceil(shape.duration / dt))
         if steps > MAX_LINE_SAMPLES:
@@ -170,7 +170,7 @@ def _line(follower: _Follower, k: int, q: np.ndarray, profile: str, dt: float, v
         stretch = max(1.0, float(np.max(np.abs(V) / vlim)), math.sqrt(float(np.max(np.abs(A) / alim))))
         if stretch <= 1 + 1e-9:
             break
-        shape = make_profile(profile, *limits, duration=shape.duration * stretch * (1 + 1e-6))
+        shape = make_profile(profile, vmax, amax, jmax, duration=shape.duration * stretch * (1 + 1e-6))
     return t, Q, V, A
 
 
@@ -314,8 +314,10 @@ def read_cartesian(reader: FieldReader, mech: Mechanism, angular: np.ndarray) ->
     speed = reader.number("speed", positive=True)
     acceleration = reader.number("acceleration", positive=True)
     jerk = reader.number("jerk", None, positive=True)
-    turning = [reader.angle(f"angular_{n}", None, positive=True) for n in ("speed", "acceleration", "jerk")]
+    turning_speed, turning_acceleration, turning_jerk = (reader.angle(f"angular_{n}", None, positive=True)
+                                                         for n in ("speed", "acceleration", "jerk"))
     reader.finish()
-    return CartesianPath(frame, points, rotations, seed_q, speed, acceleration, jerk, *turning,
+    return CartesianPath(frame, points, rotations, seed_q, speed, acceleration, jerk, turning_speed,
+                         turning_acceleration, turning_jerk,
                          labels=tuple(reader.field(f"{key}[{k + 1}]") for k in range(len(points))),
-                         file=reader.file and str(reader.file))
+                         file=str(reader.file) if reader.file else None)

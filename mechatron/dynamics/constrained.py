@@ -88,10 +88,10 @@ def _least_squares(mech: Mechanism, A: Array, b: Array) -> Array:
     same x; else, or at a singular position, by SVD (``lstsq``)."""
     if A.shape[0] == A.shape[1] and _independent_closures(mech):
         try:
-            return np.linalg.solve(A, b)
+            return np.asarray(np.linalg.solve(A, b), dtype=float)
         except np.linalg.LinAlgError:
             pass
-    return np.linalg.lstsq(A, b, rcond=None)[0]
+    return np.asarray(np.linalg.lstsq(A, b, rcond=None)[0], dtype=float)
 
 
 def _min_norm(mech: Mechanism, J: Array, b: Array) -> Array:
@@ -99,10 +99,10 @@ def _min_norm(mech: Mechanism, J: Array, b: Array) -> Array:
     independent, else by SVD."""
     if _independent_closures(mech):
         try:
-            return J.T @ np.linalg.solve(J @ J.T, b)
+            return J.T @ np.asarray(np.linalg.solve(J @ J.T, b), dtype=float)
         except np.linalg.LinAlgError:
             pass
-    return np.linalg.lstsq(J, b, rcond=None)[0]
+    return np.asarray(np.linalg.lstsq(J, b, rcond=None)[0], dtype=float)
 
 
 def _independent_closures(mech: Mechanism) -> bool:
@@ -157,11 +157,11 @@ def reactions(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike, lam: Ar
     system = loop_solver(mech).system if mech.closures else None
     if system is not None:
         system.evaluate(q)  # the closures' frames at q
-    for closure in system.closures if system is not None else ():
-        rows = lam[row:row + closure.nrows]
-        row += closure.nrows
-        pins[closure.name] = rows.copy()
-        applied += closure.loads(system.states, rows)
+        for closure in system.closures:
+            rows = lam[row:row + closure.nrows]
+            row += closure.nrows
+            pins[closure.name] = rows.copy()
+            applied += closure.loads(system.states, rows)
     return Reactions(pins, transmitted_wrenches(mech, q, v, a, applied))
 
 
@@ -214,6 +214,7 @@ class Simulation(Result):
         ``work`` (J), ``residual`` (m) and ``lambda_<k>`` (N), one row per sample."""
         import pandas as pd
 
+        assert self.coordinates is not None  # set by __post_init__
         columns = coordinate_columns(self.t, self.names, self.coordinates, self.v, self.a)
         columns.update(energy=self.energy, work=self.work, residual=self.residual)
         multipliers = np.asarray(self.multipliers, dtype=float).reshape(len(self.t), -1)
@@ -222,6 +223,7 @@ class Simulation(Result):
         return pd.DataFrame(columns)
 
     def _rows(self) -> list[dict]:
+        assert self.coordinates is not None  # set by __post_init__
         return [{"coordinate": name, "start": float(self.coordinates[0, i]), "end": float(self.coordinates[-1, i]),
                  "speed_end": float(self.v[-1, i]), "peak_speed": float(np.abs(self.v[:, i]).max())}
                 for i, name in enumerate(self.names)]
@@ -238,6 +240,7 @@ class Simulation(Result):
     def plot(self, ax: Axes | None = None) -> Figure:
         """Joint coordinates against time (drawn into ``ax`` if given), then speeds, then the energy change
         E − E₀ beside the work W of the actuators and loads."""
+        assert self.coordinates is not None  # set by __post_init__
         figure, axes = stacked_axes(ax, 3)
         plot_lines(axes[0], self.t, self.coordinates, self.names, "t (s)", unit_label("position", self.angular, 0),
                    f"{self.mechanism}: simulated motion")
@@ -313,8 +316,13 @@ def simulate(mech: Mechanism, q0: ArrayLike, v0: ArrayLike, duration: float, dt:
     work, t = 0.0, 0.0
     for k in range(steps + 1):
         first = dynamics(t, q, v)
-        t_out.append(t), q_out.append(q), v_out.append(v), a_out.append(first[0]), lam_out.append(first[2])
-        work_out.append(work), residual_out.append(residual)
+        t_out.append(t)
+        q_out.append(q)
+        v_out.append(v)
+        a_out.append(first[0])
+        lam_out.append(first[2])
+        work_out.append(work)
+        residual_out.append(residual)
         if k == steps or (stop is not None and stop(t, q, v)):
             break
         q, v, step_work = rk4_step(dynamics, t, q, v, dt, first, retraction)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -124,7 +124,7 @@ class Kinetostatics(Result):
             rows += [{"kind": kind, "name": name, "value": value} for name, value in values.items()]
 
         def vector_row(kind: str, name: str, force, moment, point) -> dict:
-            row = {"kind": kind, "name": name}
+            row: dict[str, Any] = {"kind": kind, "name": name}
             for prefix, vector in (("force", force), ("moment", moment)):
                 if vector is not None:
                     padded = np.zeros(3)
@@ -192,9 +192,9 @@ class Kinetostatics(Result):
         ax.set_ylim(low[1] - pad, high[1] + pad)
         ax.set_aspect("equal", adjustable="box")
         axis = "xyz"
-        return style_axes(ax, f"{axis[i]} (m)", f"{axis[j]} (m)",
-                          f"{self.mechanism}: forces at one position (arrows: {1 / scale:.4g} N per m)",
-                          legend=True).get_figure()
+        style_axes(ax, f"{axis[i]} (m)", f"{axis[j]} (m)",
+                   f"{self.mechanism}: forces at one position (arrows: {1 / scale:.4g} N per m)", legend=True)
+        return figure
 
     def __str__(self) -> str:
         driving = [{"input": n, "driving": f, "zhukovsky": self.zhukovsky.get(n), "unit": self._unit(n)}

@@ -62,27 +62,27 @@ class Profile:
 
     def evaluate(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """(s, ṡ, s̈) (1, 1/s, 1/s²) at times t (s, clipped to [0, duration])."""
-        t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
+        time: NDArray[np.float64] = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
         if self.kind == "quintic":
             T = self.duration
-            tau = t / T
+            tau = time / T
             s = 10 * tau**3 - 15 * tau**4 + 6 * tau**5
             ds = (30 * tau**2 - 60 * tau**3 + 30 * tau**4) / T
             dds = (60 * tau - 180 * tau**2 + 120 * tau**3) / T**2
             return s, ds, dds
-        s, ds, dds = np.zeros_like(t), np.zeros_like(t), np.zeros_like(t)
+        s, ds, dds = np.zeros_like(time), np.zeros_like(time), np.zeros_like(time)
         start, p, v = 0.0, 0.0, 0.0
         for k, (length, a0, j) in enumerate(self.segments):
             last = k == len(self.segments) - 1
-            inside = (t >= start) & ((t < start + length) | last)
-            tau = t[inside] - start
+            inside = (time >= start) & ((time < start + length) | last)
+            tau = time[inside] - start
             s[inside] = p + v * tau + a0 * tau**2 / 2 + j * tau**3 / 6
             ds[inside] = v + a0 * tau + j * tau**2 / 2
             dds[inside] = a0 + j * tau
             p, v = p + v * length + a0 * length**2 / 2 + j * length**3 / 6, v + a0 * length + j * length**2 / 2
             start += length
         # rounding: the end of the last segment is exactly at rest at 1
-        end = t >= self.duration
+        end = time >= self.duration
         s[end], ds[end], dds[end] = 1.0, 0.0, 0.0
         return s, ds, dds
 
@@ -228,9 +228,11 @@ class Trajectory(Result):
         trajectory file format (:func:`read_trajectory`)."""
         import pandas as pd
 
+        assert self.coordinates is not None  # set by __post_init__
         return pd.DataFrame(coordinate_columns(self.t, self.names, self.coordinates, self.v, self.a))
 
     def _rows(self) -> list[dict]:
+        assert self.coordinates is not None  # set by __post_init__
         return [{"coordinate": name, "start": float(self.coordinates[0, i]), "end": float(self.coordinates[-1, i]),
                  "peak_speed": float(np.abs(self.v[:, i]).max()),
                  "peak_acceleration": float(np.abs(self.a[:, i]).max())} for i, name in enumerate(self.names)]
@@ -241,6 +243,7 @@ class Trajectory(Result):
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """Positions, speeds and accelerations against time (``ax``: the positions only)."""
+        assert self.coordinates is not None  # set by __post_init__
         figure, axes = stacked_axes(ax, 3)
         series = (("position", self.coordinates), ("speed", self.v), ("acceleration", self.a))
         for k, (axis, (what, values)) in enumerate(zip(axes, series)):
@@ -414,11 +417,13 @@ def cycle(mech: Mechanism | None, waypoints: Sequence[ArrayLike], *, dwell: floa
             rest = move(mech, b, b, duration=dwell, dt=dt, t0=t, budget=False)
             parts.append(_drop_first(rest))
             t = float(rest.t[-1])
-    return Trajectory(*(np.concatenate([getattr(p, k) for p in parts]) for k in ("t", "q", "v", "a")),
-                      parts[0].names, np.concatenate([p.coordinates for p in parts]), parts[0].angular)
+    t_all, q_all, v_all, a_all = (np.concatenate([getattr(p, k) for p in parts]) for k in ("t", "q", "v", "a"))
+    return Trajectory(t_all, q_all, v_all, a_all, parts[0].names, np.concatenate([p.coordinates for p in parts]),
+                      parts[0].angular)
 
 
 def _drop_first(trajectory: Trajectory) -> Trajectory:
+    assert trajectory.coordinates is not None  # set by __post_init__
     return Trajectory(trajectory.t[1:], trajectory.q[1:], trajectory.v[1:], trajectory.a[1:], trajectory.names,
                       trajectory.coordinates[1:], trajectory.angular)
 
@@ -478,6 +483,7 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
     frame = read_csv(path, allow_empty=True)
     if "t" not in frame.columns:
         raise InputError("missing column", file=path, field="t")
+    angular: list[bool] | None
     if mech.closures:  # a closed loop: its inputs
         names = list(mech.actuated)
         angular = [mech.joint_kind(n) == "revolute" for n in names]

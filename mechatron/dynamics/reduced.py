@@ -381,7 +381,8 @@ def differential_form(mech: Mechanism, input: str, phi0: float, omega0: float, d
             break
         phi, omega, _ = rk4_step(terms, t, phi, omega, dt, first)
         t += dt
-    return ReducedMotion(*(np.array(column) for column in zip(*rows)), input=input,
+    times, angles, speeds, epsilon, inertia, moment = (np.array(column) for column in zip(*rows))
+    return ReducedMotion(times, angles, speeds, epsilon, inertia, moment, input=input,
                          linear=mech.joint_kind(input) == "prismatic", mechanism=mech.name)
 
 
@@ -462,8 +463,8 @@ def motion_regimes(t: ArrayLike, phi: ArrayLike, omega: ArrayLike, period: float
     travel = (phi - phi[0]) * np.sign(phi[-1] - phi[0] or 1.0)
     backwards = np.flatnonzero(np.diff(travel) < 0)
     if len(backwards):  # the input stopped and turned back: only the motion before that is in cycles
-        end = int(backwards[0]) + 1
-        t, travel, omega = t[:end], travel[:end], omega[:end]
+        last = int(backwards[0]) + 1
+        t, travel, omega = t[:last], travel[:last], omega[:last]
     cycles = []
     for k in range(int(travel[-1] // period)):
         start, end = k * period, (k + 1) * period

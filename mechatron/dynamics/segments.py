@@ -145,8 +145,9 @@ def closed_loop_duty(mech: Mechanism, kinematics: Mechanism, trajectory, loads: 
 def read_span(reader) -> tuple[int | None, int | None]:
     """The task file's ``payload_from`` and ``payload_until`` (waypoint numbers, 1-based; ``None`` where left out;
     a :class:`~mechatron.io.schema.FieldReader`)."""
-    return tuple(reader.whole(key, None, minimum=1) if reader.has(key) else None
-                 for key in ("payload_from", "payload_until"))
+    start, end = (reader.whole(key, None, minimum=1) if reader.has(key) else None
+                  for key in ("payload_from", "payload_until"))
+    return start, end
 
 
 def task_schedule(reader, span: tuple[int | None, int | None], trajectory, waypoints: int | None, mass: float,

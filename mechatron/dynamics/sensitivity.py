@@ -393,9 +393,10 @@ class ParameterSensitivities(Result):
         ax.axvline(0.0, color="0.3", linewidth=0.8)
         units = sorted(set(self.parameter_units), key=["m", "rad", "-"].index)
         per = ", ".join(f"{unit}/{u}" if u != "-" else unit for u in units)
-        return style_axes(ax, f"∂{label}/∂l ({per})", "parameter l (unit)",
-                          f"{self.mechanism}: ∂{label}/∂l at configuration {sample} ({quantity} {label} = "
-                          f"{value[sample]:.6g} {unit})").get_figure()
+        style_axes(ax, f"∂{label}/∂l ({per})", "parameter l (unit)",
+                   f"{self.mechanism}: ∂{label}/∂l at configuration {sample} ({quantity} {label} = "
+                   f"{value[sample]:.6g} {unit})")
+        return figure
 
     def __str__(self) -> str:
         outputs = self.outputs()
@@ -430,7 +431,7 @@ class ParameterSensitivities(Result):
 def _inverses(matrices: Array) -> Array:
     """The inverses of (N, n, n) matrices; inf for the singular ones."""
     try:
-        return np.linalg.inv(matrices)
+        return np.asarray(np.linalg.inv(matrices), dtype=float)
     except np.linalg.LinAlgError:
         out = np.full_like(matrices, np.inf)
         for i, matrix in enumerate(matrices):
@@ -569,14 +570,14 @@ def parameter_sensitivities(mech: Mechanism, q: ArrayLike, *, rates: Mapping[str
     dforce = np.swapaxes(S, 1, 2) @ dtau
 
     nf = len(frames)
-    values = y[:, :, 0].reshape(n, nf, 3, 3)  # frame, quantity (p, v, a), axis
+    frame_values = y[:, :, 0].reshape(n, nf, 3, 3)  # frame, quantity (p, v, a), axis
     dy = dy.reshape(n, nf, 3, 3, n_l)
     spatial = not mech.closures or any(not getattr(c, "planar", True) for c in mech.closures)
     return ParameterSensitivities(
         mech.name, parameters, tuple(mech.parameters[p].unit for p in parameters),
         np.array([mech.parameters[p].value for p in parameters], dtype=float), frames, "xyz" if spatial else "xy",
         tuple(inputs), tuple(mech.joint_kind(name) == "revolute" for name in inputs), Q, U, A,
-        values[:, :, 0], values[:, :, 1], values[:, :, 2], force,
+        frame_values[:, :, 0], frame_values[:, :, 1], frame_values[:, :, 2], force,
         dy[:, :, 0], dy[:, :, 1], dy[:, :, 2], dforce, dq)
 
 

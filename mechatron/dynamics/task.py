@@ -292,6 +292,7 @@ def _remembered_cycle(mech: Mechanism | None, points: list, **options) -> Trajec
     trajectory = _CYCLES.pop(key, None)
     if trajectory is None:
         trajectory = cycle(mech, points, **options)
+        assert trajectory.coordinates is not None  # set by __post_init__
         for array in (trajectory.t, trajectory.q, trajectory.v, trajectory.a, trajectory.coordinates):
             array.setflags(write=False)
     _CYCLES[key] = trajectory

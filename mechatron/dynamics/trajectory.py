@@ -32,6 +32,7 @@ def closed_loop_states(mech: Mechanism, trajectory: Trajectory) -> tuple[Array, 
     if the motion leaves the reachable range."""
     from ..kinematics.sweeps import sweep  # pandas: only when a trajectory is analysed
 
+    assert trajectory.coordinates is not None  # set by __post_init__
     inputs = {name: trajectory.coordinates[:, i] for i, name in enumerate(mech.actuated)}
     rates = {name: trajectory.v[:, i] for i, name in enumerate(mech.actuated)}
     accels = {name: trajectory.a[:, i] for i, name in enumerate(mech.actuated)}
@@ -177,6 +178,7 @@ def _forces(mech: Mechanism, kinematics: Mechanism, Q: Array, V: Array, A: Array
         if kernel is not None:
             maps = kernel.maps(Q[part])  # S_d (n, n_dep, n_act)
         else:
+            assert frames is not None  # no kernel: the batched frames
             _, J = solver.system.stack(frames.placements(Q[part]))
             maps = -batch.solve(J[:, :, dep], J[:, :, act])
         out[part] = needs[part][:, act] + np.swapaxes(maps, 1, 2) @ needs[part][:, dep]

@@ -26,6 +26,7 @@ import functools
 import math
 import os
 from collections.abc import Callable, Mapping
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -201,7 +202,7 @@ def _compiled(algorithm, mech: Mechanism, threads: int, Q: np.ndarray, V: np.nda
 _FLOAT64 = np.dtype(np.float64)
 
 
-def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: object, v: object, x: object,
+def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: Any, v: Any, x: Any,
                *options: object) -> Array | None:
     """``algorithm(model, data, q, v, x, *options)`` (``pin.rnea``; ``pin.aba``, world convention) at one state —
     q, v, x float64 arrays, all (n,) or all (1, n) — if q, v and the result are finite; else ``None``
@@ -232,7 +233,7 @@ def _one_state(algorithm: Callable[..., Array], mech: Mechanism, q: object, v: o
     return None
 
 
-def _one_configuration(mech: Mechanism, q: object) -> Array | None:
+def _one_configuration(mech: Mechanism, q: Any) -> Array | None:
     """M(q) (nv, nv), or (1, nv, nv) for a batch of one, by ``pin.crba`` if q is a float64 array (nq,) or (1, nq)
     with finite entries and M is finite; else ``None`` (as :func:`_one_state`)."""
     if type(q) is np.ndarray and q.dtype is _FLOAT64:
@@ -352,7 +353,7 @@ def mass_matrix(mech: Mechanism, q: ArrayLike, threads: int | None = None) -> Ar
         M = _finite(joint_space_inertia(model, data, Q[0]), "CRBA")
         return M if single else M[None]
     matrix = np.dtype((np.float64, (mech.nv, mech.nv)))
-    out = np.fromiter(map(functools.partial(pin.crba, model, data), Q), dtype=matrix, count=len(Q))
+    out: Array = np.fromiter(map(functools.partial(pin.crba, model, data), Q), dtype=matrix, count=len(Q))
     return out if _revolute_only(mech) else _finite(out, "CRBA")
 
 

@@ -44,8 +44,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 #: The suffixes each kind of output file may have (figures: what matplotlib draws, :func:`figure_formats`).
-SUFFIXES = {"table": (".csv", ".txt"), "html": (".html", ".htm"), "urdf": (".urdf", ".xml"), "toml": (".toml",),
-            "json": (".json",)}
+FILE_SUFFIXES = {"table": (".csv", ".txt"), "html": (".html", ".htm"), "urdf": (".urdf", ".xml"),
+                 "toml": (".toml",), "json": (".json",)}
 
 #: The key of the PNG text chunk that marks a chart as written by mechatron into a chart folder (its owner).
 PNG_OWNER_KEY = "Source"
@@ -78,8 +78,8 @@ def _check_folder(folder: Path, path: Path, where: str) -> None:
 
 
 def check_output(path: str | Path, kind: str | None = None, *, where: str | None = None) -> Path:
-    """Check that ``path`` can take an output file of ``kind`` (a key of :data:`SUFFIXES`, ``"figure"`` or None: any
-    suffix) before any work: not a directory, its folder exists and is writable, its suffix is one of the kind's.
+    """Check that ``path`` can take an output file of ``kind`` (a key of :data:`FILE_SUFFIXES`, ``"figure"`` or None:
+    any suffix) before any work: not a directory, its folder exists and is writable, its suffix is one of the kind's.
     A device or pipe (``/dev/null``) is accepted as it is. Returns ``path``; raises :class:`InputError` naming
     ``where`` (default: the path)."""
     path = Path(path)
@@ -104,7 +104,7 @@ def _check_output(path: Path, kind: str | None, where: str) -> Path:
         longest = 255
     if len(os.fsencode(target.name)) > longest:
         raise InputError(f"the file name is longer than {longest} bytes", file=where)
-    allowed = figure_formats() if kind == "figure" else SUFFIXES.get(kind or "", ())
+    allowed = figure_formats() if kind == "figure" else FILE_SUFFIXES.get(kind or "", ())
     if allowed and path.suffix.lower() not in allowed:
         what = {"figure": "a chart", "table": "a CSV table", "html": "an HTML report", "urdf": "a URDF",
                 "toml": "a mechanism file", "json": "JSON"}.get(kind or "", "this file")

@@ -23,10 +23,20 @@ _MISSING: Any = object()
 #: Pass as ``default`` to make a field required.
 REQUIRED: Any = _MISSING
 
+
+def field_suffixes(kind: str, *only: str) -> dict[str, float]:
+    """The endings a field name of ``kind`` may carry → the factor that converts its value to SI, from the one unit
+    table :data:`mechatron.units.UNITS`: ``""`` (no suffix: SI) first, then ``"_mm"``, ``"_deg"``, …; a name of the
+    SI unit itself is no ending (``a``, not ``a_m``). ``only``: just these units besides SI (``field_suffixes(
+    "length", "mm")`` → ``{"": 1.0, "_mm": 0.001}``)."""
+    return {("_" + s if s else ""): f for s, f in UNITS[kind].items()
+            if not s or (f != 1.0 and (not only or s in only))}
+
+
 #: Unit suffixes a field name may carry (``a_mm``, ``alpha_deg``), with the factor that converts to SI
-#: (:mod:`mechatron.units`).
-LENGTH_UNITS = {("_" + s if s else ""): f for s, f in UNITS["length"].items() if s != "m"}
-ANGLE_UNITS = {("_" + s if s else ""): f for s, f in UNITS["angle"].items() if s != "rad"}
+#: (:func:`field_suffixes`).
+LENGTH_UNITS = field_suffixes("length")
+ANGLE_UNITS = field_suffixes("angle")
 
 
 class FieldReader:

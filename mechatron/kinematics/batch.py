@@ -24,10 +24,12 @@ beyond the (N, nq) array of the solutions.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from ..model.batched import BatchedFrames
-from ..model.closures import ClosureSystem
+from ..model.closures import ClosureSystem, FrameStates
 from .loops import TOLERANCE
 
 #: Samples evaluated together (the working storage is a few kB per sample of a chunk), at most and at least.
@@ -185,7 +187,8 @@ def newton(system: ClosureSystem, frames: BatchedFrames, Q: np.ndarray, act: np.
     for _ in range(ITERATIONS + 1):
         if not len(active):
             break
-        phi, J = system.stack(frames.placements(Q[active]))
+        # a BatchedStates: the closures broadcast over its leading axis
+        phi, J = system.stack(cast(FrameStates, frames.placements(Q[active])))
         with np.errstate(invalid="ignore"):
             error = np.abs(phi).max(axis=1, initial=0.0)
         below, finite = error < TOLERANCE, np.isfinite(error)

@@ -43,8 +43,9 @@ from __future__ import annotations
 
 import ctypes
 import os
+from collections.abc import Hashable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -410,8 +411,8 @@ def blocked(function) -> str | None:
             lines.append(f"  w{result[0]} = {arithmetic[op].format(*(f'w{i}' for i in args))};")
         elif op in operations:
             loads = " ".join(f"memcpy(x{j}, &w{i}, sizeof(m_v));" for j, i in enumerate(args))
-            value = operations[op].format(*(f"x{j}[l]" for j in range(len(args))))
-            lines.append(f"  {loads} for (int l = 0; l < M_L; ++l) y0[l] = {value}; "
+            expression = operations[op].format(*(f"x{j}[l]" for j in range(len(args))))
+            lines.append(f"  {loads} for (int l = 0; l < M_L; ++l) y0[l] = {expression}; "
                          f"memcpy(&w{result[0]}, y0, sizeof(m_v));")
         else:
             return None
@@ -487,7 +488,7 @@ class KernelCode:
     geometries — shares one (:func:`loop_kernel`)."""
 
     def __init__(self, solver: LoopSolver, geometry: Geometry, points: list[str], links: list[str],
-                 others: list[str] = (), spatial: bool = False) -> None:
+                 others: Sequence[str] = (), spatial: bool = False) -> None:
         import casadi as ca
 
         mech, system = solver.mech, solver.system
@@ -511,7 +512,7 @@ class KernelCode:
         step = self._step_function(ca, q, p, phi, J)
         path = library([analyse, step], self._driver_source(analyse, step))
         self._analyse = external(analyse, path)
-        self._driver = self._load_driver(path) if self._analyse is not analyse else None
+        self._driver = self._load_driver(path) if path is not None and self._analyse is not analyse else None
         self._mapped: dict = {}
         del self._placements  # it holds the first mechanism's model
 
@@ -609,9 +610,9 @@ class KernelCode:
             return None
         integer, address = ctypes.c_longlong, ctypes.c_void_p
         lib.mechatron_continue.restype = integer
-        lib.mechatron_continue.argtypes = [integer] * 3 + [address] * 14
+        lib.mechatron_continue.argtypes = (integer,) * 3 + (address,) * 14
         lib.mechatron_analyse_rows.restype = None
-        lib.mechatron_analyse_rows.argtypes = [integer, address, integer] + [address] * 6
+        lib.mechatron_analyse_rows.argtypes = (integer, address, integer) + (address,) * 6
         lib.mechatron_far.restype = ctypes.c_int
         lib.mechatron_far.argtypes = [address, address]
         lib.mechatron_maps.restype = None
@@ -645,7 +646,7 @@ class LoopKernel:
             raise ValueError(f"the kernel takes {code.size} parameters, got {self.parameters.shape}")
         self.nq, self.na, self.nd, self.act, self.dep = code.nq, code.na, code.nd, code.act, code.dep
         self.names, self.others = code.names, code.others
-        self._driver = code._driver
+        self._driver: Any = code._driver  # the driver's ctypes library, or None
 
     @property
     def driven(self) -> bool:
@@ -700,10 +701,11 @@ class LoopKernel:
         for start in range(0, n, CHUNK):
             stop = min(start + CHUNK, n)
             buffer, evaluate = self.code.mapped(function, stop - start)
+            # numpy's stubs give an array the buffer protocol (__buffer__) from Python 3.12 only
             for i, x in enumerate(arrays):
-                buffer.set_arg(i, memoryview(x[start:stop]))
-            buffer.set_arg(len(arrays), memoryview(self.parameters))
-            buffer.set_res(0, memoryview(out[start:stop]))
+                buffer.set_arg(i, memoryview(x[start:stop]))  # type: ignore[arg-type]
+            buffer.set_arg(len(arrays), memoryview(self.parameters))  # type: ignore[arg-type]
+            buffer.set_res(0, memoryview(out[start:stop]))  # type: ignore[arg-type]
             evaluate()
         return out
 
@@ -795,7 +797,7 @@ def loop_kernel(solver: LoopSolver, points: list[str], links: list[str], others:
     study, an optimiser), else None is returned while it has none."""
     mech = solver.mech
     key = ("loop_kernel", tuple(points), tuple(links), tuple(others), spatial)
-    kept = mech.cached("loop_kernels", dict)
+    kept: dict[Hashable, LoopKernel | None] = mech.cached("loop_kernels", dict)
     if key in kept:
         return kept[key]
     try:
@@ -831,4 +833,5 @@ def kept_kernel(solver: LoopSolver, points: list[str], links: list[str], others:
                 ) -> LoopKernel | None:
     """The kernel of :func:`loop_kernel` if the mechanism already has it (a sweep built it), else None."""
     key = ("loop_kernel", tuple(points), tuple(links), tuple(others), spatial)
-    return solver.mech.cached("loop_kernels", dict).get(key)
+    kept: dict[Hashable, LoopKernel | None] = solver.mech.cached("loop_kernels", dict)
+    return kept.get(key)

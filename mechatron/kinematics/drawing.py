@@ -27,8 +27,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-_STYLE = {"link": dict(lw=2.0, marker="o", ms=4), "cylinder": dict(lw=5.0, solid_capstyle="round", alpha=0.6),
-          "slider": dict(lw=0, marker="s", ms=9), "ground": dict(lw=1.0, ls="--")}
+_STYLE: dict[str, dict[str, Any]] = {
+    "link": dict(lw=2.0, marker="o", ms=4), "cylinder": dict(lw=5.0, solid_capstyle="round", alpha=0.6),
+    "slider": dict(lw=0, marker="s", ms=9), "ground": dict(lw=1.0, ls="--")}
 _KIND_LABEL = {"link": "link", "cylinder": "hydraulic cylinder", "slider": "slider", "ground": "frame (ground)"}
 #: Views of a stick figure: (horizontal axis, vertical axis) as indices of x, y, z.
 PROJECTIONS = {"xz": (0, 2), "xy": (0, 1), "yz": (1, 2)}
@@ -70,7 +71,8 @@ def draw_mechanism(mech: Mechanism, q: ArrayLike, ax: Axes, *, color: str | None
                 label="ground pivot" if key and i == 0 else None)
     if labels:
         for name in mech.points:
-            ax.annotate(name, positions[name], textcoords="offset points", xytext=(4, 4), fontsize=8, alpha=alpha)
+            ax.annotate(name, positions[name],  # type: ignore[arg-type]  # matplotlib's stubs: xy a tuple, not an array
+                        textcoords="offset points", xytext=(4, 4), fontsize=8, alpha=alpha)
     return ax
 
 
@@ -133,8 +135,10 @@ def draw_plan(ax: Axes, vectors: Mapping[str, ArrayLike], groups: Sequence[Seque
     axes' legend (else the caller keys the pole and the joined tips). Returns ``ax``."""
     tips = {name: np.asarray(vec, dtype=float)[:2] for name, vec in vectors.items()}
     for name, tip in tips.items():
-        ax.annotate("", xy=tip, xytext=(0, 0), arrowprops=dict(arrowstyle="->", color="tab:blue"))
-        ax.annotate(name.lower(), tip, textcoords="offset points", xytext=(3, 3), fontsize=9)
+        ax.annotate("", xy=tip, xytext=(0, 0),  # type: ignore[arg-type]  # matplotlib's stubs: xy a tuple
+                    arrowprops=dict(arrowstyle="->", color="tab:blue"))
+        ax.annotate(name.lower(), tip,  # type: ignore[arg-type]  # matplotlib's stubs: xy a tuple, not an array
+                    textcoords="offset points", xytext=(3, 3), fontsize=9)
     joined = False
     for group in groups:
         members = [p for p in group if p in tips]
@@ -189,7 +193,7 @@ def configuration_figure(mech: Mechanism, q: ArrayLike, *, frame: str | None = N
         ax.grid(True, alpha=0.3)
         axes = [ax]
     else:
-        if given:
+        if ax is not None:  # given
             axes = [ax]
         else:
             figure = new_figure(11.0, 5.0)
@@ -197,7 +201,7 @@ def configuration_figure(mech: Mechanism, q: ArrayLike, *, frame: str | None = N
         for view, axis in zip(("xz", "xy"), axes):
             draw_stick_figure(mech, q, axis, view=view, frame=frame)
             axis.set_title(f"{title}: {'side' if view == 'xz' else 'top'} view", fontsize=10)
-        figure = axes[0].get_figure()
+        figure = figure_axes(axes[0])[0]
     if given:
         axes[0].legend(fontsize=8, loc="best")
     else:

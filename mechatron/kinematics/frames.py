@@ -15,7 +15,7 @@ angular acceleration E_i = dΩ_i/dt ([Egorov, 4.57]), σ_j = 1 for a revolute an
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 import pinocchio as pin
@@ -74,10 +74,11 @@ def lean_samples(mech: Mechanism, q: ArrayLike, *rates: ArrayLike
     for x in rates:
         if type(x) is not np.ndarray or x.dtype != np.float64 or x.shape != shape:
             return samples(mech, q, *rates)
-    for x in (q, *rates):
+    arrays = cast("tuple[NDArray[np.float64], ...]", (q, *rates))  # each a float64 array of its shape (above)
+    for x in arrays:
         if not math.isfinite(x.sum() if x.size > 64 else sum(x.tolist() if x.ndim == 1 else x.ravel().tolist())):
             return samples(mech, q, *rates)
-    return q.ndim == 1, q.reshape(-1, nq), [x.reshape(-1, nv) for x in rates]
+    return q.ndim == 1, q.reshape(-1, nq), [x.reshape(-1, nv) for x in arrays[1:]]
 
 
 def _offset(offset: ArrayLike | None) -> NDArray[np.float64] | None:
@@ -204,14 +205,14 @@ def _frame_motion(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: ArrayLike | No
         placement = pin.updateFramePlacement(model, data, fid)
         twist = pin.getFrameVelocity(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
         lin_v[i], ang_v[i] = twist.linear, twist.angular
-        if a is not None:
+        if lin_a is not None and ang_a is not None:  # a is given
             acc = pin.getFrameClassicalAcceleration(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
             lin_a[i], ang_a[i] = acc.linear, acc.angular
         if p is not None:
             r = placement.rotation @ p
             w = ang_v[i]
             lin_v[i] += np.cross(w, r)
-            if a is not None:
+            if lin_a is not None and ang_a is not None:
                 lin_a[i] += np.cross(ang_a[i], r) + np.cross(w, np.cross(w, r))
     return single, lin_v, ang_v, lin_a, ang_a
 
@@ -289,4 +290,5 @@ def link_angular_accelerations(mech: Mechanism, q: ArrayLike, v: ArrayLike, a: A
     """E_i (rad/s², world) of every link i, in the order of ``mech.link_names`` ([Egorov, 4.57]), at q (nq,) with
     joint velocity v and acceleration a (nv,): (n, 3), or (N, n, 3) for batches."""
     single, _, epsilon = _link_motion(mech, q, v, a)
+    assert epsilon is not None  # a is given
     return epsilon[0] if single else epsilon

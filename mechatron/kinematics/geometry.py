@@ -7,7 +7,7 @@ evaluate the points at one configuration and call them.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 import pinocchio as pin
@@ -24,14 +24,21 @@ def point_positions(mech: Mechanism, q: ArrayLike, *frames: str) -> list[NDArray
             for f in frames]
 
 
+def acute_angle(cosine: ArrayLike) -> NDArray[np.float64]:
+    """The transmission-angle fold: μ = arccos(min(1, |c|)) (rad, in [0, π/2]), the acute angle between two lines
+    whose directions make an angle θ of cosine c = cos θ. θ, π − θ, π + θ and −θ fold onto one μ (θ = 0 and π give 0,
+    π/2 and 3π/2 give π/2); a |c| rounded just above 1 gives 0. The one place of this formula: every transmission
+    angle, of lines of points (:func:`transmission_angles`) or of a triangle's sides, is this of its cosine."""
+    return np.arccos(np.minimum(1.0, np.abs(np.asarray(cosine, dtype=float))))
+
+
 def transmission_angles(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -> NDArray[np.float64]:
     """Angle (rad, in [0, π/2]) between the lines ab and cd for arrays (N, 2) of points (m): the transmission angle
     when ab is the coupler or cylinder and cd the driven lever (90° is ideal; designs ask for at least 30° or so,
-    [Shovel, 3.18–3.19])."""
+    [Shovel, 3.18–3.19]): μ = :func:`acute_angle` of cos θ = (u · w) / (|u| |w|), u = b − a, w = d − c."""
     a, b, c, d = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (a, b, c, d))
     u, w = b - a, d - c
-    cosine = np.abs((u * w).sum(axis=1)) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1))
-    return np.arccos(np.minimum(1.0, cosine))
+    return acute_angle((u * w).sum(axis=1) / (np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1)))
 
 
 def lever_arms(base: ArrayLike, eye: ArrayLike, pivot: ArrayLike) -> NDArray[np.float64]:
@@ -63,7 +70,8 @@ def distance(mech: Mechanism, q: ArrayLike, a: str, b: str) -> float:
     return float(distances(*point_positions(mech, q, a, b))[0])
 
 
-MEASURES = {"transmission_angle": transmission_angles, "lever_arm": lever_arms, "distance": distances}
+MEASURES: dict[str, Callable[..., NDArray[np.float64]]] = {
+    "transmission_angle": transmission_angles, "lever_arm": lever_arms, "distance": distances}
 
 
 def measure_values(measure: Measure, positions: Mapping[str, ArrayLike]) -> NDArray[np.float64]:

@@ -96,14 +96,14 @@ def into_limits(mech: Mechanism, q: ArrayLike) -> NDArray[np.float64]:
     """q (nq,) with every revolute joint's angle outside its finite limits turned by a whole number of turns,
     q + 2π k, where that brings it inside: the same pose (an inverse kinematics solution from a seed may come out a
     turn away, ``pin.integrate`` does not wrap angles). Other values as they are."""
-    q = np.asarray(q, dtype=float).copy()
+    out: NDArray[np.float64] = np.asarray(q, dtype=float).copy()
     for name, i, low, high in _limited(mech):
-        if mech.joint_kind(name) != "revolute" or not (np.isfinite(low) and np.isfinite(high)) or low <= q[i] <= high:
+        if mech.joint_kind(name) != "revolute" or not (np.isfinite(low) and np.isfinite(high)) or low <= out[i] <= high:
             continue
-        turned = low + (q[i] - low) % (2 * np.pi)
+        turned = low + (out[i] - low) % (2 * np.pi)
         if turned <= high:
-            q[i] = turned
-    return q
+            out[i] = turned
+    return out
 
 
 def limit_violation(mech: Mechanism, q: ArrayLike, tolerance: float = LIMIT_TOLERANCE) -> str | None:

@@ -87,10 +87,10 @@ class LoopSolver:
         """A x = b (least squares if A is not square or is singular)."""
         if A.shape[0] == A.shape[1]:
             try:
-                return np.linalg.solve(A, b)
+                return np.asarray(np.linalg.solve(A, b), dtype=float)
             except np.linalg.LinAlgError:
                 pass
-        return np.linalg.lstsq(A, b, rcond=None)[0]
+        return np.asarray(np.linalg.lstsq(A, b, rcond=None)[0], dtype=float)
 
     def _input_values(self, q: Vector) -> dict[str, float]:
         return {n: float(q[self.index[n]]) for n in self.mech.actuated}
@@ -99,7 +99,7 @@ class LoopSolver:
         return ", ".join(f"{n} = {q[self.index[n]]:.6g}" for n in self.mech.actuated)
 
     # ------------------------------------------------------------------------------------------ position
-    def assemble(self, inputs: Mapping[str, float] | Vector, guess: Vector | None = None,
+    def assemble(self, inputs: Mapping[str, float] | Vector, guess: ArrayLike | None = None,
                  max_iterations: int = 50) -> Vector:
         """Solve the closures for the dependent coordinates with the actuated ones at ``inputs``.
 
@@ -199,7 +199,7 @@ class LoopSolver:
                                 inputs=self._input_values(q), residual=error, closure=worst)
 
     # ------------------------------------------------------------------------------------ velocity, acceleration
-    def dependent_inverse(self, q: Vector, J: Vector) -> Vector:
+    def dependent_inverse(self, q: Vector, J: Vector) -> NDArray[np.floating]:
         """J_d⁻¹ (or its pseudo-inverse when the closure equations are redundant), checked for singularity."""
         Jd = J[:, self.dep]
         try:
@@ -241,7 +241,7 @@ class LoopSolver:
         given = self._inputs(values, what)
         return np.array([given.get(int(i), 0.0) for i in self.act])
 
-    def velocity_matrix(self, q: Vector, J: Vector | None = None) -> Vector:
+    def velocity_matrix(self, q: ArrayLike, J: Vector | None = None) -> Vector:
         """S (nv × n_act) with q̇ = S q̇_a: S_a = I, S_d = −J_d⁻¹ J_a."""
         q = np.asarray(q, dtype=float)
         J = self.system.evaluate(q)[1] if J is None else J
@@ -251,12 +251,11 @@ class LoopSolver:
             S[self.dep] = -self.dependent_inverse(q, J) @ J[:, self.act]
         return S
 
-    def velocity(self, q: Vector, rates: Mapping[str, float] | Vector) -> Vector:
+    def velocity(self, q: ArrayLike, rates: Mapping[str, float] | Vector) -> Vector:
         """q̇ for the actuated rates (missing ones are 0)."""
         return self.velocity_matrix(q) @ self._vector(rates, "rate")
 
-    def acceleration(self, q: Vector, v: Vector, accelerations: Mapping[str, float] | Vector
-                     ) -> Vector:
+    def acceleration(self, q: ArrayLike, v: ArrayLike, accelerations: Mapping[str, float] | Vector) -> Vector:
         """q̈ for the joint velocity v (consistent with the closures) and the actuated accelerations (missing ones
         are 0): J_d q̈_d = −J_a q̈_a − J̇ q̇."""
         q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)

@@ -20,9 +20,9 @@ from __future__ import annotations
 import functools
 import math
 import textwrap
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -44,7 +44,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..report.html import Report
+    from ..model.closures import FrameStates
+    from ..report.html import Item, Report
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -53,7 +54,8 @@ _POINT_UNITS = {"x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "v": "m/s", "ax": 
 _LINK_UNITS = {"angle": "deg", "omega": "rad/s", "epsilon": "rad/s²"}
 _QUANTITY = {"deg": "angle", "m": "length", "m/s": "speed", "m/s²": "acceleration", "rad/s": "angular velocity",
              "rad/s²": "angular acceleration", "-": "value"}
-_MEASURE_QUANTITY = {"transmission_angle": "transmission angle", "lever_arm": "lever arm", "distance": "distance"}
+_MEASURE_QUANTITY: dict[str | None, str] = {"transmission_angle": "transmission angle", "lever_arm": "lever arm",
+                                             "distance": "distance"}
 
 
 @dataclass
@@ -201,10 +203,10 @@ class SweepResult(Result):
         for prefix, units in (("q_", ("deg", "m")), ("v_", ("rad/s", "m/s")), ("a_", ("rad/s²", "m/s²"))):
             if column.startswith(prefix) and column[2:] in angular:
                 return units[0] if angular[column[2:]] else units[1]
-        for names, units in ((self.points, _POINT_UNITS), (self.links, _LINK_UNITS)):
+        for names, suffixes in ((self.points, _POINT_UNITS), (self.links, _LINK_UNITS)):
             for name in names:
-                if column.startswith(name + "_") and column[len(name) + 1:] in units:
-                    return units[column[len(name) + 1:]]
+                if column.startswith(name + "_") and column[len(name) + 1:] in suffixes:
+                    return suffixes[column[len(name) + 1:]]
         return "-"
 
     def _chart_values(self, column: str) -> NDArray[np.float64]:
@@ -316,13 +318,14 @@ class SweepResult(Result):
                                 "y max": p["y"][1], "|v| max (m/s)": p["v_max"], "|a| max (m/s²)": p["a_max"]}
                                for name, p in self.as_dict()["points"].items() if p["x"]])
         lines = str(self).splitlines()
-        sections = [Section("Method", [Method(sys.modules[__name__].__doc__), Method(loops.__doc__)]
-                            + [Method(geometry.transmission_angles.__doc__)] * any(degrees.values())),
-                    Section("Results", [Code("\n".join(lines[:2])), Table(checks, "measures and their checks",
-                                                                          "measures"),
-                                        Table(points, "the range of every point (m)", "points"),
-                                        Table(positions, "every position analysed", "positions")]
-                            + [Table(self.failures, "positions not analysed", "failures")] * bool(len(self.failures))),
+        results: list[Item] = [Code("\n".join(lines[:2])), Table(checks, "measures and their checks", "measures"),
+                               Table(points, "the range of every point (m)", "points"),
+                               Table(positions, "every position analysed", "positions")]
+        methods: list[Item] = [Method(sys.modules[__name__].__doc__ or ""), Method(loops.__doc__ or "")]
+        sections = [Section("Method", methods + [Method(geometry.transmission_angles.__doc__ or "")]
+                            * any(degrees.values())),
+                    Section("Results", results + [Table(self.failures, "positions not analysed", "failures")]
+                            * bool(len(self.failures))),
                     Section("Chart", [Chart(self.plot())] if len(table) else [Text("no position could be analysed")])]
         k = self.critical_sample()
         if k is None and len(table):
@@ -388,7 +391,8 @@ def position_bytes(mech: Mechanism) -> tuple[float, float]:
                    + 3 * len(mech.link_names) + len(mech.measures))
         return 16.0 * columns
 
-    driven = any(k is not None and k.driven for k in mech.cached("loop_kernels", dict).values())
+    kernels: dict[Hashable, LoopKernel | None] = mech.cached("loop_kernels", dict)
+    driven = any(k is not None and k.driven for k in kernels.values())
     fixed = 0.01 * mech.nq**2 if driven else 0.2 * mech.nq + 0.03 * mech.nq**2
     return fixed * 1e6, mech.cached("position_bytes", build)
 
@@ -520,8 +524,12 @@ def _analysed(base: LoopSolver, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: 
     closing = _batched_frames(base) if BATCHED and kernel is None else None  # the closures' frames
     every = _batched_frames(solver) if closing is not None else None  # and the reported ones
     if (kernel is not None or closing is not None) and n >= BATCH_MIN:
-        newton = kernel.newton if kernel is not None else \
-            (lambda Q: batch.newton(base.system, closing, Q, base.act, base.dep))
+        newton: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+        if kernel is not None:
+            newton = kernel.newton
+        else:
+            assert closing is not None
+            newton = lambda Q: batch.newton(base.system, closing, Q, base.act, base.dep)
         Q, ok = _batched_positions(base, newton, U, q, failures, progress, kernel, stop)
     else:
         Q, ok, saved = _Continuation(solver, U, q, failures, progress, keep=every is None).run(range(n), stop)
@@ -533,6 +541,7 @@ def _analysed(base: LoopSolver, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: 
         good, V, Aq, columns = _analyse_batched(solver, every, reported, Q, ok, R, A, wanted, points, links,
                                                 measures, U, failures)
     else:
+        assert saved is not None  # kept by the continuation (keep: no batched frames)
         good, V, Aq, columns = _analyse_pinocchio(solver, Q, ok, saved, R, A, reported, wanted, points, links,
                                                   measures, U, failures)
     return _result(mech, U, good, Q[good], V, Aq, columns, links, measures, failures, names, points)
@@ -586,8 +595,9 @@ class _Continuation:
         self.polish = polish  # one more Newton step after convergence (else the residual is only below TOLERANCE)
         self.history: list[np.ndarray] = []  # last good solutions, each reached by the same step as the next
 
-    def solve(self, k: int, same_step: bool) -> tuple[np.ndarray, np.ndarray] | None:
-        """Sample k: (q, closure Jacobian) or None (the reason in ``failures``)."""
+    def solve(self, k: int, same_step: bool) -> tuple[np.ndarray, np.ndarray | None] | None:
+        """Sample k: (q, closure Jacobian, None where the compiled Newton solved it) or None (the reason in
+        ``failures``)."""
         solver, history = self.solver, self.history
         if k in self.failures:
             history.clear()
@@ -642,12 +652,14 @@ class _Continuation:
         |Δq_d − ½ (S + S_after) Δu| ≤ :data:`batch.JUMP_RATIO` |Δq_d| (the trapezoidal rule, the batched check),
         else the step halved and each half walked, at most :data:`WALK_HALVINGS` times. A step that cannot be
         followed so (next to a singular position, where two branches nearly meet: a crank-slider whose rod is
-        about as long as its crank) is an :class:`~mechatron.errors.UnreachableError` naming the inputs. Returns
-        the solution and its velocity map."""
+        about as long as its crank) is an :class:`~mechatron.errors.UnreachableError` naming the inputs; one whose
+        last, shortest step finds no solution is Newton's error (the loops do not close there). Returns the solution
+        and its velocity map."""
         solver = self.solver
         du = u - q[solver.act]
         trial = q + S @ du
         trial[solver.act] = u
+        failure: MechatronError | None = None
         try:
             after, J = solver.newton(trial)
             S_after = solver.velocity_matrix(after, J)
@@ -655,8 +667,10 @@ class _Continuation:
             error = np.abs(change - 0.5 * ((S + S_after)[solver.dep] @ du)).max(initial=0.0)
             if error <= max(batch.JUMP_RATIO * np.abs(change).max(initial=0.0), batch.JUMP_FLOOR):
                 return after, S_after
-        except MechatronError:
-            pass
+        except MechatronError as exc:
+            failure = exc
+        if depth >= WALK_HALVINGS and failure is not None:
+            raise failure  # no solution next to u: the loops do not close there
         if depth >= WALK_HALVINGS:
             raise UnreachableError(f"{solver.mech.name}: the assembly branch cannot be followed from "
                                    f"{solver._describe_inputs(q)} to {_inputs_text(solver, u)}: a singular "
@@ -669,6 +683,7 @@ class _Continuation:
         """Solve ``trial`` in place by the kernel's Newton steps; accepted only if it converged within half the
         change since the previous solution of its guess (else it may have left the branch: full steps have no
         halving)."""
+        assert self.kernel is not None  # called with a kernel only
         row = trial[None].copy()
         change = np.abs(history[-1] - history[-2]).max()
         if not (self.kernel.newton(row)[0][0] and np.abs(row[0] - trial).max() <= 0.5 * change + 1e-9):
@@ -676,7 +691,7 @@ class _Continuation:
         trial[:] = row[0]
         return True
 
-    def run(self, samples: Sequence[int], stop: bool = False
+    def run(self, samples: Sequence[int] | np.ndarray, stop: bool = False
             ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...] | None]:
         """Solve ``samples`` in turn: (Q (n, nv), which converged, and with ``keep`` the closure Jacobians,
         placements and frame Jacobians of every sample); with ``stop``, none after the first that fails."""
@@ -894,16 +909,19 @@ def _analyse_batched(solver: LoopSolver, frames: BatchedFrames, reported: list[i
     for part in parts:
         k = rows[part] if len(parts) > 1 or len(rows) < len(Q) else slice(None)
         states = frames.placements(Q[k], jacobians=closing)  # the closures' frames come first
-        _, Jc = system.stack(states)
+        as_one = cast("FrameStates", states)  # a BatchedStates: the closures broadcast over its leading axis
+        _, Jc = system.stack(as_one)
         S, singular[part], inverse = _velocity_maps(solver, Jc, explicit=True)
         V[part] = batch.apply(S, R[k])
         frames.motion(states, V[part])
-        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(states), batch.apply)
+        Aq[part] = _accelerations(solver, S, Jc, inverse, A[k], system.stack_drift(as_one), batch.apply)
         frames.motion(states, V[part], Aq[part])  # again, at q̈: the reported frames' classical accelerations
         # the reported frames sample-last (contiguous rows for the planar frames, whose arrays are transposed views)
-        reporting = (np.moveaxis(np.moveaxis(x, 0, -1)[reported], -1, 0) for x in (
-            states.position, states.angle, states.velocity, states.acceleration0))
-        chunk = _frame_columns(solver.mech, *reporting, wanted, points, links, measures)
+        # (no names kept for them: the next part's arrays are made while these are let go)
+        assert states.velocity is not None and states.acceleration0 is not None  # filled by frames.motion
+        chunk = _frame_columns(solver.mech, _reported(states.position, reported), _reported(states.angle, reported),
+                               _reported(states.velocity, reported), _reported(states.acceleration0, reported),
+                               wanted, points, links, measures)
         if len(parts) == 1:
             columns = chunk
             continue
@@ -983,8 +1001,8 @@ def _driven(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray
     if len(good) < n:
         table, motion = table[:, good], motion[:, good]
     _finish_columns(table, layout.where, links, measures)
-    return SweepResult(mech, layout.frame(table, good), _failure_frame(U, names, failures), *motion, measures, points,
-                       links)
+    return SweepResult(mech, layout.frame(table, good), _failure_frame(U, names, failures), motion[0], motion[1],
+                       motion[2], measures, points, links)
 
 
 def _in_steps(solver: LoopSolver, kernel: LoopKernel, U: np.ndarray, R: np.ndarray, A: np.ndarray, q: np.ndarray,
@@ -1226,6 +1244,11 @@ def _drifts(solver: LoopSolver, Q: np.ndarray, V: np.ndarray, H: np.ndarray, Jf:
         drift[k] = system.drift(Q[k], V[k])
         accel0[k] = states.acceleration0
     return drift, accel0
+
+
+def _reported(values: np.ndarray, reported: list[int]) -> np.ndarray:
+    """The rows ``reported`` of the frames' axis (1) of ``values`` (N, F, ...), a copy."""
+    return np.moveaxis(np.moveaxis(values, 0, -1)[reported], -1, 0)
 
 
 def _frame_columns(mech: Mechanism, position: np.ndarray, angle: np.ndarray, twist: np.ndarray, accel: np.ndarray,

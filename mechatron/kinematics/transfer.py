@@ -69,5 +69,6 @@ def transfer_functions(mech: Mechanism, q: ArrayLike, input: str, *, frame: str 
     if frame is not None:
         _, first, second = point_state(mech, q, v, a, frame)
         return TransferFunctions(first, second)
+    assert link is not None  # one of the two is given
     return TransferFunctions(float(angular_velocity(mech, q, v, link)[2]),
                              float(angular_acceleration(mech, q, v, a, link)[2]))

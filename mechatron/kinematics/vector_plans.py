@@ -94,7 +94,7 @@ class Plans(Result):
     def plot(self, ax: Axes | None = None) -> Figure:
         """The mechanism (m) beside its velocity plan (m/s, pole p) and acceleration plan (m/s², pole π), the tips
         of the points of one body joined ([Egorov, fig. 4.10]). Given ``ax``, draws the velocity plan into it."""
-        from ..report.figures import new_figure
+        from ..report.figures import figure_axes, new_figure
         from .drawing import draw_mechanism, draw_plan, key_below
 
         mech = self.mechanism
@@ -103,7 +103,7 @@ class Plans(Result):
         if ax is not None:
             draw_plan(ax, velocity, groups, pole="p", unit="m/s", quantity="v")
             ax.set_title("velocity plan", fontsize=10)
-            return ax.get_figure()
+            return figure_axes(ax)[0]
         figure = new_figure(13.0, 4.5)
         ax_mech, ax_v, ax_a = figure.subplots(1, 3)
         if mech.sketch:

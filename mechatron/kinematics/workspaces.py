@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -138,8 +138,8 @@ class WorkspaceResult(Result):
                  f"({n1} × {n2} grid)"]
         for name, v in zip(self.inputs, self.values):
             lines.append(f"  {name}: {v[0]:.6g} … {v[-1]:.6g} {self._unit(name)} ({len(v)} values)")
-        for name, v in self.held.items():
-            lines.append(f"  {name}: held at {v:.6g} {self._unit(name)}")
+        for name, value in self.held.items():
+            lines.append(f"  {name}: held at {value:.6g} {self._unit(name)}")
         lines.append(f"assembled: {e['assembled']} of {e['cells']} positions ({100 * e['share']:.1f} %)")
         if e["reach"] is not None:
             for axis in self._axes:
@@ -156,14 +156,14 @@ class WorkspaceResult(Result):
         (an input at a limit: the region's boundary, broken where cells do not assemble), with the mechanism drawn at
         its drawn position, x and y in m, equal scales; beside it the grid of the inputs with the cells that do not
         assemble marked (×). Given ``ax``, draws the region only, the count of cells not assembled in its legend."""
-        from ..report.figures import new_figure, style_axes
+        from ..report.figures import figure_axes, new_figure, style_axes
         from .drawing import draw_mechanism
 
         if ax is None:
             figure = new_figure(12.0, 5.5)
             region, grid = figure.subplots(1, 2, width_ratios=[1.3, 1])
         else:
-            figure, region, grid = ax.get_figure(), ax, None
+            figure, region, grid = figure_axes(ax)[0], ax, None
         x, y = self.positions[..., 0], self.positions[..., 1]
         ok = self.assembled
         region.scatter(x[ok], y[ok], s=4, color="tab:blue", alpha=0.5, label=f"{self.point} at an assembled cell")
@@ -171,6 +171,7 @@ class WorkspaceResult(Result):
         for k, (ex, ey) in enumerate(edges):
             region.plot(ex, ey, color="tab:blue", lw=1.2, label="an input at a limit" if k == 0 else None)
         if self.mechanism.closures:
+            assert self.mechanism.reference_q is not None  # a workspace's linkage is assembled from its drawing
             draw_mechanism(self.mechanism, self.mechanism.reference_q, region, labels=False, alpha=0.6)
         missing = int((~ok).sum())
         if missing:
@@ -215,7 +216,7 @@ def workspace(mech: Mechanism, point: str | None = None, *, grid: int | Sequence
     point = point or mech.tool_frame
     if point not in mech.frame_names:
         raise InputError(f"no point {point!r} in {mech.name} (points: {', '.join(mech.points)})", field="point")
-    sizes = [grid] * 2 if np.ndim(grid) == 0 else list(grid)
+    sizes = [grid] * 2 if np.ndim(grid) == 0 else list(cast("Sequence[int]", grid))
     if len(sizes) != 2:
         raise InputError(f"{budget.option('grid')} must be one whole number or two, got {grid!r}")
     n1, n2 = (number(budget.option("grid"), n, integer=True, minimum=2) for n in sizes)

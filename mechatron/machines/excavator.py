@@ -44,6 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..io.values import number
 from ..kinematics.frames import frame_placement, point_velocity
+from ..kinematics.geometry import acute_angle
 from ..kinematics.loops import assemble, joint_velocity
 from ..model.linkage import BodySpec, JointSpec, LengthSpec, LinkageSpec, MeasureSpec, PointSpec, build_linkage
 from ..model.linkage_file import write_linkage_file
@@ -125,10 +126,11 @@ def triangle_side(a: float, b: float, angle: float) -> float:
 
 def transmission_angle(lever: float, other: float, psi: float) -> float:
     """Angle (rad, folded to [0, π/2]) at the end of ``lever`` between the lever and the cylinder of a triangle with
-    the levers ``lever`` and ``other`` and the included angle ψ (the report's fun_driving_angle, folded)."""
+    the levers ``lever`` and ``other`` and the included angle ψ (the report's fun_driving_angle, folded): the cylinder
+    L = √(a² + b² − 2ab cos ψ) (:func:`triangle_side`), cos γ = (a² + L² − b²)/(2aL), μ = min(γ, π − γ)
+    (:func:`~mechatron.kinematics.geometry.acute_angle`)."""
     length = triangle_side(lever, other, psi)
-    gamma = math.acos(max(-1.0, min(1.0, (lever**2 + length**2 - other**2) / (2 * lever * length))))
-    return min(gamma, math.pi - gamma)
+    return float(acute_angle((lever**2 + length**2 - other**2) / (2 * lever * length)))
 
 
 # ------------------------------------------------------------------------------------------------- design
@@ -651,14 +653,23 @@ class CylinderSpec:
             raise InputError(f"cylinder: need bore > rod > 0 m, got bore {self.bore:g}, rod {self.rod:g}")
 
     @property
+    def areas(self) -> tuple[float, float]:
+        """(A₁, A₂): the piston area π D²/4 and the annulus area π (D² − d²)/4 (m²) of one cylinder
+        (:func:`~mechatron.drives.cylinders.cylinder_areas`)."""
+        from ..drives.cylinders import cylinder_areas  # it imports pandas: not on this module's import
+
+        piston, annulus = cylinder_areas(self.bore, self.rod)
+        return float(piston), float(annulus)
+
+    @property
     def piston_area(self) -> float:
-        """π D² / 4 (m²) of one cylinder."""
-        return math.pi * self.bore**2 / 4
+        """A₁ = π D² / 4 (m²) of one cylinder."""
+        return self.areas[0]
 
     @property
     def annulus_area(self) -> float:
-        """π (D² − d²) / 4 (m²) of one cylinder."""
-        return math.pi * (self.bore**2 - self.rod**2) / 4
+        """A₂ = π (D² − d²) / 4 (m²) of one cylinder."""
+        return self.areas[1]
 
     def pressure(self, force: float) -> float:
         """Pressure (Pa) that makes the total force ``force`` (N, > 0 pushing the rod out): on the piston side when

@@ -510,7 +510,7 @@ class ClosureSystem:
         return drift
 
     def row_labels(self) -> list[str]:
-        labels = []
+        labels: list[str] = []
         for closure in self.closures:
             labels.extend(f"{closure.describe()} [{i}]" for i in range(closure.nrows))
         return labels

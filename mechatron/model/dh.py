@@ -31,10 +31,11 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -74,10 +75,10 @@ def se3(matrix: np.ndarray) -> pin.SE3:
     return pin.SE3(np.array(matrix[:3, :3]), np.array(matrix[:3, 3]))
 
 
-def placement_matrix(xyz: Sequence[float] = (0, 0, 0), rpy: Sequence[float] = (0, 0, 0)) -> np.ndarray:
+def placement_matrix(xyz: ArrayLike = (0, 0, 0), rpy: ArrayLike = (0, 0, 0)) -> np.ndarray:
     """Homogeneous matrix of a translation ``xyz`` (m) and a roll-pitch-yaw rotation ``rpy`` (rad, URDF order)."""
     out = np.eye(4)
-    out[:3, :3] = pin.rpy.rpyToMatrix(*map(float, rpy))
+    out[:3, :3] = pin.rpy.rpyToMatrix(*map(float, np.asarray(rpy, dtype=float)))
     out[:3, 3] = np.asarray(xyz, dtype=float)
     return out
 
@@ -317,7 +318,8 @@ class DHTable:
         """The same table with some parameters replaced (names as in :meth:`parameters`)."""
         links = []
         for i, link in enumerate(self.links, start=1):
-            changes = {fld: float(values[name]) for fld, name in self.parameter_names(i).items() if name in values}
+            changes: dict[str, Any] = {fld: float(values[name]) for fld, name in self.parameter_names(i).items()
+                                       if name in values}
             links.append(replace(link, **changes) if changes else link)
         return replace(self, links=tuple(links))
 

@@ -98,18 +98,20 @@ def _tree(spec: LinkageSpec) -> Assembly:
             b.frame(f)
     names = frame_names(spec)
     lengths = {j.coordinate: j.reference for j in lay.joints}
-    for i, j in enumerate(spec.joints, start=1):
-        if j.kind == "cylinder":
-            if j.name not in spec.held_inputs and not j.stroke[0] - 1e-9 <= lengths[j.name] <= j.stroke[1] + 1e-9:
-                raise spec.error(f"cylinder {j.name}: its eye {j.eye} is {lengths[j.name] * 1e3:.6g} mm from its base "
-                                 f"{j.base} in the drawing, outside its stroke [{j.stroke[0] * 1e3:.6g}, "
-                                 f"{j.stroke[1] * 1e3:.6g}] mm", f"joints[{i}].stroke")
-            b.cylinder_closure(j.name, names[(j.base, spec.owners(j.base)[0])], names[(j.eye, spec.owners(j.eye)[0])],
-                               j.stroke, j.count)
+    for i, joint in enumerate(spec.joints, start=1):
+        if joint.kind == "cylinder":
+            stroke = joint.stroke
+            if joint.name not in spec.held_inputs and not stroke[0] - 1e-9 <= lengths[joint.name] <= stroke[1] + 1e-9:
+                raise spec.error(f"cylinder {joint.name}: its eye {joint.eye} is {lengths[joint.name] * 1e3:.6g} mm "
+                                 f"from its base {joint.base} in the drawing, outside its stroke "
+                                 f"[{stroke[0] * 1e3:.6g}, {stroke[1] * 1e3:.6g}] mm", f"joints[{i}].stroke")
+            b.cylinder_closure(joint.name, names[(joint.base, spec.owners(joint.base)[0])],
+                               names[(joint.eye, spec.owners(joint.eye)[0])], stroke, joint.count)
     _closures(spec, b, names, lay)
     _sketch_and_measures(spec, b, names)
     mech = b.build(actuated=list(spec.actuated), description=spec.description, tool=spec.tool or spec.points[-1].name,
                    input_rates=dict(spec.input_rates), check=False)
+    assert mech.reference_q is not None  # the builder's drawing
     inputs = {}
     for name in spec.actuated:
         if not mech.model.existJointName(name):
@@ -199,9 +201,9 @@ def inconsistencies(spec: LinkageSpec) -> list[tuple[str, float, str]]:
     out = []
     for length in spec.lengths:
         if length.value is not None:
-            a, b = length.points
-            drawn = float(np.linalg.norm(drawing[b] - drawing[a]))
-            out.append((f"length {length.name} = |{a}{b}|", abs(drawn - length.value), "m"))
+            first, last = length.points
+            drawn = float(np.linalg.norm(drawing[last] - drawing[first]))
+            out.append((f"length {length.name} = |{first}{last}|", abs(drawn - length.value), "m"))
     for c in spec.closures:
         if c.kind == "slider" and spec.point(c.line).direction is not None:
             d = np.asarray(spec.point(c.line).direction, dtype=float)
@@ -231,6 +233,7 @@ def _close(spec: LinkageSpec, assembly: Assembly) -> Vector:
             near the drawing, or naming the mobility if the inputs do not match it.
     """
     mech = assembly.mech
+    assert mech.reference_q is not None  # an assembly's mechanism has its drawing's configuration
     q = np.array(mech.reference_q, dtype=float)
     for k, value in assembly.inputs.items():
         q[k] = value
@@ -415,7 +418,7 @@ def linkage_derivatives(spec: LinkageSpec, mech: Mechanism, names: tuple[str, ..
         return variable.get(name, values.get(name, drawn)) if name not in lengths else drawn
 
     drawing = {p.name: (value(f"{p.name}_x", p.at[0]), value(f"{p.name}_y", p.at[1]))
-               for p in spec.points if p.between is None}
+               for p in spec.points if p.at is not None and p.between is None}
     declared = {length.name: variable.get(length.name, values[length.name]) for length in spec.lengths}
     sides = circle_sides(spec, _drawing(spec), {length.name: values[length.name] for length in spec.lengths})
     lay = layout(spec, shapes(spec, drawing, declared, ca, sides), drawing, ca)

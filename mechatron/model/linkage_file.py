@@ -136,9 +136,8 @@ def _points(top: FieldReader, dim: int) -> tuple[PointSpec, ...]:
                 raise InputError(f"expected [{', '.join('xyz'[:dim])}] or a table {{at = [...], …}}", file=top.file,
                                  field=where)
             item = FieldReader(value, file=top.file, path=where)
-            at = item.lengths("at", dim, None)  # at in the table's unit; at_mm, at_cm, … in theirs
-            if at is not None:
-                at = tuple(float(v) * (scale if item.has("at") else 1.0) for v in at)
+            given = item.lengths("at", dim, None)  # at in the table's unit; at_mm, at_cm, … in theirs
+            at = None if given is None else tuple(float(v) * (scale if item.has("at") else 1.0) for v in given)
             between = item.raw("between", None)
             if between is not None and (not isinstance(between, list) or len(between) != 2
                                         or not all(isinstance(v, str) for v in between)):
@@ -176,7 +175,8 @@ def _body(reader: FieldReader, dim: int = 2) -> BodySpec:
         if len(values) not in (3, 6):
             raise reader.error("inertia", "a spatial inertia is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] "
                                           "(kg·m²)")
-        inertia = tuple(reader.to_float(f"inertia[{i}]", v) for i, v in enumerate(values))
+        inertia: float | tuple[float, ...] | None = tuple(reader.to_float(f"inertia[{i}]", v)
+                                                          for i, v in enumerate(values))
     else:
         inertia = reader.number("inertia", None)
     shape = reader.string("shape", None)
@@ -245,7 +245,7 @@ def _direction(reader: FieldReader, required: str | None = None) -> tuple[float,
     return (float(value[0]), float(value[1]))
 
 
-def _axes(reader: FieldReader) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+def _axes(reader: FieldReader) -> tuple[tuple[float, ...], ...]:
     value = reader.raw("axes")
     if not isinstance(value, list) or len(value) != 2 or not all(isinstance(a, list) and len(a) == 3 for a in value):
         raise reader.error("axes", "expected two axes [[x, y, z], [x, y, z]]: the parent's, then the cross's")
@@ -391,12 +391,14 @@ def linkage_toml(spec: LinkageSpec, header: str = "") -> str:
               "[points]  # one assembled position, world x, y, z (m)"]
     for p in spec.points:
         if p.between is None and p.direction is None and p.report:
+            assert p.at is not None  # a drawn point
             lines.append(f"{_key(p.name)} = {_value([float(v) for v in p.at])}")
             continue
         item: dict[str, Any] = {}
         if p.at is not None:
             item["at"] = [float(v) for v in p.at]
         else:
+            assert p.between is not None  # a derived point
             item["between"] = list(p.between)
             item["fraction"] = float(p.fraction)
         if p.direction is not None:

@@ -80,8 +80,8 @@ class JointSpec:
     count: int = 1
     barrel_mass: float = 0.0
     rod_mass: float = 0.0
-    axis: tuple[float, float, float] | None = None  # spatial revolute: the world axis in the drawing
-    axes: tuple[tuple[float, float, float], ...] | None = None  # spatial universal: parent's axis, cross's axis
+    axis: tuple[float, ...] | None = None  # spatial revolute: the world axis in the drawing
+    axes: tuple[tuple[float, ...], ...] | None = None  # spatial universal: parent's axis, cross's axis
 
 
 @dataclass(frozen=True)
@@ -241,9 +241,9 @@ def check(spec: LinkageSpec) -> None:
         where = f"bodies[{i}]"
         if not b.points:
             raise spec.error(f"body {b.name} carries no point", f"{where}.points")
-        for p in b.points:
-            if p not in known:
-                raise spec.error(f"body {b.name} carries unknown point {p!r}", f"{where}.points")
+        for name in b.points:
+            if name not in known:
+                raise spec.error(f"body {b.name} carries unknown point {name!r}", f"{where}.points")
         if len(set(b.points)) != len(b.points):
             raise spec.error(f"body {b.name} lists a point twice", f"{where}.points")
         if b.mass < 0:
@@ -319,13 +319,13 @@ def check(spec: LinkageSpec) -> None:
     _check_drives(spec)
     _no_duplicates(spec, [m.name for m in spec.measures], "measures", "measure")
     for i, m in enumerate(spec.measures, start=1):
-        for p in m.points:
-            if p not in known:
-                raise spec.error(f"measure {m.name}: unknown point {p!r}", f"measures[{i}].points")
+        for name in m.points:
+            if name not in known:
+                raise spec.error(f"measure {m.name}: unknown point {name!r}", f"measures[{i}].points")
     for length in spec.lengths:
-        a, b = length.points
-        if not any(a in body.points and b in body.points for body in spec.bodies):
-            raise spec.error(f"length {length.name}: {a} and {b} are not two points of one body",
+        a, end = length.points
+        if not any(a in body.points and end in body.points for body in spec.bodies):
+            raise spec.error(f"length {length.name}: {a} and {end} are not two points of one body",
                              f"lengths.{length.name}")
         if length.value is not None and not length.value > 0:
             raise spec.error(f"length {length.name} must be > 0 m, got {length.value:g}", f"lengths.{length.name}")

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 
@@ -23,7 +24,7 @@ class Load:
     force: np.ndarray
     moment: np.ndarray
 
-    def __init__(self, frame: str, force: Sequence[float], moment: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
+    def __init__(self, frame: str, force: ArrayLike, moment: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         if not isinstance(frame, str) or not frame:
             raise InputError(f"a load's frame must be a frame name, got {frame!r}")
         values = []

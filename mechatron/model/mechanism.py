@@ -178,7 +178,7 @@ class Mechanism:
     cylinders: dict[str, Cylinder] = field(default_factory=dict)
     branches: dict[str, np.ndarray] = field(default_factory=dict)
     link_masses_include_drives: bool = False
-    _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
+    _cache: dict[Hashable, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.data = self.model.createData()

@@ -26,7 +26,7 @@ from .mechanism import Cylinder, Measure, Mechanism, Parameter, SketchLine
 from .shapes import BodyFrame, FrameLayout, JointLayout, in_joint_frame
 
 GROUND = "ground"
-Point2 = Sequence[float]
+Point2 = Sequence[float] | np.ndarray  # (x, y) in metres
 
 
 def rz(angle: float) -> np.ndarray:
@@ -110,10 +110,10 @@ class PlanarBuilder:
         (world) if given, else along the body's. Points with ``report`` false are helpers (guides, slider frames)
         left out of sweep tables."""
         frame = self.drawn[self._known_body(body)]
-        at = np.asarray(at, dtype=float)
+        xy = np.asarray(at, dtype=float)
         angle = 0.0 if direction is None else math.atan2(direction[1], direction[0]) - frame.angle
-        self.frame(FrameLayout(name, body, frame.local(at), angle, report))
-        self.world[name] = (body, at)
+        self.frame(FrameLayout(name, body, frame.local(tuple(xy)), angle, report))
+        self.world[name] = (body, xy)
         self.angles[name] = float(frame.angle + angle)
         return name
 
@@ -216,18 +216,21 @@ class PlanarBuilder:
 
     def pin(self, a: str, b: str) -> None:
         """Close a loop with a revolute pair: points ``a`` and ``b`` (on different bodies) coincide."""
-        self._point(a), self._point(b)
+        self._point(a)
+        self._point(b)
         self.closures.append(Pin(f"{a}={b}", a=a, b=b))
 
     def slider(self, point: str, line: str, *, lock_angle: bool = False, angle_offset: float | None = None) -> None:
         """Point ``point`` slides on the line through point ``line`` along that point's x axis (give ``line`` a
         direction); with ``lock_angle`` the two frames also keep their relative angle ``angle_offset`` (rad; default
         the drawing's, for points drawn with :meth:`point`): a prismatic pair."""
-        self._point(point), self._point(line)
-        if lock_angle and angle_offset is None:
-            angle_offset = self.angles[point] - self.angles[line]
+        self._point(point)
+        self._point(line)
+        offset = 0.0
+        if lock_angle:
+            offset = self.angles[point] - self.angles[line] if angle_offset is None else angle_offset
         self.closures.append(Slider(f"{point} on {line}", point=point, line=line, lock_angle=lock_angle,
-                                    angle_offset=angle_offset if lock_angle else 0.0))
+                                    angle_offset=offset))
 
     def gear(self, driver: str, driven: str, ratio: float, offset: float = 0.0) -> None:
         """Couple two bodies' joint coordinates: q_driven = ratio·q_driver + offset (a gear pair or a belt)."""
@@ -256,16 +259,17 @@ class PlanarBuilder:
               tool: str | None = None, input_rates: dict[str, float] | None = None, check: bool = True) -> Mechanism:
         """The :class:`Mechanism`, its reference configuration ``reference`` (default the drawing's coordinates);
         with ``check``, the reference must satisfy every closure (to 1e-9 m)."""
+        reference_q = np.array(self.reference if reference is None else reference, dtype=float)
         mech = Mechanism(
             name=self.name, model=self.model, parameters=dict(parameters or {}), description=description,
             closures=list(self.closures), actuated=list(actuated), tool_frame=tool or GROUND, rebuild=rebuild,
-            reference_q=np.array(self.reference if reference is None else reference, dtype=float),
+            reference_q=reference_q,
             points=[name for name, report in self.points.items() if report], sketch=list(self.sketch),
             notes=list(notes), measures=list(self.measures), input_rates=dict(input_rates or {}),
             cylinders=dict(self.cylinders),
         )
         if check and mech.closures:
-            residual, _ = mech.closure_system().evaluate(mech.reference_q)
+            residual, _ = mech.closure_system().evaluate(reference_q)
             if np.abs(residual).max() > 1e-9:
                 worst = int(np.argmax(np.abs(residual)))
                 raise InputError(f"{self.name}: the drawing does not close: residual {residual[worst]:.3g} at "

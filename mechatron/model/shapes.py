@@ -92,6 +92,7 @@ def is_number(x: Any) -> bool:
 def derived_position(spec: LinkageSpec, point: str, positions: Mapping[str, Vec]) -> Vec:
     """P + f (Q − P) of the derived point ``point`` from the positions of P and Q."""
     p = spec.point(point)
+    assert p.between is not None  # a derived point
     a, b = positions[p.between[0]], positions[p.between[1]]
     return add(a, scaled(sub(b, a), p.fraction))
 
@@ -327,6 +328,7 @@ def layout(spec: LinkageSpec, shape: Mapping[tuple[str, str], Vec], drawing: Map
                                 j.limits)
         elif j.kind == "prismatic":
             d = j.direction
+            assert d is not None  # checked when the file was read: a prismatic joint has its direction
             unit = scaled(d, 1 / m.sqrt(dot(d, d)))
             travel = dot(unit, sub(shape[(body.points[0], j.body)], pin))
             guide = _angle(bodies[parent].direction(unit, m), m)

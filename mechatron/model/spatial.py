@@ -19,7 +19,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from .closures import Pin
@@ -69,7 +69,7 @@ def axes_problem(axes: Sequence[Sequence[float]]) -> str | None:
     return None
 
 
-def _numbers(values: Sequence[float]) -> str:
+def _numbers(values: Sequence[float] | np.ndarray) -> str:
     return "[" + ", ".join(f"{float(v):g}" for v in values) + "]"
 
 
@@ -98,15 +98,15 @@ class SpatialBuilder:
         self.sketch: list[SketchLine] = []
         self.measures: list[Measure] = []
 
-    def point(self, name: str, body: str, at: Sequence[float], *, report: bool = True) -> str:
+    def point(self, name: str, body: str, at: ArrayLike, *, report: bool = True) -> str:
         """A named point (an operational frame) fixed to ``body`` at the world position ``at`` (m) of the drawing."""
         if name in self.points or self.model.existFrame(name):
             raise InputError(f"{self.name}: point {name!r} defined twice")
         joint, origin, parent_frame = self._body(body)
-        at = np.asarray(at, dtype=float)
-        self.model.addFrame(pin.Frame(name, joint, parent_frame, pin.SE3(np.eye(3), at - origin),
+        xyz = np.asarray(at, dtype=float)
+        self.model.addFrame(pin.Frame(name, joint, parent_frame, pin.SE3(np.eye(3), xyz - origin),
                                       pin.FrameType.OP_FRAME))
-        self.points[name] = (body, at, report)
+        self.points[name] = (body, xyz, report)
         return name
 
     def _body(self, name: str) -> tuple[int, Vector, int]:

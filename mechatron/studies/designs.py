@@ -12,7 +12,7 @@ categorical parameter) and ``seed``, the design's own seed, so that a design's r
   :mod:`mechatron.studies.sensitivity` estimates;
 - ``csv``: the rows of a CSV file whose columns are the mechanism's parameters (SI units).
 
-Every point is drawn in the unit cube and mapped by :meth:`~mechatron.studies.spec.Parameter.pick`: a range
+Every point is drawn in the unit cube and mapped by :meth:`~mechatron.studies.spec.Range.pick`: a range
 linearly, a list of k values by ⌊u k⌋. A design's seed is the first word of ``np.random.SeedSequence([study seed,
 design])``.
 """
@@ -30,7 +30,7 @@ from ..errors import InputError
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .spec import Spec
+    from .spec import StudySpec
 
 
 def design_seed(study_seed: int, design: int) -> int:
@@ -72,7 +72,7 @@ def sample_box(lower: np.ndarray, upper: np.ndarray, points: int, method: str = 
     return np.asarray(lower, dtype=float) + unit * (np.asarray(upper, dtype=float) - np.asarray(lower, dtype=float))
 
 
-def unit_points(spec: Spec) -> np.ndarray:
+def unit_points(spec: StudySpec) -> np.ndarray:
     """The designs of ``spec`` (grid, lhs or sobol) as points of the unit cube, (n, D)."""
     d = len(spec.parameters)
     if spec.method == "lhs":
@@ -89,7 +89,7 @@ def unit_points(spec: Spec) -> np.ndarray:
     return np.stack([a.ravel() for a in np.meshgrid(*axes, indexing="ij")], axis=1)
 
 
-def make_designs(spec: Spec) -> pd.DataFrame:
+def make_designs(spec: StudySpec) -> pd.DataFrame:
     """The designs table of ``spec`` (see the module docstring)."""
     import pandas as pd
 

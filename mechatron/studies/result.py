@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..report.html import Report
-    from .spec import Spec
+    from .spec import StudySpec
 
 #: mechatron's own tie rule of a Pareto front: each output is rounded to the nearest multiple of this fraction of
 #: its largest magnitude, and equal rounded values tie: the rounding of the analyses that compute the outputs (a
@@ -66,7 +66,7 @@ class StudyResult(Result):
         blocks: N, the Saltelli blocks of the designs (of D + 2 designs each), with Sobol indices; else None.
     """
 
-    spec: Spec
+    spec: StudySpec
     table: pd.DataFrame
     out_dir: Path | None = None
     sensitivity: pd.DataFrame | None = None
@@ -201,8 +201,7 @@ class StudyResult(Result):
         (:func:`mechatron.quantities.axis_label`: ``reach (m)``); a parameter's is its name with its unit, that of
         the analysis option it targets or that of the mechanism's geometric parameter (m, rad); another column's is
         its name with the unit its name ends with, if any."""
-        from ..quantities import axis_label, is_quantity, unit
-        from .sensitivity import unit_of
+        from ..quantities import axis_label, is_quantity, unit, unit_of
 
         parameter = next((p for p in self.spec.parameters if p.name == column), None)
         if parameter is None and is_quantity(column):
@@ -251,7 +250,7 @@ def _blocks_phrase(used: list[int], total: int) -> str:
             "output's count in brackets)")
 
 
-def study_result(spec: Spec, table: pd.DataFrame, out_dir: Path | None = None) -> StudyResult:
+def study_result(spec: StudySpec, table: pd.DataFrame, out_dir: Path | None = None) -> StudyResult:
     """The result of a study's table: with its Sobol indices if the spec asks for them; the Pareto columns are
     checked (an error naming ``output.pareto.x`` or ``y`` lists the table's columns)."""
     sensitivity, skipped, notes, blocks = None, {}, [], None

@@ -1,15 +1,16 @@
 """Running a study: every design through every analysis, serially or on Dask, chunk by chunk to disk, resumable.
 
-:func:`evaluate` turns a chunk of designs into rows: the mechanism rebuilt with the design's parameters
-(``with_parameters``), each analysis' ``outputs`` with its options and the design's seed; a design that cannot be
-built or analysed is a row with ``status = "failed"`` and its ``reason``, never a crash of the study.
+:func:`evaluate` turns a chunk of designs into rows (:class:`~mechatron.studies.evaluator.Evaluator`: the
+mechanism rebuilt with the design's parameters, each analysis' ``outputs`` with its options and the design's seed); a
+design that cannot be built or analysed is a row with ``status = "failed"`` and its ``reason``, never a crash of the
+study.
 
 :func:`run_study` sends the chunks that have no part file yet to one process (``workers = 1``), to an embedded
 ``dask.distributed.LocalCluster`` of ``workers`` processes, or to a running scheduler (``scheduler``); the client
 writes each chunk's rows to ``OUT/parts/part-NNNNN.parquet`` (whole or not at all) as it arrives, with the
 designs it holds in the file's metadata: the study's identity, their numbers and the digest of their values.
 ``OUT/study.json`` holds the study's identity — the digests of the spec's row-deciding fields and of the designs,
-and the SHA-256 of every file the study reads (``Spec.files``) — and the chunk size: run again, the study checks
+and the SHA-256 of every file the study reads (``StudySpec.files``) — and the chunk size: run again, the study checks
 every part against its chunk (a part that does not read or holds other designs is computed again, with one note)
 and skips the chunks done, ending with the same table; a folder of another spec, or one whose files changed since
 it started, is refused naming what differs (``restart`` discards it instead). The table of all designs, sorted, is
@@ -22,6 +23,7 @@ import contextvars
 import hashlib
 import json
 import math
+import threading
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -30,14 +32,15 @@ from typing import TYPE_CHECKING, Any
 from ..errors import InputError, MechatronWarning
 from ..io.values import number
 from .cluster import connect, disconnect, prestart, slots
+from .evaluator import base_mechanism, file_hash, mechanism_content, study_mechanism
 from .pace import Pace
-from .spec import base_mechanism, file_hash, mechanism_content, study_mechanism
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
+    from .evaluator import Evaluator
     from .result import StudyResult
-    from .spec import Spec
+    from .spec import StudySpec
 
 __all__ = ["base_mechanism", "default_chunk", "evaluate", "mechanism_content", "run_study", "warm_up"]
 
@@ -55,7 +58,7 @@ def default_chunk(count: int, workers: int = 1) -> int:
     return max(1, min(MAX_CHUNK, math.ceil(count / max(MIN_CHUNKS, CHUNKS_PER_WORKER * workers))))
 
 
-def warm_up(spec: Spec) -> None:
+def warm_up(spec: StudySpec | Evaluator) -> None:
     """Load what the designs of ``spec`` read before the first of them runs in this process: the mechanism (once per
     process, :func:`~mechatron.studies.spec.study_mechanism`) and each analysis' inputs through its ``check``, for
     every set of options of the study (the catalogs, parsed once per process; the task). Every worker of a study
@@ -73,48 +76,30 @@ def warm_up(spec: Spec) -> None:
         pass
 
 
-async def _warm_worker(spec: Spec) -> None:
+async def _warm_worker(spec: StudySpec | Evaluator) -> None:
     """:func:`warm_up` on a Dask worker, in a thread of its event loop (the worker keeps answering meanwhile)."""
     import asyncio
 
     await asyncio.get_running_loop().run_in_executor(None, warm_up, spec)
 
 
-def _one(spec: Spec, design: dict[str, Any], content: tuple[str | None, ...]) -> dict[str, Any]:
-    """The outputs of one design, or its failure and the reason."""
-    from .analyses import analysis
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", MechatronWarning)
-            mech = base_mechanism(spec.mechanism, content)
-            geometry = spec.geometry(design)
-            mech = mech.with_parameters(geometry) if geometry else mech
-            out: dict[str, Any] = {}
-            for name in spec.analyses:
-                out.update(analysis(name).outputs(mech, spec.options(name, design), int(design["seed"])))
-        bad = [k for k, v in out.items() if not isinstance(v, (bool, str)) and not math.isfinite(float(v))]
-        if bad:
-            return {"status": "failed", "reason": f"{bad[0]} is not a finite number"}
-        return {"status": "ok", "reason": "", **out}
-    except Exception as exc:  # noqa: BLE001 - a design that fails is a row with its reason, never a crashed study
-        text = str(exc).splitlines()[0] if str(exc) else ""
-        return {"status": "failed", "reason": text or type(exc).__name__}
+#: Designs are evaluated one at a time per process: the models, their compiled kernels and caches are not shared
+#: between threads safely (two designs at once in one Dask worker of two threads crashed Pinocchio), and the GIL
+#: gives threads no speed here; processes (``--workers``) do.
+_ONE_AT_A_TIME = threading.Lock()
 
 
-def evaluate(spec: Spec, designs: pd.DataFrame) -> pd.DataFrame:
-    """The rows of a chunk of designs: the designs' columns, ``status``, ``reason`` and the analyses' outputs; each
-    design's time (s, wall) in the frame's ``attrs["seconds"]`` (:class:`~mechatron.studies.pace.Pace`)."""
-    import time
-
+def evaluate(spec: StudySpec | Evaluator, designs: pd.DataFrame) -> pd.DataFrame:
+    """The rows of a chunk of designs (:class:`~mechatron.studies.evaluator.Evaluator`, the study's or one given):
+    the designs' columns, ``status``, ``reason`` and the analyses' outputs; each design's time (s, wall) in the
+    frame's ``attrs["seconds"]`` (:class:`~mechatron.studies.pace.Pace`)."""
     import pandas as pd
 
-    content = mechanism_content(spec.mechanism)
-    rows, seconds = [], []
-    for design in designs.to_dict(orient="records"):
-        start = time.perf_counter()
-        rows.append({**design, **_one(spec, design, content)})
-        seconds.append(time.perf_counter() - start)
+    from .evaluator import Evaluator
+
+    evaluator = spec if isinstance(spec, Evaluator) else spec.evaluator
+    with _ONE_AT_A_TIME:  # a worker of several threads (a scheduler started elsewhere): designs in turn
+        rows, seconds = evaluator.timed(designs.to_dict(orient="records"))
     frame = pd.DataFrame(rows)
     frame.attrs["seconds"] = seconds
     return frame
@@ -143,7 +128,7 @@ def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
 
 
 # ------------------------------------------------------------------------------------ the study's identity
-def _stamp(spec: Spec, designs: pd.DataFrame) -> dict[str, Any]:
+def _stamp(spec: StudySpec, designs: pd.DataFrame) -> dict[str, Any]:
     """What decides the study's rows: the spec's digest, the designs' digest and count, every file read → SHA-256."""
     return {"spec": spec.digest(), "designs": _digest(designs), "count": len(designs),
             "files": {path: file_hash(path) for path in spec.files}}
@@ -215,7 +200,7 @@ def _discard(out_dir: Path) -> None:
         path.unlink(missing_ok=True)
 
 
-def _prepare(out_dir: Path, spec: Spec, designs: pd.DataFrame, chunk_size: int | None,
+def _prepare(out_dir: Path, spec: StudySpec, designs: pd.DataFrame, chunk_size: int | None,
              restart: bool = False, workers: int = 1) -> tuple[int, str]:
     """Create ``out_dir`` (or check the study it holds: the same spec, designs and files; with ``restart``,
     discard it); returns the chunk size (``chunk_size``, a resumed study's own, else :func:`default_chunk` for
@@ -336,7 +321,7 @@ def _read_part(path: Path) -> pd.DataFrame:
                          file=path) from None
 
 
-def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, scheduler: str | None = None,
+def run_study(spec: StudySpec | str | Path, out_dir: str | Path, workers: int = 1, scheduler: str | None = None,
               chunk_size: int | None = None, progress: Callable[[int, int], None] | None = None,
               max_chunks: int | None = None, restart: bool = False) -> StudyResult | None:
     """Run a study (see the module docstring) and return its :class:`~mechatron.studies.result.StudyResult`.
@@ -363,11 +348,11 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
     from .analyses import worker_modules
     from .designs import make_designs
     from .result import study_result
-    from .spec import read_spec
+    from .spec import StudySpec, read_study
 
     workers = number("workers", workers, integer=True, minimum=1, maximum=1024)
     prestart(workers, scheduler, worker_modules())
-    spec = read_spec(spec) if not hasattr(spec, "analyses") else spec
+    spec = spec if isinstance(spec, StudySpec) else read_study(spec)
     chunk_size = number("chunk", chunk_size, integer=True, minimum=1, allow_none=True)
     designs = make_designs(spec)
     out_dir = Path(out_dir)
@@ -403,7 +388,7 @@ def run_study(spec: Spec | str | Path, out_dir: str | Path, workers: int = 1, sc
     return study_result(spec, table, out_dir)
 
 
-def _results(client, spec: Spec, chunks: list, pending: list[int]):
+def _results(client, spec: StudySpec, chunks: list, pending: list[int]):
     """(chunk number, rows) of every pending chunk, as each finishes: in this process one after the other, or on the
     client's cluster, whose workers first :func:`warm_up` (not waited for: each starts its first chunk when warm),
     all chunks sent in one message and their rows gathered as they end."""

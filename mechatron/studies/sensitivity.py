@@ -28,10 +28,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..quantities import unit_of
+
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .spec import Spec
+    from .spec import StudySpec
 
 #: Columns of a designs table that are not outputs.
 FIXED = ("design", "seed", "status", "reason")
@@ -57,18 +59,7 @@ RESOLUTION = 0.01
 MIN_BLOCKS = 2
 
 
-def unit_of(column: str) -> str:
-    """The unit of an output column (:func:`mechatron.quantities.unit`: ``reach_m`` → m); of a column that is no
-    quantity of the registry, the unit its name ends with (:data:`~mechatron.quantities.SUFFIXES`), else ``-``."""
-    from ..quantities import SUFFIXES, is_quantity, suffix, unit
-
-    if is_quantity(column):
-        return unit(column)
-    end = suffix(column)
-    return "-" if end is None else SUFFIXES[end]
-
-
-def numeric_outputs(spec: Spec, table: pd.DataFrame) -> list[str]:
+def numeric_outputs(spec: StudySpec, table: pd.DataFrame) -> list[str]:
     """The output columns of ``table`` that hold numbers (not the parameters, flags or text)."""
     import pandas as pd
 
@@ -84,7 +75,7 @@ def unresolved(index: float, half_width: float) -> bool:
     return half_width > max(abs(index), RESOLUTION) or index < -margin or index > 1 + margin
 
 
-def saltelli_blocks(spec: Spec, table: pd.DataFrame) -> int:
+def saltelli_blocks(spec: StudySpec, table: pd.DataFrame) -> int:
     """N, the number of Saltelli blocks of the designs table (its rows must be designs 0 … N (D + 2) − 1)."""
     from ..errors import InputError
 
@@ -112,7 +103,7 @@ def spread_note(output: str, y: np.ndarray) -> tuple[str | None, bool]:
     return None, False
 
 
-def _analyse(spec: Spec, y: np.ndarray) -> dict[str, np.ndarray]:
+def _analyse(spec: StudySpec, y: np.ndarray) -> dict[str, np.ndarray]:
     """SALib's first-order and total indices and their 95 % half-widths of the outputs ``y`` of whole blocks."""
     from SALib.analyze import sobol
 
@@ -143,7 +134,7 @@ def _resolution_warning(output: str, rows: list[dict], blocks: int) -> str | Non
             "indices, take more samples (the intervals narrow as 1/√N)")
 
 
-def output_indices(spec: Spec, output: str, y: np.ndarray) -> tuple[list[dict], str | None, str | None]:
+def output_indices(spec: StudySpec, output: str, y: np.ndarray) -> tuple[list[dict], str | None, str | None]:
     """(rows of the indices table, why there are none, a warning) of one output whose values ``y`` are in blocks of
     D + 2 rows (N, D + 2); blocks with a value missing are left out."""
     whole = np.all(np.isfinite(y), axis=1)
@@ -167,7 +158,7 @@ def output_indices(spec: Spec, output: str, y: np.ndarray) -> tuple[list[dict], 
     return rows, None, _resolution_warning(output, rows, used)
 
 
-def sobol_indices(spec: Spec, table: pd.DataFrame) -> tuple[pd.DataFrame, dict[str, str], list[str]]:
+def sobol_indices(spec: StudySpec, table: pd.DataFrame) -> tuple[pd.DataFrame, dict[str, str], list[str]]:
     """(indices, skipped, warnings) of every numeric output (see the module docstring).
 
     ``indices``: ``output``, ``parameter``, ``S1``, ``S1_conf``, ``ST``, ``ST_conf`` (the half-widths of the 95 %

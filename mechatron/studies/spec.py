@@ -1,15 +1,15 @@
 """The study file (TOML, docs/study_file.md): which mechanism, which parameters over which ranges or values, how the
 designs are drawn, which analyses run on every design and what the result shows.
 
-:func:`read_spec` checks everything before any design runs — the mechanism loads, every parameter is one of its
+:func:`read_study` checks everything before any design runs — the mechanism loads, every parameter is one of its
 named parameters (or an analysis option: ``target = "ANALYSIS.OPTION"``), every range is non-empty, every analysis
 is known and its ``check`` accepts the mechanism and the options (with every value of a targeted list), the
 ``[output.pareto]`` axes are among the analyses' outputs — and raises one :class:`~mechatron.errors.InputError`
-naming the file and the field otherwise. The :class:`Spec` it returns is plain, picklable data: a worker rebuilds the
-mechanism from ``Spec.mechanism`` and a design's overrides.
+naming the file and the field otherwise. The :class:`StudySpec` it returns is plain, picklable data: a worker
+rebuilds the mechanism from ``StudySpec.mechanism`` and a design's overrides.
 
-A study's identity (:mod:`mechatron.studies.runner`) is :meth:`Spec.digest` — the fields that decide its rows, not
-the output settings — and the bytes of every file it reads, ``Spec.files``: the mechanism's file, the CSV of
+A study's identity (:mod:`mechatron.studies.runner`) is :meth:`StudySpec.digest` — the fields that decide its rows, not
+the output settings — and the bytes of every file it reads, ``StudySpec.files``: the mechanism's file, the CSV of
 designs and each analysis' files (:func:`input_files`).
 """
 
@@ -21,12 +21,12 @@ import math
 import os
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field, replace
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..io.schema import FieldReader
+from .evaluator import Evaluator, analysis_options, design_geometry, mechanism_files, study_mechanism
 
 #: The ways designs are drawn (:mod:`mechatron.studies.designs`).
 METHODS = ("grid", "lhs", "sobol", "csv")
@@ -34,13 +34,14 @@ METHODS = ("grid", "lhs", "sobol", "csv")
 UNIT_SUFFIXES = {"": 1.0, "_mm": 1e-3, "_deg": math.pi / 180}
 #: Directions of a Pareto axis.
 GOALS = ("minimize", "maximize")
-#: The fields of a :class:`Spec` that do not decide its rows: the file's name, what the result shows (recomputed from
-#: the table of a finished study) and the files read (their bytes are compared apart, to name the one that changed).
+#: The fields of a :class:`StudySpec` that do not decide its rows: the file's name, what the result shows (recomputed
+#: from the table of a finished study) and the files read (their bytes are compared apart, to name the one that
+#: changed).
 NOT_ROWS = ("file", "pareto", "sensitivity", "files")
 
 
 @dataclass(frozen=True)
-class Parameter:
+class Range:
     """One varied quantity: a range ``low``–``high`` (SI) or a list of ``values`` (numbers or names); ``target``
     ``"ANALYSIS.OPTION"`` sends its value to an analysis' options instead of the mechanism's geometry."""
 
@@ -49,6 +50,17 @@ class Parameter:
     high: float | None = None
     values: tuple[Any, ...] | None = None
     target: str | None = None
+
+    @property
+    def bounds(self) -> tuple[float, float]:
+        """(``low``, ``high``) of a range (SI).
+
+        Raises:
+            TypeError: for a list of values.
+        """
+        if self.low is None or self.high is None:
+            raise TypeError(f"{self.name} is a list of values, not a range")
+        return self.low, self.high
 
     def pick(self, u: float) -> Any:
         """The value at the fraction ``u`` ∈ [0, 1): ``low + u (high − low)`` on a range, ``values[⌊u k⌋]`` of k
@@ -59,13 +71,13 @@ class Parameter:
 
 
 @dataclass(frozen=True)
-class Spec:
+class StudySpec:
     """A checked study file. Paths (the mechanism file, a CSV of designs, file names among option values) are
     absolute; ``analyses`` maps each analysis to its options in the file's order."""
 
     file: str
     mechanism: str
-    parameters: tuple[Parameter, ...]
+    parameters: tuple[Range, ...]
     method: str = "lhs"
     samples: int | None = None
     levels: int | None = None
@@ -83,15 +95,16 @@ class Spec:
 
     def options(self, name: str, design: dict[str, Any]) -> dict[str, Any]:
         """The options of analysis ``name`` for one design: the file's, with the targeted parameters' values."""
-        out = dict(self.analyses[name])
-        for p in self.parameters:
-            if p.target and p.target.split(".", 1)[0] == name:
-                out[p.target.split(".", 1)[1]] = design[p.name]
-        return out
+        return analysis_options(self.analyses, self.parameters, name, design)
 
     def geometry(self, design: dict[str, Any]) -> dict[str, float]:
         """The mechanism's parameters a design overrides (m, rad)."""
-        return {p.name: float(design[p.name]) for p in self.parameters if p.target is None}
+        return design_geometry(self.parameters, design)
+
+    @property
+    def evaluator(self) -> Evaluator:
+        """The evaluation of this study's designs (:class:`~mechatron.studies.evaluator.Evaluator`)."""
+        return Evaluator(self.mechanism, self.analyses, self.parameters)
 
 
 def spec_path(folder: Path, name: str) -> Path:
@@ -132,8 +145,8 @@ def _quantity(reader: FieldReader, key: str) -> tuple[str, float] | None:
     return given[0] if given else None
 
 
-def _parameter(reader: FieldReader, name: str, known: dict, analyses: dict, mech_name: str,
-               folder: Path) -> Parameter:
+def read_range(reader: FieldReader, name: str, known: dict, analyses: dict, mech_name: str,
+               folder: Path) -> Range:
     target = reader.string("target", None)
     if target is None and name not in known:
         raise InputError(f"unknown parameter {name!r} of {mech_name} (its parameters: {', '.join(known)}; or give "
@@ -148,7 +161,7 @@ def _parameter(reader: FieldReader, name: str, known: dict, analyses: dict, mech
     if values is not None:
         if any(bounds) or relative is not None:
             raise reader.error(values[0], "give either values or a range (low and high, or relative), not both")
-        return Parameter(name, values=_values(reader, *values, folder, numeric=target is None), target=target)
+        return Range(name, values=_values(reader, *values, folder, numeric=target is None), target=target)
     if relative is not None:
         if any(bounds) or target is not None:
             raise reader.error("relative", "relative (± a fraction of the nominal value) is for the mechanism's "
@@ -157,14 +170,14 @@ def _parameter(reader: FieldReader, name: str, known: dict, analyses: dict, mech
         low, high = sorted((nominal * (1 - relative), nominal * (1 + relative)))
         if not low < high:
             raise reader.error("relative", f"gives an empty range: the nominal value of {name} is {nominal:g}")
-        return Parameter(name, low, high, target=target)
+        return Range(name, low, high, target=target)
     if not all(bounds):
         raise reader.error("low" if bounds[0] is None else "high", "missing: give low and high (SI, or _mm, "
                                                                    "_deg), relative, or values")
     low, high = (reader.number(k) * f for k, f in bounds)
     if not low < high:
         raise reader.error(bounds[0][0], f"empty range: low {low:g} must be < high {high:g} (SI)")
-    return Parameter(name, low, high, target=target)
+    return Range(name, low, high, target=target)
 
 
 def _values(reader: FieldReader, key: str, factor: float, folder: Path, numeric: bool) -> tuple[Any, ...]:
@@ -179,7 +192,7 @@ def _values(reader: FieldReader, key: str, factor: float, folder: Path, numeric:
     return values
 
 
-def _designs(reader: FieldReader, folder: Path, parameters: list[Parameter]) -> dict[str, Any]:
+def _designs(reader: FieldReader, folder: Path, parameters: list[Range]) -> dict[str, Any]:
     method = reader.string("method", "lhs", choices=METHODS)
     out: dict[str, Any] = {"method": method, "seed": reader.whole("seed", 0, minimum=0)}
     if method in ("lhs", "sobol"):
@@ -206,7 +219,7 @@ def _designs(reader: FieldReader, folder: Path, parameters: list[Parameter]) -> 
 MAX_DESIGNS = 10_000_000
 
 
-def _count(reader: FieldReader, designs: dict[str, Any], parameters: list[Parameter]) -> None:
+def _count(reader: FieldReader, designs: dict[str, Any], parameters: list[Range]) -> None:
     """Refuse a study of more than :data:`MAX_DESIGNS` designs, naming the field that sets their number."""
     method = designs["method"]
     if method == "grid":
@@ -236,7 +249,7 @@ def _output(reader: FieldReader | None, method: str) -> dict[str, Any]:
     return {"pareto": pareto, "sensitivity": sensitivity}
 
 
-def _analyses(reader: FieldReader, folder: Path) -> dict[str, dict[str, Any]]:
+def read_analyses(reader: FieldReader, folder: Path) -> dict[str, dict[str, Any]]:
     from .analyses import analysis
 
     tables = reader.raw("analyses")
@@ -255,7 +268,7 @@ def _analyses(reader: FieldReader, folder: Path) -> dict[str, dict[str, Any]]:
     return out
 
 
-def _mechanism(reader: FieldReader, folder: Path) -> tuple[str, Any]:
+def read_mechanism(reader: FieldReader, folder: Path) -> tuple[str, Any]:
     given = reader.string("mechanism")
     where = absolute(spec_path(folder, given)) if spec_path(folder, given).is_file() else given
     try:
@@ -266,20 +279,20 @@ def _mechanism(reader: FieldReader, folder: Path) -> tuple[str, Any]:
         raise InputError(exc.message, file=reader.file, field="mechanism") from None
 
 
-def read_spec(path: str | Path) -> Spec:
+def read_study(path: str | Path) -> StudySpec:
     """Read and check a study file (docs/study_file.md); see the module docstring for what is checked."""
     from ..io.toml import read_toml
 
     path = Path(path)
     reader = FieldReader(read_toml(path), file=path)
     folder = path.resolve().parent
-    mechanism, mech = _mechanism(reader, folder)
-    analyses = _analyses(reader, folder)
+    mechanism, mech = read_mechanism(reader, folder)
+    analyses = read_analyses(reader, folder)
     tables = reader.table("parameters", {})
     parameters = []
     for name in (tables.data if isinstance(tables, FieldReader) else {}):
         table = tables.table(name)
-        parameters.append(_parameter(table, name, mech.parameters, analyses, mech.name, folder))
+        parameters.append(read_range(table, name, mech.parameters, analyses, mech.name, folder))
         table.finish()
     designs = _designs(reader.table("designs", FieldReader({}, file=path, path="designs")), folder, parameters)
     if designs["method"] == "csv":
@@ -289,16 +302,16 @@ def read_spec(path: str | Path) -> Spec:
             raise InputError("a CSV of designs names its parameters in its columns: give no [parameters.NAME]",
                              file=path, field="parameters")
         columns = read_designs_csv(designs["csv"], mech.parameters).columns
-        parameters = [Parameter(name) for name in columns]
+        parameters = [Range(name) for name in columns]
     output = _output(reader.table("output", None), designs["method"])
     reader.finish()
-    spec = Spec(str(path), mechanism, tuple(parameters), analyses=analyses, **designs, **output)
-    _check_analyses(spec, mech)
+    spec = StudySpec(str(path), mechanism, tuple(parameters), analyses=analyses, **designs, **output)
+    check_analyses(spec, mech, spec.file)
     _check_pareto(spec, mech)
-    return replace(spec, files=tuple(input_files(spec, mech)))
+    return replace(spec, files=tuple(input_files(spec, mech, spec.csv)))
 
 
-def variants(spec: Spec) -> Iterator[tuple[str, dict[str, Any], str | None]]:
+def variants(spec: StudySpec | Evaluator) -> Iterator[tuple[str, dict[str, Any], str | None]]:
     """(analysis, options, field) of every set of options the designs give an analysis, as far as its targeted
     lists go: the first value of every targeted parameter, then each further value of a targeted list with the others
     at their first; ``field`` names that value in the spec (``parameters.NAME.values[i]``), None for the first."""
@@ -311,7 +324,7 @@ def variants(spec: Spec) -> Iterator[tuple[str, dict[str, Any], str | None]]:
                     yield name, spec.options(name, {**first, p.name: value}), f"parameters.{p.name}.values[{i}]"
 
 
-def _check_analyses(spec: Spec, mech: Any) -> None:
+def check_analyses(spec: StudySpec | Evaluator, mech: Any, file: str) -> None:
     """Each analysis' ``check`` on the nominal mechanism with every set of options of :func:`variants` (every file
     of a targeted list exists and reads)."""
     from .analyses import analysis
@@ -324,10 +337,10 @@ def _check_analyses(spec: Spec, mech: Any) -> None:
                 raise
             field_name = where or f"analyses.{name}" + (f".{exc.field}" if exc.field else "")
             message = exc.message if where is None or not exc.field else f"{exc.field}: {exc.message}"
-            raise InputError(message, file=spec.file, field=field_name) from None
+            raise InputError(message, file=file, field=field_name) from None
 
 
-def output_names(spec: Spec, mech: Any) -> list[str]:
+def output_names(spec: StudySpec | Evaluator, mech: Any) -> list[str]:
     """The output columns of the study's rows, in order: each analysis' ``output_names`` for every set of options
     of :func:`variants`."""
     from .analyses import analysis
@@ -336,7 +349,7 @@ def output_names(spec: Spec, mech: Any) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def _check_pareto(spec: Spec, mech: Any) -> None:
+def _check_pareto(spec: StudySpec, mech: Any) -> None:
     """Refuse a Pareto axis that is neither an output of the analyses nor a numeric parameter, naming
     ``output.pareto.x`` or ``y`` and listing the known outputs."""
     if spec.pareto is None:
@@ -351,54 +364,13 @@ def _check_pareto(spec: Spec, mech: Any) -> None:
                              file=spec.file, field=f"output.pareto.{axis}")
 
 
-@lru_cache(maxsize=4)
-def base_mechanism(mechanism: str, content: tuple[str | None, ...] = ()):
-    """The study's mechanism as loaded from its name or file (once per process and ``content``: the SHA-256 of its
-    files, so that an edited file is loaded anew)."""
-    from ..library import load
-
-    return load(mechanism)
-
-
-def file_hash(path: str | Path) -> str | None:
-    """SHA-256 of a file's bytes, None if it cannot be read."""
-    try:
-        with open(path, "rb") as fh:
-            return hashlib.file_digest(fh, "sha256").hexdigest()
-    except OSError:
-        return None
-
-
-def mechanism_content(mechanism: str) -> tuple[str | None, ...]:
-    """The SHA-256 of each file the mechanism is read from (:func:`mechanism_files`)."""
-    return tuple(file_hash(path) for path in mechanism_files(mechanism))
-
-
-def study_mechanism(mechanism: str):
-    """The mechanism of a study (its name or file), loaded once per process and content of its files: the spec's
-    checks and every design of the study in this process (or on a worker) share it."""
-    return base_mechanism(mechanism, mechanism_content(mechanism))
-
-
-def mechanism_files(mechanism: str) -> list[Path]:
-    """The files the mechanism is read from: its file (a name's: the file :func:`mechatron.library.load` reads)
-    and, beside a URDF, the SRDF of its rotor parameters (if there is one)."""
-    from ..library import robot_origins
-
-    path = Path(mechanism) if Path(mechanism).is_file() else robot_origins().get(mechanism, (None, None))[1]
-    if path is None:
-        return []
-    srdf = path.with_suffix(".srdf")
-    return [path, srdf] if path.suffix.lower() == ".urdf" and srdf.is_file() else [path]
-
-
-def input_files(spec: Spec, mech: Any) -> list[str]:
+def input_files(spec: StudySpec | Evaluator, mech: Any, csv: str | None = None) -> list[str]:
     """Every file the study's rows are computed from (absolute paths, each once): the mechanism's, the CSV of
     designs, and the files every analysis reads for every set of options of :func:`variants` (``input_files`` of
     the analysis: tasks and their trajectories, catalogs, tolerances, poses — given or default)."""
     from .analyses import analysis
 
-    paths = [*mechanism_files(spec.mechanism), *([spec.csv] if spec.csv else [])]
+    paths = [*mechanism_files(spec.mechanism), *([csv] if csv else [])]
     for name, options, _ in variants(spec):
         paths.extend(analysis(name).input_files(mech, options))
     return list(dict.fromkeys(str(Path(p).resolve()) for p in paths))

@@ -1,6 +1,8 @@
-"""The analyses a study runs on every design, by name. Each is a module with
+"""The analyses a study runs on every design, by name. Each is a module that follows the
+:class:`~mechatron.studies.evaluator.Analysis` protocol:
 
-- ``OUTPUTS``: the names of the columns it adds (units in the names: ``mass_kg``, ``force_N``), for the docs;
+- ``OUTPUTS``: the names of the outputs it adds, quantities of the registry (:mod:`mechatron.quantities`: their
+  units are the registry's, ``mass_kg`` → kg, ``force_N`` → N), for the docs;
 - ``check(mech: Mechanism, options: dict) -> None``: raise :class:`~mechatron.errors.InputError` (one line naming
   the spec's ``[analyses.NAME]`` field) when the options are wrong or the mechanism cannot have this analysis, before
   any design runs;
@@ -13,14 +15,21 @@
   units, finite numbers); a design that cannot be analysed (does not assemble, no feasible drive, …) raises a
   :class:`~mechatron.errors.MechatronError` whose message becomes the row's reason. ``seed`` seeds any random draw,
   so that a design gives the same row wherever it runs.
+
+An analysis with exact first derivatives (:data:`EXACT`) also follows
+:class:`~mechatron.studies.evaluator.GradientAnalysis` (``gradient_outputs``, ``gradients``):
+:func:`gradient_analysis` gives it, None for the others.
 """
 
 from __future__ import annotations
 
 import importlib
-from types import ModuleType
+from typing import TYPE_CHECKING, cast
 
 from ...errors import InputError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..evaluator import Analysis, GradientAnalysis
 
 #: Analysis name → module (imported when a study asks for it).
 MODULES = {
@@ -30,6 +39,9 @@ MODULES = {
     "accuracy": "mechatron.studies.analyses.accuracy",
 }
 
+#: The analyses that give exact first derivatives of their outputs (:class:`~mechatron.studies.evaluator.
+#: GradientAnalysis`).
+EXACT = ("linkage",)
 
 #: Analysis name → the modules its ``outputs`` imports on first use: the workers of an embedded cluster start with
 #: them imported (:func:`worker_modules`), so that no worker's first chunk pays for them.
@@ -50,7 +62,7 @@ def worker_modules() -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def analysis(name: str) -> ModuleType:
+def analysis(name: str) -> Analysis:
     """The module of the analysis ``name``.
 
     Raises:
@@ -58,4 +70,10 @@ def analysis(name: str) -> ModuleType:
     """
     if name not in MODULES:
         raise InputError(f"unknown analysis {name!r}; known: {', '.join(MODULES)}")
-    return importlib.import_module(MODULES[name])
+    return cast("Analysis", importlib.import_module(MODULES[name]))
+
+
+def gradient_analysis(name: str) -> GradientAnalysis | None:
+    """The analysis ``name`` where it gives exact first derivatives (:data:`EXACT`), else None."""
+    module = analysis(name)
+    return cast("GradientAnalysis", module) if name in EXACT else None

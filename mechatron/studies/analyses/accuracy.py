@@ -1,5 +1,5 @@
 r"""The ``accuracy`` analysis of a study: the positioning error of a point of one design from the tolerances of
-its parameters and joints over a set of poses (:func:`mechatron.accuracy.study.run_study`, the study of
+its parameters and joints over a set of poses (:func:`mechatron.accuracy.study.analyse_tolerances`, the study of
 ``mechatron tolerance``) [Egorov, chapter 8], reduced to a row of numbers.
 
 Options (the spec's ``[analyses.accuracy]`` table, see ``docs/study_analyses.md``): ``tolerances`` (a tolerances
@@ -125,22 +125,22 @@ def outputs(mech: Mechanism, options: dict, seed: int) -> dict[str, float]:
     Raises:
         MechatronError: when the design's loops do not close at a pose.
     """
-    from ...accuracy.study import run_study
+    from ...accuracy.study import analyse_tolerances
 
     values = settings(mech, options)
     sources, poses, labels = sources_and_poses(mech, values)
     common = dict(frame=values["frame"], k=values["k"])
     # the options were checked: an error left is the design's (a pose it cannot reach), the reason of its row
     try:
-        linear = run_study(mech, sources, poses, labels, methods=("worst", "rss"), **common).poses
+        linear = analyse_tolerances(mech, sources, poses, labels, methods=("worst", "rss"), **common).poses
     except InputError as exc:
         raise MechatronError(f"accuracy of {mech.name}: {exc}") from None
     quantile, within = 0.0, 1.0
     for pose, label in zip(poses, labels):
         # one pose at a time: the study keeps every Δr sample of its critical pose, so the quantile is exact
         try:
-            mc = run_study(mech, sources, pose, [label], methods=("mc",), samples=values["samples"], seed=seed,
-                           **common)
+            mc = analyse_tolerances(mech, sources, pose, [label], methods=("mc",), samples=values["samples"], seed=seed,
+                                    **common)
         except InputError as exc:  # the loops close at the pose but not for any sampled error
             raise MechatronError(f"accuracy of {mech.name}: pose {label}: "
                                  f"{exc.message.removeprefix('pose 1: ')}") from None

@@ -34,6 +34,20 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ...drives.options import (
+    CHAIN_EFFICIENCY,
+    INERTIA_RATIO_MAX,
+    MAX_ITERATIONS,
+    MAX_PASSES,
+    MIN_EFFICIENCY,
+    MIN_PASSES,
+    MPA,
+    OBJECTIVE,
+    PRESSURE,
+    PRESSURE_MAX,
+    SizingOptions,
+    check_objective,
+)
 from ...errors import InputError, MechatronError
 from ...io.values import number
 
@@ -42,6 +56,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ...drives.report import DriveSizing
     from ...drives.sizing import SizingResult
+    from ...dynamics.task import Task
     from ...model.mechanism import Mechanism
 
 OUTPUTS = ("feasible", "drive_mass_kg", "drive_cost", "smallest_margin", "energy_per_cycle_J", "peak_power_W",
@@ -51,9 +66,10 @@ OUTPUTS = ("feasible", "drive_mass_kg", "drive_cost", "smallest_margin", "energy
 CATALOGS = ("motors", "gearboxes", "linear", "cylinders")
 #: The numeric options: their defaults and bounds (those of ``mechatron size``).
 NUMBERS: dict[str, tuple[float | None, dict]] = {
-    "inertia_ratio": (10.0, dict(positive=True)), "pressure_MPa": (32.0, dict(positive=True, maximum=1e4, unit="MPa")),
-    "chain_efficiency": (1.0, dict(minimum=0.01, maximum=1.0)),
-    "max_iterations": (10, dict(integer=True, minimum=2, maximum=1000)),
+    "inertia_ratio": (INERTIA_RATIO_MAX, dict(positive=True)),
+    "pressure_MPa": (PRESSURE / MPA, dict(positive=True, maximum=PRESSURE_MAX / MPA, unit="MPa")),
+    "chain_efficiency": (CHAIN_EFFICIENCY, dict(minimum=MIN_EFFICIENCY, maximum=1.0)),
+    "max_iterations": (MAX_ITERATIONS, dict(integer=True, minimum=MIN_PASSES, maximum=MAX_PASSES)),
     "stop_torque": (None, dict(positive=True, unit="N·m")), "stop_current": (None, dict(positive=True, unit="A")),
     "voltage": (None, dict(positive=True, unit="V")), "screw_life_h": (None, dict(positive=True, unit="h")),
     "ambient": (40.0, dict(minimum=-50.0, maximum=100.0, unit="°C"))}
@@ -142,12 +158,30 @@ def coordinates(mech: Mechanism) -> list[str]:
     return list(mech.actuated) if mech.closures else list(mech.joint_names)
 
 
-def arguments(mech: Mechanism, options: dict) -> dict:
-    """The keyword arguments of :func:`mechatron.drives.sizing.size` for the options (checked; the task read for
-    ``mech``, the catalogs as DataFrames)."""
-    from ...drives.checks import SCREW_LIFE, DriveLimits
-    from ...drives.sizing import OBJECTIVES
-    from ...drives.thermal import ZERO_CELSIUS
+def sizing_options(options: dict) -> SizingOptions:
+    """The :class:`~mechatron.drives.options.SizingOptions` of the options (checked: one line naming
+    ``[analyses.sizing] FIELD``; the pressure in MPa, the screw life in h, the ambient in °C)."""
+    objective = options.get("objective", OBJECTIVE)
+    try:
+        check_objective(objective)
+    except InputError as exc:
+        raise field_error("sizing", "objective", str(exc)) from None
+    values = {name: field_number("sizing", options, name, default, **bounds)
+              for name, (default, bounds) in NUMBERS.items()}
+    if values["stop_torque"] is not None and values["stop_current"] is not None:
+        raise field_error("sizing", "stop_current", "give the emergency-stop limit as stop_torque or as "
+                                                    "stop_current, not both")
+    return SizingOptions.in_user_units(
+        objective=objective, inertia_ratio_max=values["inertia_ratio"], pressure_MPa=values["pressure_MPa"],
+        chain_efficiency=values["chain_efficiency"], direct=field_flag("sizing", options, "direct", True),
+        single_pass=field_flag("sizing", options, "single_pass", False), max_iterations=values["max_iterations"],
+        stop_torque=values["stop_torque"], stop_current=values["stop_current"], voltage=values["voltage"],
+        screw_life_h=values["screw_life_h"], ambient_degC=values["ambient"])
+
+
+def inputs(mech: Mechanism, options: dict) -> tuple[Task, dict[str, pd.DataFrame], SizingOptions]:
+    """What :func:`mechatron.drives.sizing.size` sizes ``mech`` with for the options, checked: the task (read for
+    ``mech``), the four catalogs (DataFrames) and the :func:`sizing_options`."""
     from ...dynamics.task import default_task, read_task
     from ...quantities import renamed
 
@@ -155,28 +189,20 @@ def arguments(mech: Mechanism, options: dict) -> dict:
     field_names("sizing", options, OPTIONS)
     if not coordinates(mech):
         raise InputError(f"[analyses.sizing] {mech.name} has no actuated joint to size a drive for")
-    objective = options.get("objective", "mass")
-    if objective not in OBJECTIVES:
-        raise field_error("sizing", "objective", f"unknown objective {objective!r}; expected one of: "
-                                                 f"{', '.join(OBJECTIVES)}")
-    values = {name: field_number("sizing", options, name, default, **bounds)
-              for name, (default, bounds) in NUMBERS.items()}
-    if values["stop_torque"] is not None and values["stop_current"] is not None:
-        raise field_error("sizing", "stop_current", "give the emergency-stop limit as stop_torque or as "
-                                                    "stop_current, not both")
-    screw_life = SCREW_LIFE if values["screw_life_h"] is None else values["screw_life_h"] * 3600.0
+    settings = sizing_options(options)
     path = field_file("sizing", options, "task")
     try:
         task = default_task(mech) if path is None else read_task(path, mech)
     except InputError as exc:
         raise field_error("sizing", "task", str(exc)) from None
-    return dict(task=task, **catalogs(options), objective=objective,
-                inertia_ratio_max=values["inertia_ratio"], direct=field_flag("sizing", options, "direct", True),
-                pressure=values["pressure_MPa"] * 1e6, chain_efficiency=values["chain_efficiency"],
-                single_pass=field_flag("sizing", options, "single_pass", False),
-                max_iterations=values["max_iterations"],
-                limits=DriveLimits(values["stop_torque"], values["stop_current"], screw_life, values["voltage"],
-                                   values["ambient"] + ZERO_CELSIUS))
+    return task, catalogs(options), settings
+
+
+def arguments(mech: Mechanism, options: dict) -> dict:
+    """The keyword arguments of :func:`mechatron.drives.sizing.size` for the options (checked; the task read for
+    ``mech``, the catalogs as DataFrames, the fields of the :func:`sizing_options`)."""
+    task, tables, settings = inputs(mech, options)
+    return dict(task=task, **tables, **settings.keywords())
 
 
 def check(mech: Mechanism, options: dict) -> None:
@@ -248,8 +274,8 @@ def run(mech: Mechanism, options: dict) -> SizingResult:
     included, is the one sized), started from the drives the design before chose."""
     from ...drives.sizing import size
 
-    kwargs = arguments(mech, options)
-    result = size(mech, kwargs.pop("task"), **kwargs, start=_last_choice.get(mech.name))
+    task, tables, settings = inputs(mech, options)
+    result = size(mech, task, **tables, options=settings, start=_last_choice.get(mech.name))
     _last_choice.clear()
     _last_choice[mech.name] = {j.joint: j for j in result.joints}
     return result

@@ -1,4 +1,4 @@
-r"""Solving an :class:`~mechatron.studies.optimal_problem.OptimalDesignProblem` and comparing it with a DOE.
+r"""Solving an :class:`~mechatron.optimal.problems.base.OptimalDesignProblem` and comparing it with a DOE.
 
 :func:`solve`: the NLP  min f(x, s, t)  s.t.  Φ(x, s) = 0,  g(x, s, t) ≥ 0,  x_lo ≤ x ≤ x_hi  with CasADi's
 ``nlpsol("ipopt")`` (exact first and second derivatives of the SX expressions), started from the design ``start``
@@ -18,8 +18,9 @@ from typing import Any
 
 import numpy as np
 
-from .designs import sample_box
-from .optimal_problem import OptimalDesignProblem, Requirement, Vector
+from ...studies.designs import sample_box
+from ..requirement import Requirement, Vector
+from .base import OptimalDesignProblem
 
 
 @dataclass

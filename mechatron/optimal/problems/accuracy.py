@@ -22,8 +22,8 @@ Requirement (optional): the reach, the tool point's distance from the base's z a
 at least R. Shorter links make every joint error smaller; the reach requirement is what keeps the arm useful.
 
 The Pinocchio model of a design is the robot file rebuilt with the lengths (``mech.with_parameters``); its worst
-case is :func:`mechatron.accuracy.study.run_study` with the same sources and poses (Pinocchio's Jacobians and the
-parameter derivatives of the accuracy module), and its reach Pinocchio's forward kinematics.
+case is :func:`mechatron.accuracy.study.analyse_tolerances` with the same sources and poses (Pinocchio's Jacobians
+and the parameter derivatives of the accuracy module), and its reach Pinocchio's forward kinematics.
 """
 
 from __future__ import annotations
@@ -34,8 +34,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
-from .optimal_problem import OptimalDesignProblem, Requirement, Vector
+from ...errors import InputError
+from ..requirement import Requirement, Vector
+from .base import OptimalDesignProblem
 
 
 def _rot_z(ca: Any, angle: Any) -> Any:
@@ -139,7 +140,7 @@ class PositioningProblem(OptimalDesignProblem):
             W = ca.fabs(ca.mtimes(J, ca.DM(self.biases))) + ca.mtimes(ca.fabs(J), ca.DM(self.tolerances))
             worst.append(ca.norm_2(W))
         quantities, names = worst, [f"dr_worst_{label}_m" for label in self.labels]
-        if min_reach is not None:
+        if min_reach is not None and self.reach_pose is not None:
             tip = substituted(dh_tool_point(table, symbols, [float(v) for v in self.reach_pose]))
             quantities.append(ca.sqrt(tip[0] ** 2 + tip[1] ** 2))
             names.append("reach_m")
@@ -153,16 +154,16 @@ class PositioningProblem(OptimalDesignProblem):
         return np.zeros(0)
 
     def evaluate(self, x: Vector) -> Vector:
-        """D_k of :func:`mechatron.accuracy.study.run_study` (method ``worst``) and the reach from Pinocchio's
+        """D_k of :func:`mechatron.accuracy.study.analyse_tolerances` (method ``worst``) and the reach from Pinocchio's
         forward kinematics, for the robot file rebuilt with the lengths x."""
         import pinocchio as pin
 
-        from ..accuracy.study import configurations, run_study
+        from ...accuracy.study import analyse_tolerances, configurations
 
         mech = self.mech.with_parameters(dict(zip(self.variables, map(float, x))))
-        study = run_study(mech, self.sources, self.poses, self.labels, methods=("worst",))
+        study = analyse_tolerances(mech, self.sources, self.poses, self.labels, methods=("worst",))
         out = list(study.poses["dr_worst"].to_numpy(dtype=float))
-        if self.min_reach is not None:
+        if self.min_reach is not None and self.reach_pose is not None:
             q = configurations(mech, self.reach_pose)[0]
             pin.framesForwardKinematics(mech.model, mech.data, q)
             tip = mech.data.oMf[mech.frame_id(mech.tool_frame)].translation

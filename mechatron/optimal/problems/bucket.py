@@ -25,11 +25,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
-from ..kinematics.geometry import point_positions
-from ..kinematics.loops import assemble
-from ..machines.bucket import BucketInputs, loop_equations
-from .optimal_problem import OptimalDesignProblem, Requirement, Vector
+from ...errors import InputError
+from ...kinematics.geometry import point_positions
+from ...kinematics.loops import assemble
+from ...machines.bucket import BucketInputs, loop_equations
+from ..requirement import Requirement, Vector
+from .base import OptimalDesignProblem
 
 #: Design variables this problem knows, each a named parameter of the bucket mechanism (m).
 VARIABLES = ("c", "L2", "A_x", "A_y")
@@ -101,7 +102,7 @@ class BucketProblem(OptimalDesignProblem):
     # ------------------------------------------------------------------------------------------ Pinocchio
     def overrides(self, x: Vector) -> dict[str, float]:
         """The mechanism's parameters of the design x: c, A_x, A_y as they are, L2 as B moved along DB."""
-        out = {}
+        out: dict[str, float] = {}
         for name, value in zip(self.variables, np.asarray(x, dtype=float)):
             if name == "L2":  # B along DB, |DB| declared: the rocker keeps α
                 scale = float(value) / self.base["L2"]

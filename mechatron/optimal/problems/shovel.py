@@ -35,10 +35,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
-from ..kinematics.geometry import point_positions
-from ..kinematics.loops import assemble
-from ..machines.excavator import (
+from ...errors import InputError
+from ...kinematics.geometry import point_positions
+from ...kinematics.loops import assemble
+from ...machines.excavator import (
     FrontShovelDesign,
     casadi_maths,
     cylinder_loads,
@@ -46,7 +46,8 @@ from ..machines.excavator import (
     range_angles,
     special_angles,
 )
-from .optimal_problem import OptimalDesignProblem, Requirement, Vector
+from ..requirement import Requirement, Vector
+from .base import OptimalDesignProblem
 
 DEG = math.pi / 180
 #: cylinder → (base, eye, pivot, joint index): the triangle each cylinder closes.
@@ -104,8 +105,9 @@ class ShovelProblem(OptimalDesignProblem):
         self.links = [float(np.linalg.norm(P[b] - P[a])) for a, b, _ in LINKS.values()]
         self.reference = {"ground": 0.0, "boom": _direction(P["F"] - P["C"]), "stick": _direction(P["Q"] - P["F"]),
                           "bucket": _direction(P["V"] - P["Q"])}
-        design = FrontShovelDesign(**{**(working_range or {}), "boom": self.links[0], "stick": self.links[1],
-                                      "bucket": self.links[2], "boom_foot": (float(P["C"][0]), float(P["C"][1]))})
+        fields: dict[str, Any] = {**(working_range or {}), "boom": self.links[0], "stick": self.links[1],
+                                  "bucket": self.links[2], "boom_foot": (float(P["C"][0]), float(P["C"][1]))}
+        design = FrontShovelDesign(**fields)
         self.design = design
         self.masses, self.centres = self._links_inertia()
         self.title = "front shovel [Shovel]: largest cylinder force over " + ", ".join(self.variables)
@@ -117,8 +119,9 @@ class ShovelProblem(OptimalDesignProblem):
                             for n, length in zip(LINKS, self.links)]
         arguments: list[Any] = []  # of acos and asin: |a| ≤ 1 where the links reach the working range
         maths = casadi_maths(arguments)
-        ranges = range_angles(design, *self.link_values, maths)[:3]
-        special = special_angles(design, *self.link_values, ranges[0], ranges[1][1], maths)
+        boom, stick, bucket = self.link_values
+        ranges = range_angles(design, boom, stick, bucket, maths)[:3]
+        special = special_angles(design, boom, stick, bucket, ranges[0], ranges[1][1], maths)
         sweep = [tuple(lo + t * (hi - lo) for lo, hi in ranges) for t in np.linspace(0, 1, max(2, positions))]
         self.domain = ca.vertcat(*arguments) if links_free else ca.SX(0, 1)
         self._angles = ca.Function("angles", [self.x], [ca.vertcat(*[a for r in ranges for a in r],
@@ -171,7 +174,7 @@ class ShovelProblem(OptimalDesignProblem):
         return ranges, special, [tuple(rest[3 * k:3 * k + 3]) for k in range(len(rest) // 3)]
 
     # ------------------------------------------------------------------------------------------ geometry
-    def _pose(self, angles: Any) -> dict[str, tuple[Any, Any]]:
+    def _pose(self, angles: Any) -> dict[str, Any]:
         """Frame origin and absolute angle of each body at the joint angles (θ1, θ2, θ3) (numbers or SX)."""
         import casadi as ca
 
@@ -204,7 +207,7 @@ class ShovelProblem(OptimalDesignProblem):
         pin.forwardKinematics(model, data, self.mech.reference_q)
         masses, centres = [], []
         origins = dict(zip("CFQV", point_positions(self.mech, self.mech.reference_q, *"CFQV")))
-        for (_, joint), (o, e) in zip(BODIES.values(), ("CF", "FQ", "QV")):
+        for (_, joint), (o, e) in zip(BODIES.values(), (("C", "F"), ("F", "Q"), ("Q", "V"))):
             jid = model.getJointId(joint)
             centre = (data.oMi[jid].act(model.inertias[jid].lever))[:2]
             turn = -_direction(origins[e] - origins[o])

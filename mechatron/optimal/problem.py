@@ -20,24 +20,26 @@ analysis option such as a catalog file, ``target = "ANALYSIS.OPTION"``), one or 
     [analyses.linkage]
     samples = 13
 
-:func:`read_design` reads it with the study file's own reader (:mod:`mechatron.studies.spec`: the mechanism loader,
-the analyses, the parameters, their path rule — paths relative to the file) and checks everything before any design
-is evaluated, one :class:`~mechatron.errors.InputError` naming the file and the field otherwise: a variable that is
-no parameter of the mechanism, inverted, equal or non-finite bounds, a start outside them, an objective or
-requirement that is no output of the chosen analyses (the outputs listed), a discrete choice naming a missing file
-(the analyses' own checks of every value), an evaluation budget beyond :data:`MAX_EVALUATIONS`.
+:func:`design_problem` reads it (from :func:`mechatron.optimal.reader.read_problem`, which parses the file once) with
+the study file's own readers (:mod:`mechatron.studies.spec`: the mechanism loader, the analyses, the ranges, their path
+rule — paths relative to the file) and checks everything before any design is evaluated, one
+:class:`~mechatron.errors.InputError` naming the file and the field otherwise: a variable that is no parameter of the
+mechanism, inverted, equal or non-finite bounds, a start outside them, an objective or requirement that is no output of
+the chosen analyses (the outputs listed), a discrete choice naming a missing file (the analyses' own checks of every
+value), an evaluation budget beyond :data:`MAX_EVALUATIONS`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..io.schema import FieldReader
-from .spec import Parameter, Spec, _analyses, _check_analyses, _mechanism, _parameter, input_files, output_names
+from ..studies.evaluator import Evaluator
+from ..studies.spec import Range, check_analyses, input_files, output_names, read_analyses, read_mechanism, read_range
 
 #: Directions of an objective.
 GOALS = ("minimize", "maximize")
@@ -58,13 +60,17 @@ class Bound:
 
 
 @dataclass(frozen=True)
-class DesignSpec:
-    """A checked design file: the study it evaluates designs with (mechanism, variables as its parameters,
-    analyses), the objectives (output, goal), the requirements, the start (SI) and the solver's settings."""
+class DesignProblem:
+    """A checked design file: the mechanism (its name or absolute file), the variables (:class:`~mechatron.studies.
+    spec.Range`: a mechanism parameter's range, a list of values, or an analysis option's), the analyses with their
+    options, the objectives (output, goal), the requirements, the start (SI), the solver's settings, the outputs of
+    the analyses and every file the evaluations read (``files``)."""
 
     file: str
     name: str
-    study: Spec
+    mechanism: str
+    variables: tuple[Range, ...]
+    analyses: dict[str, dict[str, Any]]
     objectives: tuple[tuple[str, str], ...]
     requirements: tuple[Bound, ...] = ()
     start: dict[str, float] = field(default_factory=dict)
@@ -75,68 +81,69 @@ class DesignSpec:
     max_iterations: int = 100
     tolerance: float = 1e-8
     outputs: tuple[str, ...] = ()
+    files: tuple[str, ...] = ()
 
     @property
-    def variables(self) -> tuple[Parameter, ...]:
-        return self.study.parameters
+    def evaluator(self) -> Evaluator:
+        """The evaluation of a design (:class:`~mechatron.studies.evaluator.Evaluator`): the study's own."""
+        return Evaluator(self.mechanism, self.analyses, self.variables)
+
+    @property
+    def study(self) -> Evaluator:
+        """:attr:`evaluator`, as the study's runner takes it (:func:`mechatron.studies.runner.evaluate`)."""
+        return self.evaluator
+
+    def options(self, name: str, design: dict[str, Any]) -> dict[str, Any]:
+        """The options of analysis ``name`` for one design (:meth:`Evaluator.options`)."""
+        return self.evaluator.options(name, design)
 
 
-def is_design_file(data: dict) -> bool:
-    """Whether a parsed optimisation file is of the general form (it has ``[analyses.NAME]`` tables), not one of
-    the named templates (``[objective] type = ...``, docs/optimize_file.md)."""
-    return isinstance(data, dict) and "analyses" in data
-
-
-def read_design(path: str | Path) -> DesignSpec:
-    """Read and check a design file (the module docstring)."""
-    from ..io.toml import read_toml
-
-    path = Path(path)
-    reader = FieldReader(read_toml(path), file=path)
+def design_problem(reader: FieldReader, path: Path) -> DesignProblem:
+    """Check a parsed design file (``reader`` over the file at ``path``; the module docstring)."""
     folder = path.resolve().parent
     name = reader.string("name", path.stem)
     reader.string("description", "")
-    mechanism, mech = _mechanism(reader, folder)
-    analyses = _analyses(reader, folder)
+    mechanism, mech = read_mechanism(reader, folder)
+    analyses = read_analyses(reader, folder)
     poses = _poses(reader, analyses)
-    variables = read_variables(reader, mech, analyses, folder)
-    study = Spec(str(path), mechanism, tuple(variables), method="lhs", samples=1, analyses=analyses)
-    _checked_analyses(study, mech, bool(poses))
-    outputs = tuple(output_names(study, mech))
+    variables = tuple(read_variables(reader, mech, analyses, folder))
+    evaluator = Evaluator(mechanism, analyses, variables)
+    _checked_analyses(evaluator, mech, str(path), bool(poses))
+    outputs = tuple(output_names(evaluator, mech))
     objectives = _objectives(reader, outputs)
     requirements = _requirements(reader, outputs, poses)
-    start = read_start(reader, variables)
+    start = read_start(reader, list(variables))
     solver = _solver(reader, len(objectives), len(variables))
     reader.finish()
-    study = replace(study, files=tuple(input_files(study, mech)))
-    return DesignSpec(str(path), name, study, objectives, requirements, start, outputs=outputs, **solver)
+    return DesignProblem(str(path), name, mechanism, variables, analyses, objectives, requirements, start,
+                         outputs=outputs, files=tuple(input_files(evaluator, mech)), **solver)
 
 
-def _checked_analyses(study: Spec, mech: Any, poses: bool = False) -> None:
+def _checked_analyses(evaluator: Evaluator, mech: Any, file: str, poses: bool = False) -> None:
     """The analyses' checks of every set of options the variables give them (:func:`~mechatron.studies.spec.
     variants`), an error naming the variable (``variables.NAME``) where a value of one is refused, or the file's
     ``poses[k]`` (``poses``: the file has ``[[poses]]``)."""
     try:
-        _check_analyses(study, mech)
+        check_analyses(evaluator, mech, file)
     except InputError as exc:
         field_name = exc.field or ""
         if poses and field_name.startswith("analyses.linkage.poses["):
             field_name = field_name.removeprefix("analyses.linkage.")  # the file's [[poses]]
         if field_name.startswith("parameters."):
             field_name = "variables." + field_name.removeprefix("parameters.").split(".values")[0]
-        for p in study.parameters:
+        for p in evaluator.parameters:
             if p.target and field_name == f"analyses.{p.target}":
                 field_name = f"variables.{p.name}"
         raise InputError(exc.message, file=exc.file, field=field_name or None) from None
 
 
 def read_variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path,
-                   known: tuple[str, ...] | None = None) -> list[Parameter]:
+                   known: tuple[str, ...] | None = None) -> list[Range]:
     """``[variables]``: ``NAME = [lower, upper]`` (SI) or a table as a study's ``[parameters.NAME]``; with
     ``known`` (a named problem's variables) only those, as ranges."""
     variables = _variables(reader, mech, analyses, folder)
     for p in variables if known is not None else ():
-        if p.name not in known:
+        if known is not None and p.name not in known:
             raise InputError(f"not a design variable of this objective; choose from: {', '.join(known)}",
                              file=reader.file, field=f"variables.{p.name}")
         if p.values is not None:
@@ -145,7 +152,7 @@ def read_variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path,
     return variables
 
 
-def _variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path) -> list[Parameter]:
+def _variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path) -> list[Range]:
     table = reader.table("variables", None)
     if table is None or not table.data:
         raise reader.error("variables", "give at least one design variable: NAME = [lower, upper] (SI) with NAME a "
@@ -154,7 +161,7 @@ def _variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path) -> 
     for name in list(table.data):
         if isinstance(table.data[name], dict):
             sub = table.table(name)
-            out.append(_parameter(sub, name, mech.parameters, analyses, mech.name, folder))
+            out.append(read_range(sub, name, mech.parameters, analyses, mech.name, folder))
             sub.finish()
             continue
         if name not in mech.parameters:
@@ -162,7 +169,7 @@ def _variables(reader: FieldReader, mech: Any, analyses: dict, folder: Path) -> 
         lower, upper = (float(v) for v in table.vector(name, 2))
         if not lower < upper:
             raise table.error(name, f"empty range [{lower:g}, {upper:g}]: the lower bound must be below the upper")
-        out.append(Parameter(name, lower, upper))
+        out.append(Range(name, lower, upper))
     table.finish()
     return out
 
@@ -251,7 +258,7 @@ def _requirements(reader: FieldReader, outputs: tuple[str, ...], poses: tuple[st
     return tuple(out)
 
 
-def read_start(reader: FieldReader, variables: list[Parameter]) -> dict[str, float]:
+def read_start(reader: FieldReader, variables: list[Range]) -> dict[str, float]:
     """``[start]``: a value (SI) per ranged variable, inside its bounds."""
     table = reader.table("start", None)
     if table is None:
@@ -261,9 +268,9 @@ def read_start(reader: FieldReader, variables: list[Parameter]) -> dict[str, flo
     for name in list(table.data):
         if name not in ranges:
             raise table.error(name, "not a ranged design variable (give it in [variables] as [lower, upper] first)")
-        value, p = table.number(name), ranges[name]
-        if not p.low <= value <= p.high:
-            raise table.error(name, f"{value:g} is outside the bounds [{p.low:g}, {p.high:g}]")
+        value, (low, high) = table.number(name), ranges[name].bounds
+        if not low <= value <= high:
+            raise table.error(name, f"{value:g} is outside the bounds [{low:g}, {high:g}]")
         out[name] = value
     table.finish()
     return out
@@ -283,10 +290,10 @@ def _solver(reader: FieldReader, objectives: int, variables: int) -> dict[str, A
         raise table.error("evaluations", f"{evaluations:,} evaluations; a problem has at most {MAX_EVALUATIONS:,}")
     if population > evaluations:
         raise table.error("population", f"{population} designs a generation exceed the {evaluations} evaluations")
-    out = {"method": method, "evaluations": evaluations, "population": population,
-           "seed": table.whole("seed", 0, minimum=0),
-           "max_iterations": table.whole("max_iterations", 100, minimum=1),
-           "tolerance": table.number("tolerance", 1e-8, positive=True)}
+    out: dict[str, Any] = {"method": method, "evaluations": evaluations, "population": population,
+                           "seed": table.whole("seed", 0, minimum=0),
+                           "max_iterations": table.whole("max_iterations", 100, minimum=1),
+                           "tolerance": table.number("tolerance", 1e-8, positive=True)}
     if not math.isfinite(out["tolerance"]):  # pragma: no cover - number() refuses it
         raise table.error("tolerance", "must be finite")
     table.finish()

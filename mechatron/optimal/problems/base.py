@@ -14,47 +14,11 @@ dq/dx = ∂q/∂x − ∂q/∂s (∂Φ/∂s)⁻¹ ∂Φ/∂x, all three Jacobian
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
-Vector = NDArray[np.float64]
-
-
-#: mechatron's own rule, not a standard's: a requirement counts as met down to a margin of
-#: −REQUIREMENT_SLACK × max(1, |limit|) (in the requirement's unit), so that an optimum on an active requirement,
-#: which the solver and the re-evaluation on the Pinocchio model place only to their tolerances on either side of
-#: the limit, is not declared infeasible for a rounding-size difference. Such a margin is reported "met within
-#: slack", never "met" (:attr:`Requirement.verdict`).
-REQUIREMENT_SLACK = 1e-6
-
-
-@dataclass(frozen=True)
-class Requirement:
-    """One requirement at a design: ``value`` against ``limit`` (``kind`` "min": value ≥ limit, "max": value ≤
-    limit), in ``unit``; ``margin`` = value − limit for "min", limit − value for "max" (≥ 0 when met)."""
-
-    name: str
-    value: float
-    limit: float
-    kind: str
-    unit: str
-
-    @property
-    def margin(self) -> float:
-        return self.value - self.limit if self.kind == "min" else self.limit - self.value
-
-    def met(self, tolerance: float = REQUIREMENT_SLACK) -> bool:
-        """margin ≥ −tolerance × max(1, |limit|) (:data:`REQUIREMENT_SLACK`); False for a NaN margin."""
-        return bool(self.margin >= -tolerance * max(1.0, abs(self.limit)))
-
-    @property
-    def verdict(self) -> str:
-        """``met`` (margin ≥ 0), ``met within slack`` (−:data:`REQUIREMENT_SLACK` × max(1, |limit|) ≤ margin < 0)
-        or ``NOT MET``: the words of the reports."""
-        return "met" if self.margin >= 0 else "met within slack" if self.met() else "NOT MET"
+from ..requirement import Requirement, Vector
 
 
 class OptimalDesignProblem(ABC):
@@ -80,6 +44,7 @@ class OptimalDesignProblem(ABC):
     objective_unit: str
     scale: float = 1.0
     title: str = ""
+    _functions: dict[str, Any] | None = None
 
     def set_box(self, mech: Any, bounds: dict[str, tuple[float, float]], start: dict[str, float] | None) -> None:
         """Set ``mech``, the variables and their bounds (m) and the start (default: the middle of the box)."""
@@ -116,7 +81,7 @@ class OptimalDesignProblem(ABC):
         """CasADi functions of (x, s): Φ, q and their Jacobians (built once)."""
         import casadi as ca
 
-        if getattr(self, "_functions", None) is not None:
+        if self._functions is not None:
             return self._functions
         x, s = self.x, self.s
         self._functions = {"loops": ca.Function("loops", [x, s], [self.loops]),

@@ -1,6 +1,6 @@
 r"""A front shovel [Shovel] with the lightest catalog cylinders: pin positions and one catalog row per cylinder.
 
-The design is that of :class:`~mechatron.studies.optimal_shovel.ShovelProblem` (the cylinders' pin coordinates and
+The design is that of :class:`~mechatron.optimal.problems.shovel.ShovelProblem` (the cylinders' pin coordinates and
 the link lengths; the joint ranges fixed by the working range, each stroke spanning its joint's range) and, per
 chosen cylinder j, a row
 r_j of a hydraulic-cylinder catalog. The objective is the total mass of the cylinders (kg),
@@ -47,13 +47,13 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..drives.cylinders import BUCKLING_SAFETY, size_cylinder
-from ..drives.duty import JointDuty
-from ..drives.shafts import euler_load, fixing_factors
-from ..errors import InputError, MechatronError
-from .optimal_problem import Requirement, Vector
-from .optimal_shovel import CYLINDERS, ShovelProblem
-from .optimal_solve import DesignOfExperiments, Solution, solve
+from ...drives.cylinders import BUCKLING_SAFETY, cylinder_areas, size_cylinder
+from ...drives.duty import JointDuty
+from ...drives.shafts import euler_load, fixing_factors
+from ...errors import InputError, MechatronError
+from ..requirement import Requirement, Vector
+from .nlp import DesignOfExperiments, Solution, solve
+from .shovel import CYLINDERS, ShovelProblem
 
 #: The relief pressure the drives module sizes cylinders at by default (Pa).
 DEFAULT_PRESSURE = float(inspect.signature(size_cylinder).parameters["pressure"].default)
@@ -75,7 +75,7 @@ class MassProblem(ShovelProblem):
     """The front shovel with the lightest catalog cylinders (see the module docstring).
 
     Args:
-        mech, bounds, start, **shovel: as :class:`~mechatron.studies.optimal_shovel.ShovelProblem`.
+        mech, bounds, start, **shovel: as :class:`~mechatron.optimal.problems.shovel.ShovelProblem`.
         catalog: the hydraulic cylinders (``read_catalog(path, "cylinders")``, SI units).
         pressure: the relief pressure p_s (Pa).
 
@@ -164,8 +164,7 @@ class MassProblem(ShovelProblem):
             row = self.catalog.iloc[self.rows[c]]
             n = self.mech.cylinders[c].count
             mass += cylinder_mass(row, stroke, n)
-            piston = math.pi * row["bore"] ** 2 / 4
-            annulus = piston - math.pi * row["rod"] ** 2 / 4
+            piston, annulus = (float(area) for area in cylinder_areas(row["bore"], row["rod"]))
             p = min(self.pressure, float(row["max_pressure"]))
             K = fixing_factors([row.get("end_fixing", "")])[0][0]
             allowed = float(euler_load(row["rod"], 1.0, K)) / BUCKLING_SAFETY  # F_E(L) L² / 3.5 (N·m²)
@@ -231,7 +230,7 @@ def descend(problem: MassProblem, doe: DesignOfExperiments, *, max_iterations: i
     # requirement counts as met 1e-6 beyond its limit, a drives check only 1e-9)
     found = ((m, x, name, problem.rows_of(problem.values(x))) for m, x, name in sorted(candidates, key=lambda c: c[0]))
     mass, x, name, rows = next((c for c in found if c[3] is not None), (0.0, None, "", None))
-    if rows is None:
+    if rows is None or x is None:
         raise InputError(f"no catalog cylinders pass every check at any of the {len(doe.points)} DOE designs or the "
                          "start that meet the geometric requirements; give larger cylinders, a wider box or more DOE "
                          "points", field="objective.catalog")
@@ -271,9 +270,9 @@ def catalog_options(objective: Any, folder: Any) -> dict[str, Any]:
     Raises:
         InputError: naming the field (or the catalog's file, row and column for a bad catalog).
     """
-    from ..drives.catalogs import DEFAULT_FILES, read_catalog
-    from ..io.data import data_dir
-    from .spec import file_field
+    from ...drives.catalogs import DEFAULT_FILES, read_catalog
+    from ...io.data import data_dir
+    from ...studies.spec import file_field
 
     path = file_field(objective, "catalog", folder, data_dir("catalogs") / DEFAULT_FILES["cylinders"],
                       "catalog file")
