@@ -55,12 +55,14 @@ def _runtime_nodes(tree: ast.AST):
         yield from _runtime_nodes(node)
 
 
-def imported(name: str, path: Path) -> set[str]:
-    """Every mechatron module ``name`` imports when it runs, at the top or inside functions."""
+def imported(name: str, path: Path, annotations: bool = False) -> set[str]:
+    """Every mechatron module ``name`` imports when it runs, at the top or inside functions (``annotations``: and
+    those it imports for annotations only, under ``if TYPE_CHECKING:``)."""
     is_package = path.name == "__init__.py"
     package = name if is_package else name.rsplit(".", 1)[0]
     out = set()
-    for node in _runtime_nodes(ast.parse(path.read_text(encoding="utf-8"))):
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in ast.walk(tree) if annotations else _runtime_nodes(tree):
         if isinstance(node, ast.ImportFrom):
             if node.level:
                 base = package.split(".")
@@ -145,6 +147,48 @@ def test_import_graph_is_acyclic():
         if state.get(name) is None and visit(name, []):
             break
     assert not cycle, " -> ".join(cycle)
+
+
+
+def circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The import circles of ``graph`` (module → the modules it imports): its strongly connected components of more
+    than one module (Tarjan's algorithm), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    out: list[list[str]] = []
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        for nxt in graph[node]:
+            if nxt not in index:
+                visit(nxt)
+                low[node] = min(low[node], low[nxt])
+            elif nxt in stack:
+                low[node] = min(low[node], index[nxt])
+        if low[node] == index[node]:
+            component = stack[stack.index(node):]
+            del stack[stack.index(node):]
+            if len(component) > 1:
+                out.append(sorted(component))
+
+    for name in sorted(graph):
+        if name not in index:
+            visit(name)
+    return out
+
+
+def test_circles_finds_the_strongly_connected_components():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a", "e"}, "e": {"d"}, "f": set()}
+    assert sorted(circles(graph)) == [["a", "b", "c"], ["d", "e"]]
+
+
+def test_few_type_only_import_circles():
+    """With the imports for annotations only (``if TYPE_CHECKING:``) the package has 2 or fewer import circles
+    (each imports the other for a type): a type lives in the module it belongs to, or a protocol stands for it."""
+    found = circles({name: imported(name, path, annotations=True) for name, path in MODULES.items()})
+    assert len(found) <= 2, "\n".join(" <-> ".join(c) for c in found)
 
 
 @pytest.mark.parametrize("heavy", ["pandas", "matplotlib", "casadi"])

@@ -104,3 +104,53 @@ def test_bad_brake_columns(tmp_path, cells, message):
     cli = subprocess.run([sys.executable, "-m", "mechatron", "size", "puma560", "--motors", str(path)],
                          capture_output=True, text=True)
     assert cli.returncode == 2 and message in cli.stderr and len(cli.stderr.strip().splitlines()) == 1
+
+
+def unbraked_catalog(tmp_path):
+    """The shipped motor catalog with an empty brake_holding_torque column: brake columns, but no motor has one."""
+    path = tmp_path / "no_brakes.csv"
+    source = [x for x in open("catalogs/servo_motors.csv").read().splitlines() if not x.startswith("#")]
+    path.write_text("\n".join([source[0] + ",brake_holding_torque_Nm"] + [row + "," for row in source[1:]]) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("stop_energy", [None, 50.0])
+def test_no_motor_has_a_brake(stop_energy):
+    """A joint held against gravity at rest (m g L = 9.81 N·m) and a catalog with brake columns but no brake: an
+    infeasible joint whose closest pairs fail the holding torque as "no brake", never an error; the stop energy
+    is not checked for a motor that has no brake (there is nothing to take the energy)."""
+    from mechatron.drives.joint import size_joint
+
+    cat = default_catalog("motors")
+    cat["brake_holding_torque"] = np.nan
+    if stop_energy is not None:
+        cat["brake_stop_energy"] = stop_energy
+    result = size_joint(pendulum_duty(), cat)
+    assert not result.feasible and len(result.closest)
+    assert all("brake holding torque: no brake" in reason for reason in result.closest["failed"])
+    assert not any("brake stop energy" in reason for reason in result.closest["failed"])
+    names = [c.name for c in result.checks if not c.passed]
+    assert "brake holding torque" in names and "brake stop energy" not in names
+
+
+def test_a_brake_too_weak_to_stop():
+    """T_h = 1e-3 N·m ≤ T_g on every pair: the stop energy is infinite, said in words, not "a limit of 0"."""
+    from mechatron.drives.joint import size_joint
+
+    cat = default_catalog("motors")
+    cat["brake_holding_torque"], cat["brake_stop_energy"] = 1e-3, 50.0
+    result = size_joint(pendulum_duty(), cat)
+    assert not result.feasible
+    reason = result.closest["failed"].iloc[0]
+    assert "brake stop energy: the brake cannot stop the axis" in reason and "a limit of 0" not in reason
+
+
+def test_no_brake_through_the_cli(tmp_path):
+    cli = subprocess.run([sys.executable, "-m", "mechatron", "size", "puma560", "--motors",
+                          str(unbraked_catalog(tmp_path))], capture_output=True, text=True)
+    assert cli.returncode == 1 and "Traceback" not in cli.stderr
+    assert "NO FEASIBLE DRIVE" in cli.stdout and "no feasible" in (cli.stdout + cli.stderr).lower()
+    for joint in ("q2", "q3"):  # the joints the PUMA holds against gravity
+        block = cli.stdout.split(f"\n{joint}: ")[1].split("\nq")[0]
+        assert "NO FEASIBLE DRIVE" in block.splitlines()[0] and "brake holding torque: no brake" in block
+    assert "NO FEASIBLE" not in cli.stdout.split("\nq6: ")[1].split("\nq")[0].splitlines()[0]

@@ -237,7 +237,8 @@ def test_units_page_lists_the_unit_table():
 
 
 @pytest.mark.parametrize("kind, heading", [("motors", "## Servo motors"), ("gearboxes", "## Gearboxes"),
-                                           ("linear", "## Linear drives"), ("cylinders", "## Hydraulic cylinders")])
+                                           ("linear", "## Linear drives"), ("cylinders", "## Hydraulic cylinders"),
+                                           ("resistors", "## Braking resistors"), ("drives", "## Servo drives")])
 def test_catalog_page_lists_every_field_and_unit(kind, heading):
     from mechatron.drives.catalogs import SCHEMAS
     from mechatron.units import UNITS

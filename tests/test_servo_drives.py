@@ -85,3 +85,34 @@ def test_bad_drive_catalogs(tmp_path, cell, field, message):
 def test_no_motor_to_pair():
     with pytest.raises(InputError, match="torque constant"):
         pair_drives(MOTOR.drop(columns=["torque_constant"]), pd.DataFrame([_drive("D", 2.0, 6.0, 2.0, 1.0)]))
+
+
+@pytest.mark.parametrize(("cell", "bad", "message"), [("peak_current_A", "3", "is below rated_current"),
+                                                      ("rated_current_A", "nan", "rated_current_A"),
+                                                      ("rated_current_A", "-1", "rated_current_A")])
+def test_bad_drive_catalogs_through_the_cli(tmp_path, cell, bad, message):
+    """``mechatron size … --drives bad.csv``: exit 2 and one line naming the file, the row and the field."""
+    import subprocess
+    import sys
+
+    good = {"key": "D", "rated_current_A": "4", "peak_current_A": "12", "peak_time_s": "2", "dc_link_min_V": "300",
+            "dc_link_max_V": "750"}
+    path = tmp_path / "bad.csv"
+    path.write_text(",".join(good) + "\n" + ",".join(good.values()) + "\n"
+                    + ",".join({**good, "key": "E", cell: bad}.values()) + "\n")
+    cli = subprocess.run([sys.executable, "-m", "mechatron", "size", "puma560", "--drives", str(path)],
+                         capture_output=True, text=True)
+    lines = cli.stderr.strip().splitlines()
+    assert cli.returncode == 2 and len(lines) == 1, cli.stderr
+    assert str(path) in lines[0] and "row 3" in lines[0] and cell in lines[0] and message in lines[0]
+
+
+def test_the_drive_is_its_own_field_of_the_report():
+    """The chosen drive next to the motor: JSON ``drive`` (None without drives) and the text's headline."""
+    t = np.linspace(0, 2, 201)
+    duty = _duty(t, np.full_like(t, 1.0))
+    result = size_joint(duty, pair_drives(MOTOR, pd.DataFrame([_drive("D", 2.5, 5.0, 2.0, 1.0)])))
+    assert result.drive == "D" and result.as_dict()["drive"] == "D" and result.as_dict()["motor"] == "M + D"
+    assert result.headline() == "q: motor M with servo drive D: 2.5 A rated, 5 A peak for 2 s, 1 kg + direct drive"
+    plain = size_joint(duty, MOTOR)
+    assert plain.drive is None and plain.as_dict()["drive"] is None and plain.headline() == "q: motor M + direct drive"

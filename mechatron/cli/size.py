@@ -6,6 +6,7 @@ import argparse
 
 from ..drives.derating import ALTITUDE_RANGE
 from ..drives.options import (
+    AMBIENT_DEGC,
     CHAIN_EFFICIENCY,
     INERTIA_RATIO_MAX,
     MAX_ITERATIONS,
@@ -119,7 +120,8 @@ def register(sub) -> None:
                    metavar="M", default=0.0,
                    help="site altitude in m (-500 … 6000): the motors' S1 torque derated 10 %% per 1000 m above "
                         "1000 m (default 0)")
-    p.add_argument("--ambient", type=Number(minimum=-50.0, maximum=100.0, unit="°C"), metavar="DEGC", default=40.0,
+    p.add_argument("--ambient", type=Number(minimum=-50.0, maximum=100.0, unit="°C"), metavar="DEGC",
+                   default=AMBIENT_DEGC,
                    help="ambient temperature in °C of the motors' winding temperature check (the motors with thermal "
                         "data; the winding may rise by its limit temperature minus it), -50 … 100 (default 40)")
     p.add_argument("--screw-life-h", type=Number(positive=True, unit="h"), metavar="H",

@@ -22,7 +22,8 @@ diagonal of the mass matrix at the worst pose, ω_max the task's largest joint s
   the load by its own friction, which is not counted), f the brake factor (``--brake-factor``, default
   :data:`BRAKE_FACTOR` = 2, our default, no standard's or vendor's number: it leaves room for the holding torque
   lost to wear, heat and contamination and for a load heavier than planned).
-  A motor without a brake (T_h missing) has the limit :data:`NO_BRAKE` (~0): it cannot drive such a joint.
+  A motor without a brake (T_h missing) has the limit :data:`NO_BRAKE` (~0): it cannot drive such a joint, and
+  this check is its one failure (the energy checks below do not apply to it: there is no brake to take the energy).
 - brake stop energy: an emergency stop from ω_max with the brake's torque (taken as T_h: the dynamic torque is
   about the holding one) against the kinetic energy at the motor side and gravity going on pulling. The kinetic
   energy E_k = ½ J_tot ω_m², J_tot = J_m + J_b + J_c + J_L/u², ω_m = u ω_max; over the braking angle θ_m (motor
@@ -137,12 +138,14 @@ def brake_table(duty: JointDuty, brakes: BrakeData | None, rotor: NDArray[np.flo
     gravity = brakes.hold / (u * eta)  # T_g at the motor side
     held = brakes.holding[m]
     t_h = np.nan_to_num(held, nan=NO_BRAKE)
+    braked = ~np.isnan(held)  # a motor without a brake fails the holding torque alone
     top = float(np.abs(duty.speed).max(initial=0.0))
     kinetic = 0.5 * ((rotor[m] + jc) * u**2 + duty.load_inertia) * top**2
     with np.errstate(divide="ignore", invalid="ignore"):
         energy = np.where(t_h > gravity, kinetic * t_h / (t_h - gravity), math.inf)
     energy = np.where(kinetic == 0, 0.0, energy)
     values[:, 0], limits[:, 0] = factor * gravity, t_h
-    values[:, 1], limits[:, 1] = energy, np.nan_to_num(brakes.stop_energy[m], nan=math.inf)
-    values[:, 2], limits[:, 2] = stops_per_hour * energy, np.nan_to_num(brakes.energy_per_h[m], nan=math.inf)
+    for k, (permitted, stops) in enumerate(((brakes.stop_energy, 1.0), (brakes.energy_per_h, stops_per_hour)), 1):
+        limits[:, k] = np.where(braked, np.nan_to_num(permitted[m], nan=math.inf), math.inf)
+        values[:, k] = np.where(np.isfinite(limits[:, k]), stops * energy, 0.0)  # unchecked: 0, as documented
     return values, limits

@@ -82,21 +82,16 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError
-from .brakes import BRAKE_CHECKS, BRAKE_FACTOR, BRAKE_UNITS, NO_BRAKE_FACTOR, STOPS_PER_HOUR, BrakeData, brake_table
+from .brakes import BRAKE_CHECKS, BRAKE_UNITS, NO_BRAKE_FACTOR, BrakeData, brake_table
 from .converters import Converters
 from .duty import JointDuty
+from .limits import DriveLimits as DriveLimits  # re-exported: it lives below checks and options
 from .motor import catalog_column, continuous_torque, electrical_data, peak_torque_limit
-from .screws import SCREW_CHECKS, SCREW_LIFE, SCREW_UNITS, screw_checks
+from .options import INERTIA_RATIO_MAX
+from .screws import SCREW_CHECKS, SCREW_UNITS, screw_checks
+from .screws import SCREW_LIFE as SCREW_LIFE  # re-exported: the default of DriveLimits.screw_life
 from .servo import DRIVE_CHECKS, DRIVE_UNITS, DriveData, overload
-from .thermal import (
-    AMBIENT_RANGE,
-    BATCH_ELEMENTS,
-    DEFAULT_AMBIENT,
-    ZERO_CELSIUS,
-    ThermalData,
-    highest_rise,
-)
+from .thermal import BATCH_ELEMENTS, ThermalData, highest_rise
 
 #: The checks of a motor and a gearbox (each applies to a motor with a gearbox).
 CHECKS = ("peak torque", "speed-torque curve", "RMS torque", "max speed", "inertia ratio",
@@ -130,7 +125,10 @@ BEYOND = {"speed-torque curve": "outside it (torque asked above the motor's maxi
           "transmission peak torque": "no rating at this many load peaks per hour (above the last rate of the "
                                       "catalog's shock_factors)",
           "brake holding torque": "no brake (the motor catalog gives no brake_holding_torque for this motor) on a "
-                                  "joint that holds a load at rest"}
+                                  "joint that holds a load at rest",
+          "brake stop energy": "the brake cannot stop the axis (its holding torque is at or below the gravity torque)",
+          "brake energy per hour": "the brake cannot stop the axis (its holding torque is at or below the gravity "
+                                   "torque)"}
 NO_LIMIT = "a limit of 0 where a value is needed"
 
 
@@ -159,66 +157,6 @@ class Check:
         out = {"name": self.name, "value": float(self.value), "limit": float(self.limit), "unit": self.unit,
                "margin": float(self.margin), "pass": bool(self.passed)}
         return out if self.count is None else {**out, "count": float(self.count)}
-
-
-@dataclass(frozen=True)
-class DriveLimits:
-    """Settings of the vendor checks beyond the catalogs (SI units).
-
-    Attributes:
-        stop_torque: The motor torque (N·m) the drive is limited to in an emergency stop; the gearbox's
-            emergency check takes min(stop_torque, T_peak) · u instead of T_peak · u.
-        stop_current: The same as a current limit (A): the stop torque of each motor is k_t · stop_current (never
-            above T_peak; a motor without a torque constant keeps T_peak). Give one of the two.
-        screw_life: The required nominal life of a screw running the task over and over (s; default 20 000 h).
-        voltage: The supply voltage (V) of the voltage-limit check, instead of each motor's catalog voltage.
-        ambient: The ambient temperature (K; default 313.15 K, 40 °C) of the winding temperature check
-            (:mod:`~mechatron.drives.thermal`): the winding may rise by its limit temperature minus it.
-        brake_factor: The holding brake's factor f ≥ 1: T_h ≥ f · T_g (:mod:`~mechatron.drives.brakes`; default 2).
-        brake_stops_per_hour: The emergency stops per hour of the brake's energy-per-hour check (> 0; default 1).
-    """
-
-    stop_torque: float | None = None
-    stop_current: float | None = None
-    screw_life: float = SCREW_LIFE
-    voltage: float | None = None
-    ambient: float = DEFAULT_AMBIENT
-    brake_factor: float = BRAKE_FACTOR
-    brake_stops_per_hour: float = STOPS_PER_HOUR
-
-    def __post_init__(self) -> None:
-        if not (isinstance(self.brake_factor, (int, float)) and 1 <= self.brake_factor <= 100):
-            raise InputError(f"brake_factor must be a number of 1 … 100, got {self.brake_factor!r}")
-        if not (isinstance(self.brake_stops_per_hour, (int, float)) and 0 < self.brake_stops_per_hour <= 1e6):
-            raise InputError(f"brake_stops_per_hour must be a number > 0 and <= 1e6, got {self.brake_stops_per_hour!r}")
-        for name in ("stop_torque", "stop_current", "voltage"):
-            value = getattr(self, name)
-            if value is not None and not (math.isfinite(value) and value > 0):
-                raise InputError(f"{name} must be a finite number > 0, got {value!r}")
-        if self.stop_torque is not None and self.stop_current is not None:
-            raise InputError("give the emergency-stop limit as a torque or as a current, not both")
-        if not (math.isfinite(self.screw_life) and self.screw_life > 0):
-            raise InputError(f"screw_life must be a finite number of seconds > 0, got {self.screw_life!r}")
-        low, high = AMBIENT_RANGE
-        if not (isinstance(self.ambient, (int, float)) and low <= self.ambient <= high):
-            raise InputError(f"ambient must be a temperature of {low:g} … {high:g} K ({low - ZERO_CELSIUS:g} … "
-                             f"{high - ZERO_CELSIUS:g} °C), got {self.ambient!r}")
-
-    def stop_torques(self, motors: MotorArrays) -> NDArray[np.float64]:
-        """The torque (N·m) each motor gives in an emergency stop: min(limit, T_peak), T_peak without a limit (a
-        current limit: k_t · current, T_peak for a motor without k_t)."""
-        if self.stop_torque is not None:
-            return np.minimum(motors.peak, self.stop_torque)
-        if self.stop_current is not None:
-            return np.where(np.isfinite(motors.kt), np.minimum(motors.peak, motors.kt * self.stop_current), motors.peak)
-        return motors.peak
-
-    def supply(self, motors: MotorArrays) -> NDArray[np.float64]:
-        """The supply voltage (V) of each motor's voltage-limit check: :attr:`voltage` for the motors with k_t and
-        R, else the catalog's (NaN where it does not apply)."""
-        if self.voltage is None:
-            return motors.voltage
-        return np.where(np.isfinite(motors.kt) & np.isfinite(motors.resistance), self.voltage, math.nan)
 
 
 @dataclass(frozen=True)
@@ -380,7 +318,7 @@ class PairChecks:
     """
 
     def __init__(self, duty: JointDuty, motors: pd.DataFrame | MotorArrays, conv: Converters,
-                 inertia_ratio_max: float = 10.0, limits: DriveLimits | None = None):
+                 inertia_ratio_max: float = INERTIA_RATIO_MAX, limits: DriveLimits | None = None):
         limits = limits or DriveLimits()
         motors = MotorArrays.of(motors)
         weights = duty.time_weights()
@@ -745,8 +683,8 @@ class Evaluation:
     fails.
     """
 
-    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
-                 limits: DriveLimits | None = None):
+    def __init__(self, duty: JointDuty, motors: pd.DataFrame, conv: Converters,
+                 inertia_ratio_max: float = INERTIA_RATIO_MAX, limits: DriveLimits | None = None):
         self.pairs = PairChecks(duty, motors, conv, inertia_ratio_max, limits)
         shape = self.pairs.shape
         rows, cols = np.indices(shape)
@@ -800,7 +738,7 @@ class Evaluation:
         return _check_list(self.values[m, c], self.limits[m, c], self.pairs.conv.emergency_stops[c])
 
 
-def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = 10.0,
+def evaluate(duty: JointDuty, motors: pd.DataFrame, conv: Converters, inertia_ratio_max: float = INERTIA_RATIO_MAX,
              exact: bool = True, limits: DriveLimits | None = None) -> Evaluation:
     """Every check of every motor × converter pair (see the module docstring); with ``exact=False`` the
     per-sample checks are lower bounds until :meth:`Evaluation.refine` is called. ``limits``: the emergency-stop

@@ -28,7 +28,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import pandas as pd
@@ -42,7 +42,15 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from .report import DriveSizing
-    from .sizing import SizingResult
+
+
+class SizedJoints(Protocol):
+    """What the power balances read of a sizing (a :class:`~mechatron.drives.result.SizingResult`): its sized
+    joints (a protocol, so that this module needs no import of the result, which imports it)."""
+
+    @property
+    def joints(self) -> Sequence[DriveSizing]: ...
+
 
 BUS = "DC bus"
 #: The columns of :meth:`ElectricalBalance.to_frame` (SI units; J, W, A, V).
@@ -212,7 +220,7 @@ def axis_power(sizing: DriveSizing) -> AxisPower:
                      number("torque_constant"), number("resistance"))
 
 
-def electrical(sizing: SizingResult | Sequence[DriveSizing]) -> ElectricalBalance:
+def electrical(sizing: SizedJoints | Sequence[DriveSizing]) -> ElectricalBalance:
     """The electrical power of every motor of ``sizing`` (a :class:`~mechatron.drives.sizing.SizingResult` or
     its joints; hydraulic cylinders are left out) over the task, per axis and on a common DC bus (the module
     docstring)."""

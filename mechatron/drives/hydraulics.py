@@ -42,8 +42,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from .electrical import SizedJoints
     from .report import DriveSizing
-    from .sizing import SizingResult
 
 PUMP = "pump"
 #: The columns of :meth:`HydraulicSupply.to_frame` (SI units: m³/s, m³, Pa, W, J).
@@ -160,7 +160,7 @@ class HydraulicSupply(Result):
             f"({pump['at relief (kJ)']:.4g} kJ at the relief pressure throughout)"])
 
 
-def hydraulic_supply(sizing: SizingResult | Sequence[DriveSizing], pressure: float | None = None
+def hydraulic_supply(sizing: SizedJoints | Sequence[DriveSizing], pressure: float | None = None
                      ) -> HydraulicSupply:
     """The pump flow and hydraulic power of the cylinders of ``sizing`` (a
     :class:`~mechatron.drives.sizing.SizingResult` or its joints; motor-driven joints are left out), each cylinder at

@@ -303,10 +303,27 @@ class JointSizing(DriveSizing):
                          f"{duty['emergency_stops']:,.0f} times in its life")
         return lines + [f"    ruled out: {row['message']}" for row in self.ruled_out()]
 
+    @property
+    def drive(self) -> str | None:
+        """The chosen servo drive's key (a motor catalog paired with drives, :func:`~mechatron.drives.servo.
+        pair_drives`: :attr:`motor` is then ``motor + drive``), ``None`` without drives."""
+        key = self.motor_data.get("drive_key")
+        return None if key is None or (isinstance(key, float) and math.isnan(key)) else str(key)
+
+    def drive_line(self) -> str:
+        """The servo drive as the text report names it: its key, rated and peak current (A), peak time (s), mass."""
+        m = self.motor_data
+        return (f"servo drive {self.drive}: {m['drive_rated_current']:.4g} A rated, {m['drive_peak_current']:.4g} A "
+                f"peak for {m['drive_peak_time']:.4g} s, {_known(m.get('drive_mass')):.4g} kg")
+
     def headline(self) -> str:
         through = "direct drive" if self.converter == "direct" else \
             f"{self.converter_kind} {self.converter}, u = {self.ratio:.4g}"
-        return f"{self.joint}: motor {self.motor} + {through}"
+        drive = self.drive
+        if drive is None:
+            return f"{self.joint}: motor {self.motor} + {through}"
+        motor = self.motor.removesuffix(f" + {drive}")
+        return f"{self.joint}: motor {motor} with {self.drive_line()} + {through}"
 
     def candidate(self, row: dict) -> str:
         return f"{row['motor']} + {row['converter']}"
@@ -316,9 +333,9 @@ class JointSizing(DriveSizing):
         (name, value, limit, unit, margin, pass; SI), alternatives (the best feasible pairs), closest (when none is
         feasible), thermal (:meth:`thermal`: the thermal check used, the duty type, the winding's temperature), and
         the explanation (:meth:`~mechatron.drives.report.DriveSizing.explanation`): deciding_check, runner_up,
-        drive_mass_kg, drive_price."""
+        drive_mass_kg, drive_price; ``drive``: the servo drive's key (``None`` without drives)."""
         return json_ready({
-            "joint": self.joint, "kind": self.kind, "feasible": self.feasible, "motor": self.motor,
+            "joint": self.joint, "kind": self.kind, "feasible": self.feasible, "motor": self.motor, "drive": self.drive,
             "gearbox": self.converter, "converter_kind": self.converter_kind, "ratio": self.ratio,
             "time_scale": self.time_scale, "checks": [c.as_dict() for c in self.checks],
             "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),

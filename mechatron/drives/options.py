@@ -9,15 +9,16 @@ its fields as keywords (the keywords' defaults are the constants below); ``mecha
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from ..errors import InputError
 from ..io.values import number
 from ..units import UNITS
 from .derating import check_altitude
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .checks import DriveLimits
+from .limits import DriveLimits
+from .screws import SCREW_LIFE
+from .thermal import AMBIENT_DEGC as AMBIENT_DEGC  # re-exported: the default of --ambient
+from .thermal import ZERO_CELSIUS
 
 #: The objectives a sizing ranks the feasible drives by (:mod:`mechatron.drives.sizing`).
 OBJECTIVES = ("mass", "cost", "margin", "time")
@@ -55,12 +56,6 @@ def check_inertia_ratio(value: Any) -> float:
     return number("inertia_ratio_max (the largest load-to-motor inertia ratio)", value, positive=True)
 
 
-def _no_limits() -> DriveLimits:
-    from .checks import DriveLimits
-
-    return DriveLimits()
-
-
 @dataclass(frozen=True)
 class SizingOptions:
     """How a mechanism's drives are sized (:func:`mechatron.drives.sizing.size`), checked when made: a bad field
@@ -70,7 +65,7 @@ class SizingOptions:
         objective: ``"mass"``, ``"cost"``, ``"margin"`` or ``"time"`` (:data:`OBJECTIVES`): what ranks the
             feasible drives.
         limits: The emergency-stop torque or current limit, the required screw life, the supply voltage and the
-            ambient temperature (:class:`~mechatron.drives.checks.DriveLimits`; default: the motors' peak torque,
+            ambient temperature (:class:`~mechatron.drives.limits.DriveLimits`; default: the motors' peak torque,
             20 000 h, the catalog's voltage, 40 °C).
         inertia_ratio_max: The largest load-to-motor inertia ratio (J_L/u² + J_c)/J_m allowed (> 0; default
             :data:`INERTIA_RATIO_MAX`).
@@ -84,7 +79,7 @@ class SizingOptions:
     """
 
     objective: str = OBJECTIVE
-    limits: DriveLimits = field(default_factory=_no_limits)
+    limits: DriveLimits = field(default_factory=DriveLimits)
     inertia_ratio_max: float = INERTIA_RATIO_MAX
     pressure: float = PRESSURE
     chain_efficiency: float = CHAIN_EFFICIENCY
@@ -96,8 +91,6 @@ class SizingOptions:
     altitude: float = 0.0
 
     def __post_init__(self) -> None:
-        from .checks import DriveLimits
-
         if isinstance(self.max_iterations, float):  # a count, not a measure: 3.0 is refused as 2.5 is
             raise InputError(f"max_iterations must be a whole number >= {MIN_PASSES} and <= {MAX_PASSES}, got "
                              f"{self.max_iterations!r}")
@@ -128,13 +121,10 @@ class SizingOptions:
                       pressure_MPa: float = PRESSURE / MPA, brake_factor: float | None = None,
                       brake_stops_per_h: float | None = None, **fields: Any) -> SizingOptions:
         """The options as ``mechatron size`` and a study's ``[analyses.sizing]`` give them: the pressure in MPa,
-        the limits (:class:`~mechatron.drives.checks.DriveLimits`) as the stop torque (N·m) or current (A), the
+        the limits (:class:`~mechatron.drives.limits.DriveLimits`) as the stop torque (N·m) or current (A), the
         supply voltage (V), the screw life in hours (``None``: the default 20 000 h) and the ambient in °C
         (T = θ + 273.15 K), the holding brakes' factor and emergency stops per hour (``None``: the defaults of
         :mod:`~mechatron.drives.brakes`); ``fields``: the other fields, in SI."""
-        from .checks import SCREW_LIFE, DriveLimits
-        from .thermal import ZERO_CELSIUS
-
         limits = DriveLimits(stop_torque, stop_current, SCREW_LIFE if screw_life_h is None else
                              screw_life_h * UNITS["time"]["h"], voltage, ambient_degC + ZERO_CELSIUS)
         brakes = {k: v for k, v in (("brake_factor", brake_factor), ("brake_stops_per_hour", brake_stops_per_h))

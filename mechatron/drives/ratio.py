@@ -34,15 +34,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..io.values import positives as _positive
 
 if TYPE_CHECKING:  # pragma: no cover
     import casadi as ca
-
-
-def _positive(**values: float) -> None:
-    for name, value in values.items():
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise InputError(f"{name} must be a finite number > 0, got {value!r}")
 
 
 def static_ratio(load: float, motor_effort: float, efficiency: float = 1.0) -> float:

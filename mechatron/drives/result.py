@@ -358,7 +358,11 @@ class SizingResult(Result):
                     "runner-up": " | ".join(f"{r['candidate']}: {r['reason']}" for r in j.runner_up())}
 
         drives = pd.DataFrame([drive_row(j) for j in self.joints])
-        totals = pd.DataFrame([{"quantity": k, "value": v} for k, v in self.totals().items()])
+        servo = [getattr(j, "drive", None) for j in self.joints]
+        if any(servo):  # the chosen servo drive next to the motor
+            drives.insert(2, "servo drive", [d or "" for d in servo])
+        totals = pd.DataFrame([{"quantity": k, "value": v if k != "braking_supply" else self.braking.line().strip()}
+                               for k, v in self.totals().items()])
         iterations = pd.DataFrame([{"pass": i.number, "drives' masses": i.weighted, "moves ×": i.time_scale,
                                     "changes": i.line(self.masses_included).split(": ", 1)[1]}
                                    for i in self.iterations])

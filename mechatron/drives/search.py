@@ -236,11 +236,18 @@ def _just_before(pairs: tuple[np.ndarray, np.ndarray], previous: tuple[np.ndarra
     return m[::-1][:count], c[::-1][:count]
 
 
+def _ranked(factors: np.ndarray) -> np.ndarray:
+    """Load factors to rank by: NaN (an unlimited check's ∞/∞) as +inf, so that every comparison is defined."""
+    return np.where(np.isnan(factors), math.inf, factors)
+
+
 def smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """The ``count`` pairs with the smallest exact worst load factor (ties: the smaller lower bound of
     :meth:`PairChecks.worst` at level 1, then catalog order), by branch and bound a block of motors at a time: a
     pair whose lower bound exceeds the ``count``-th best exact value found so far cannot enter. With
-    ``feasible_only`` only the pairs that pass every check count (the ``margin`` ranking)."""
+    ``feasible_only`` only the pairs that pass every check count (the ``margin`` ranking). A load factor that is
+    not a number ranks as infinite (:func:`_ranked`): every pair of an infeasible joint is comparable, and the
+    closest pairs are never empty."""
     best = np.zeros((0, 4))  # m, c, exact, bound
     limit = math.inf
     converters = np.arange(checks.shape[1])
@@ -250,9 +257,9 @@ def smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) 
         if feasible_only:
             keep = checks.screen(m, c)
             m, c = m[keep], c[keep]
-        bound = checks.worst(m, c, 0)
+        bound = _ranked(checks.worst(m, c, 0))
         m, c = m[bound <= limit], c[bound <= limit]
-        bound = checks.worst(m, c, 1)
+        bound = _ranked(checks.worst(m, c, 1))
         keep = bound <= limit
         m, c, bound = m[keep], c[keep], bound[keep]
         order = np.argsort(bound, kind="stable")
@@ -262,10 +269,10 @@ def smallest_worst(checks: PairChecks, count: int, feasible_only: bool = False) 
             part = order[piece]
             if bound[part[0]] > limit:
                 break
-            exact = checks.worst(m[part], c[part], 2, thermal=not heated)
+            exact = _ranked(checks.worst(m[part], c[part], 2, thermal=not heated))
             if heated:
                 sharp = np.flatnonzero((exact <= limit) & ((exact <= 1 + PASS_TOLERANCE) | (not feasible_only)))
-                exact[sharp] = checks.worst(m[part[sharp]], c[part[sharp]], 2)
+                exact[sharp] = _ranked(checks.worst(m[part[sharp]], c[part[sharp]], 2))
             if feasible_only:
                 part, exact = part[exact <= 1 + PASS_TOLERANCE], exact[exact <= 1 + PASS_TOLERANCE]
             rows = np.column_stack([m[part], c[part], exact, bound[part]])

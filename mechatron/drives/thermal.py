@@ -127,8 +127,10 @@ ALPHA_COPPER = 0.0039
 ZERO_CELSIUS = 273.15
 #: The reference temperature of the catalog's resistance R₂₅ (K): 25 °C.
 REFERENCE = ZERO_CELSIUS + 25.0
-#: The default ambient temperature (K): 40 °C, the ambient air of the ratings [IEC 60034-1, 6].
-DEFAULT_AMBIENT = ZERO_CELSIUS + 40.0
+#: The default ambient temperature (°C): 40 °C, the ambient air of the ratings [IEC 60034-1, 6].
+AMBIENT_DEGC = 40.0
+#: The default ambient temperature (K).
+DEFAULT_AMBIENT = ZERO_CELSIUS + AMBIENT_DEGC
 #: The ambient temperatures accepted (K): −50 … 100 °C.
 AMBIENT_RANGE = (ZERO_CELSIUS - 50.0, ZERO_CELSIUS + 100.0)
 #: The thermal columns of a motor catalog that go together (all or none in a row), with k_t and R.

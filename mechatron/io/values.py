@@ -98,3 +98,11 @@ def numbers(name: str, values: ArrayLike, *, unit: str = "", shape: tuple[int | 
                             exceeded=bool(abs(array[index]) > LARGEST))
         raise InputError(f"{where} must be {need}, got {array[index]:g}")
     return array
+
+
+def positives(**values: float) -> None:
+    """Check that every value (name → value) is a finite Python number > 0, else an
+    :class:`~mechatron.errors.InputError` naming the first that is not."""
+    for name, value in values.items():
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise InputError(f"{name} must be a finite number > 0, got {value!r}")

@@ -24,14 +24,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.values import positives as _positive
 
 ZONES = ("bushing", "shaft")
-
-
-def _positive(**values: float) -> None:
-    for name, value in values.items():
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise InputError(f"{name} must be a finite number > 0, got {value!r}")
 
 
 def wear_rate(wear: float, duration: float) -> float:

@@ -1,8 +1,9 @@
 r"""The exact route of a design problem (``ipopt``): exact first derivatives where the analyses give them
 (:class:`~mechatron.studies.evaluator.GradientAnalysis`: the loop equations' implicit-function derivatives of the
 sweep's extremes, :mod:`mechatron.studies.analyses.linkage`), CasADi's ``nlpsol("ipopt")`` with a limited-memory
-Hessian: min f(x) s.t. lo ≤ g(x) ≤ hi, x_lo ≤ x ≤ x_hi, after a DOE (``population`` Latin-hypercube points,
-evaluated as one batch), from ``[start]`` or else the DOE's best feasible design."""
+Hessian (:func:`~mechatron.optimal.nlpsol.run_nlp`, stopped once too many trial designs failed): min f(x) s.t.
+lo ≤ g(x) ≤ hi, x_lo ≤ x ≤ x_hi, after a DOE (``population`` Latin-hypercube points, evaluated as one batch), from
+``[start]`` or else the DOE's best feasible design."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from .evaluations import Evaluations
+from .nlpsol import run_nlp
 from .problem import DesignProblem
 from .search import _batch, _middle, first_generation
 
@@ -28,64 +30,19 @@ def solve_exact(spec: DesignProblem, evaluations: Evaluations) -> dict[str, Any]
     lower = np.array([p.low for p in spec.variables])
     upper = np.array([p.high for p in spec.variables])
     start = _doe_start(spec, evaluations)
-    stop = _stop_when_failing(model, len(spec.variables), len(names) - 1)
-    options: dict[str, Any] = {"print_time": False, "show_eval_warnings": False, "iteration_callback": stop, "ipopt": {
-        "print_level": 0, "sb": "yes", "tol": spec.tolerance, "max_iter": spec.max_iterations,
-        "hessian_approximation": "limited-memory", "honor_original_bounds": "yes"}}
-    terms: dict[str, Any] = {"x": x, "f": sign * y[0], "g": y[1:]}
-    nlp = ca.nlpsol("design", "ipopt", terms, options)
     low = [-np.inf if b.low is None else b.low for b in spec.requirements]
     high = [np.inf if b.high is None else b.high for b in spec.requirements]
-    result = nlp(x0=start, lbx=lower, ubx=upper, lbg=low, ubg=high)
-    stats = nlp.stats()
-    best = np.clip(np.array(result["x"]).ravel(), lower, upper)
+    run = run_nlp("design", {"x": x, "f": sign * y[0], "g": y[1:]}, x0=start, lbx=lower, ubx=upper, lbg=low,
+                  ubg=high, tolerance=spec.tolerance, max_iterations=spec.max_iterations,
+                  ipopt={"hessian_approximation": "limited-memory"}, options={"show_eval_warnings": False},
+                  failures=lambda: sum(model.failed.values()))
+    best = np.clip(run.w, lower, upper)
     evaluations([dict(zip(evaluations.names, (float(v) for v in best)))])
-    status = str(stats.get("return_status", ""))
-    if stop.stopped:
-        status = f"stopped after {sum(model.failed.values())} failed trial designs ({MAX_FAILED_TRIALS} at most)"
-    return {"method": "ipopt (exact derivatives, CasADi)", "success": bool(stats["success"]),
-            "status": status, "iterations": int(stats.get("iter_count", 0)),
+    return {"method": "ipopt (exact derivatives, CasADi)", "success": run.success,
+            "status": run.status, "iterations": run.iterations,
             "optimum": {n: float(v) for n, v in zip(evaluations.names, best)},
             "failed_trials": sum(model.failed.values()),
             "failed_trial_reasons": dict(sorted(model.failed.items(), key=lambda kv: -kv[1])[:3])}
-
-
-#: ipopt stops once this many of the designs its line search tries have failed (not assembled, refused by an
-#: analysis; each an output NaN, from which the line search steps back): our rule, so that a search pressed
-#: against designs that do not assemble ends in seconds, not minutes, with the best design it reached.
-MAX_FAILED_TRIALS = 200
-
-
-def _stop_when_failing(model: ExactModel, nx: int, ng: int) -> Any:
-    """ipopt's iteration callback (CasADi's ``iteration_callback``): stop once :data:`MAX_FAILED_TRIALS` trial
-    designs of the model failed (its ``stopped``)."""
-    import casadi as ca
-
-    class Stop(ca.Callback):
-        def __init__(self) -> None:
-            ca.Callback.__init__(self)
-            self.stopped = False
-            self.construct("stop_when_failing", {})
-
-        def get_n_in(self) -> int:
-            return ca.nlpsol_n_out()
-
-        def get_n_out(self) -> int:
-            return 1
-
-        def get_name_in(self, i: int) -> str:
-            return ca.nlpsol_out(i)
-
-        def get_sparsity_in(self, i: int):
-            name = ca.nlpsol_out(i)
-            size = {"f": 1, "g": ng, "lam_g": ng, "lam_p": 0, "p": 0}.get(name, nx)
-            return ca.Sparsity.dense(size, 1)
-
-        def eval(self, arg: Any) -> Any:
-            self.stopped = sum(model.failed.values()) >= MAX_FAILED_TRIALS
-            return [1 if self.stopped else 0]
-
-    return Stop()
 
 
 def _doe_start(spec: DesignProblem, evaluations: Evaluations) -> np.ndarray:

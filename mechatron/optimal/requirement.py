@@ -43,3 +43,9 @@ class Requirement:
         """``met`` (margin ≥ 0), ``met within slack`` (−:data:`REQUIREMENT_SLACK` × max(1, |limit|) ≤ margin < 0)
         or ``NOT MET``: the words of the reports."""
         return "met" if self.margin >= 0 else "met within slack" if self.met() else "NOT MET"
+
+    def line(self, width: int) -> str:
+        """The report's line: name (padded to ``width``), value, ≥ or ≤, limit, margin, unit and verdict."""
+        sign = "≥" if self.kind == "min" else "≤"
+        return (f"  {self.name:<{width}} {self.value:12.6g} {sign} {self.limit:<10.6g} margin {self.margin:10.3g} "
+                f"{self.unit}  {self.verdict}")

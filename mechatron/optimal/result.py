@@ -1,13 +1,15 @@
-"""The results of ``mechatron optimize``: what every one answers (:class:`OptimalResult`) and a design problem's
+"""The result of ``mechatron optimize``, one type (:class:`OptimalResult`: ``feasible``, ``best``, ``front``,
+``requirements``, ``notes``, ``solver``, ``evaluations``) in two forms, as its file has two: a design problem's
 (:class:`DesignResult`: the best feasible design or the Pareto front, the requirements at the best design, every
-design evaluated and the solver's summary); a named problem's is
-:class:`~mechatron.optimal.problems.result.OptimumResult`."""
+design evaluated and the solver's summary) and a named problem's
+(:class:`~mechatron.optimal.problems.result.OptimumResult`: the optimum, the start, the solver's convergence and
+the DOE it is compared with). Each form keeps its own report and JSON keys."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Protocol, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -21,32 +23,29 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 
-class OptimalResult(Protocol):
-    """What every result of :func:`mechatron.optimal.optimize` answers, besides the result protocol
-    (``to_frame()``, ``as_dict()``, ``plot()``, ``str()``): whether the optimum is ``feasible``, the ``best`` design
-    (variables and outputs, SI; None where none is feasible), the Pareto ``front`` (two objectives; else None), the
-    ``requirements`` at the best design and the ``notes``."""
+@dataclass(kw_only=True)
+class OptimalResult(Result):
+    """The result of :func:`mechatron.optimal.optimize`, both forms of its file (a design file's,
+    :class:`DesignResult`; a named problem's, :class:`~mechatron.optimal.problems.result.OptimumResult`), besides the
+    result protocol (``to_frame()``, ``as_dict()``, ``plot()``, ``str()``): the problem's ``name`` and
+    ``mechanism``, the ``solver`` (a design file's: its summary, a dict; a named problem's: its name), the ``best``
+    design (variables and outputs, SI; None where none is feasible), the Pareto ``front`` (two objectives; else
+    None), the ``requirements`` at the best design, whether it is ``feasible``, every design ``evaluations`` judged
+    (a table: the search's, or a named problem's DOE) and the ``notes``."""
+
+    name: str
+    mechanism: str
+    solver: Any
+    requirements: list[Requirement]
+    best: dict[str, Any] | None = None
+    front: pd.DataFrame | None = None
+    evaluations: pd.DataFrame | None = None
+    notes: list[str] = field(default_factory=list)
 
     @property
-    def feasible(self) -> bool: ...
-
-    @property
-    def best(self) -> dict[str, Any] | None: ...
-
-    @property
-    def front(self) -> pd.DataFrame | None: ...
-
-    @property
-    def requirements(self) -> list[Requirement]: ...
-
-    @property
-    def notes(self) -> list[str]: ...
-
-    def to_frame(self) -> pd.DataFrame: ...
-
-    def as_dict(self) -> dict: ...
-
-    def plot(self, ax: Axes | None = None) -> Figure: ...
+    def feasible(self) -> bool:
+        """A best design that meets every requirement."""
+        return self.best is not None and all(r.met() for r in self.requirements)
 
 
 def front_mask(values: np.ndarray) -> np.ndarray:
@@ -57,28 +56,17 @@ def front_mask(values: np.ndarray) -> np.ndarray:
     return pareto_mask(values[:, 0], values[:, 1]) if len(values) else np.zeros(0, dtype=bool)
 
 
-@dataclass
-class DesignResult(Result):
+@dataclass(kw_only=True)
+class DesignResult(OptimalResult):
     """An optimal design of a design file: the best feasible design evaluated (one objective) or the Pareto front
     of every feasible design evaluated (two), the requirements at the best design, every design evaluated
     (``evaluations``: the variables, ``status``, ``reason``, the outputs, ``feasible``) and the solver's summary."""
 
-    name: str
-    mechanism: str
     objectives: tuple[tuple[str, str], ...]
     variables: tuple[str, ...]
     solver: dict[str, Any]
     evaluations: pd.DataFrame
-    best: dict[str, Any] | None
-    requirements: list[Requirement]
-    front: pd.DataFrame | None = None
-    notes: list[str] = field(default_factory=list)
     units: dict[str, str] = field(default_factory=dict)
-
-    @property
-    def feasible(self) -> bool:
-        """A design meets every requirement (the best one; for two objectives, a design of the front)."""
-        return self.best is not None and all(r.met() for r in self.requirements)
 
     @property
     def failed(self) -> int:
@@ -172,10 +160,7 @@ class DesignResult(Result):
             lines.append("best design: " + ", ".join(f"{v} = {_cell(self.best[v]).strip()}" for v in self.variables))
             name, goal = self.objectives[0]
             lines.append(f"  {goal} {name}: {self.best[name]:.6g} {unit_of(name)}")
-        for r in self.requirements:
-            sign = "≥" if r.kind == "min" else "≤"
-            lines.append(f"  {r.name:<36} {r.value:12.6g} {sign} {r.limit:<10.6g} margin {r.margin:10.3g} {r.unit}"
-                         f"  {r.verdict}")
+        lines += [r.line(36) for r in self.requirements]
         if not self.feasible:
             lines.append("NOT FEASIBLE: " + ", ".join(r.name for r in self.requirements if not r.met()))
         return "\n".join(lines + [f"note: {n}" for n in self.notes])

@@ -133,9 +133,9 @@ def _result(spec: DesignProblem, evaluations: Evaluations, solver: dict[str, Any
         scores = [evaluations.objectives(rows[i])[0] for i in feasible]
         best = rows[feasible[int(np.argmin(scores))]]
     requirements = evaluations.requirements(best) if best is not None else []
-    return DesignResult(spec.name, Path(spec.mechanism).name, spec.objectives,
-                        tuple(evaluations.names), solver, table, best, requirements, front, notes,
-                        _variable_units(spec))
+    return DesignResult(name=spec.name, mechanism=Path(spec.mechanism).name, objectives=spec.objectives,
+                        variables=tuple(evaluations.names), solver=solver, evaluations=table, best=best,
+                        requirements=requirements, front=front, notes=notes, units=_variable_units(spec))
 
 
 def _variable_units(spec: DesignProblem) -> dict[str, str]:

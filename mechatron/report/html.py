@@ -38,7 +38,7 @@ import textwrap
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from .references import REFERENCES
 
@@ -47,7 +47,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..model.mechanism import Mechanism
-    from .result import Result
 
 #: Resolution of the charts (dots per inch).
 DPI = 96
@@ -119,7 +118,14 @@ class Report:
 
 
 # ---------------------------------------------------------------------------------------------------- writing
-def write_report(result: Result, path: str | Path, *, inputs: Mapping[str, Any] | None = None,
+class Reportable(Protocol):
+    """What has a report: a :class:`~mechatron.report.result.Result` (a protocol, so that this module needs no
+    import of the results, which import it)."""
+
+    def report(self, mechanism: Mechanism | None = None, **context: Any) -> Report: ...
+
+
+def write_report(result: Reportable, path: str | Path, *, inputs: Mapping[str, Any] | None = None,
                  files: Iterable[str | Path] = (), mechanism: Mechanism | None = None, **context: Any) -> Path:
     """Write the HTML report of ``result`` (:meth:`~mechatron.report.result.Result.report`, given ``mechanism``
     and ``context``) to ``path``, whole or not at all: the inputs — ``inputs`` (option → value), the mechanism

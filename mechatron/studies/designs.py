@@ -12,7 +12,7 @@ categorical parameter) and ``seed``, the design's own seed, so that a design's r
   :mod:`mechatron.studies.sensitivity` estimates;
 - ``csv``: the rows of a CSV file whose columns are the mechanism's parameters (SI units).
 
-Every point is drawn in the unit cube and mapped by :meth:`~mechatron.studies.spec.Range.pick`: a range
+Every point is drawn in the unit cube and mapped by :meth:`~mechatron.studies.ranges.Range.pick`: a range
 linearly, a list of k values by ⌊u k⌋. A design's seed is the first word of ``np.random.SeedSequence([study seed,
 design])``.
 """
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -30,7 +30,31 @@ from ..errors import InputError
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .spec import StudySpec
+    from .ranges import Range
+
+
+class Plan(Protocol):
+    """What the designs are drawn from (a :class:`~mechatron.studies.spec.StudySpec`; a protocol, so that this
+    module needs no import of the study file, which imports it): the parameters, the method (``grid``, ``lhs``,
+    ``sobol``, ``csv``), the samples or levels, the CSV file and the study's seed."""
+
+    @property
+    def parameters(self) -> tuple[Range, ...]: ...
+
+    @property
+    def method(self) -> str: ...
+
+    @property
+    def samples(self) -> int | None: ...
+
+    @property
+    def levels(self) -> int | None: ...
+
+    @property
+    def csv(self) -> str | None: ...
+
+    @property
+    def seed(self) -> int: ...
 
 
 def design_seed(study_seed: int, design: int) -> int:
@@ -72,7 +96,7 @@ def sample_box(lower: np.ndarray, upper: np.ndarray, points: int, method: str = 
     return np.asarray(lower, dtype=float) + unit * (np.asarray(upper, dtype=float) - np.asarray(lower, dtype=float))
 
 
-def unit_points(spec: StudySpec) -> np.ndarray:
+def unit_points(spec: Plan) -> np.ndarray:
     """The designs of ``spec`` (grid, lhs or sobol) as points of the unit cube, (n, D)."""
     d = len(spec.parameters)
     if spec.method == "lhs":
@@ -89,7 +113,7 @@ def unit_points(spec: StudySpec) -> np.ndarray:
     return np.stack([a.ravel() for a in np.meshgrid(*axes, indexing="ij")], axis=1)
 
 
-def make_designs(spec: StudySpec) -> pd.DataFrame:
+def make_designs(spec: Plan) -> pd.DataFrame:
     """The designs table of ``spec`` (see the module docstring)."""
     import pandas as pd
 

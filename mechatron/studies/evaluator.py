@@ -1,13 +1,14 @@
 """One design through the analyses: the evaluation a study's runner and the optimal-design wing share.
 
 :class:`Evaluator` holds what decides a row — the mechanism (its name or file), the analyses with their options and
-the varied quantities (:class:`~mechatron.studies.spec.Range`) — and turns rows of design values into rows of
+the varied quantities (:class:`~mechatron.studies.ranges.Range`) — and turns rows of design values into rows of
 outputs: the mechanism rebuilt with a design's geometry (``with_parameters``), each analysis' ``outputs`` with its
 options (the file's, with the values of the quantities that target it) and the design's ``seed``. A design that
 cannot be built or analysed is a row with ``status = "failed"`` and its ``reason``, never an exception.
 
-An analysis is declared by the :class:`Analysis` protocol (the modules of :mod:`mechatron.studies.analyses`); one
-with exact first derivatives also follows :class:`GradientAnalysis`.
+An analysis is declared by the :class:`~mechatron.studies.analyses.Analysis` protocol (the modules of
+:mod:`mechatron.studies.analyses`); one with exact first derivatives also follows
+:class:`~mechatron.studies.analyses.GradientAnalysis`.
 """
 
 from __future__ import annotations
@@ -16,54 +17,22 @@ import hashlib
 import math
 import time
 import warnings
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Protocol
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from ..errors import MechatronWarning
+from .analyses import Analysis as Analysis  # re-exported: the protocols live with the analyses
+from .analyses import GradientAnalysis as GradientAnalysis
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..model.mechanism import Mechanism
-    from .spec import Range
+    from .ranges import Range
 
 #: One row: the design's values (a variable's name → its value, ``seed``, ``design``) and, evaluated, ``status``,
 #: ``reason`` and the outputs (SI units, finite numbers, flags, names).
 Row = dict[str, Any]
-
-
-class Analysis(Protocol):
-    """An analysis of a study (``[analyses.NAME]``): its ``OUTPUTS`` are names of quantities of the registry
-    (:mod:`mechatron.quantities`: the unit is the registry's, ``reach_m`` → m; ``CYLINDER`` and ``ACTUATOR`` stand
-    for each item's name)."""
-
-    OUTPUTS: tuple[str, ...]
-
-    def check(self, mech: Mechanism, options: dict[str, Any]) -> None:
-        """Raise :class:`~mechatron.errors.InputError` (naming the option) for wrong options, before any design."""
-
-    def output_names(self, mech: Mechanism, options: dict[str, Any]) -> list[str]:
-        """The names of the outputs :meth:`outputs` gives for these options, without running."""
-
-    def input_files(self, mech: Mechanism, options: dict[str, Any]) -> Sequence[str | Path]:
-        """Every file :meth:`outputs` reads for these options (part of a study's identity)."""
-
-    def outputs(self, mech: Mechanism, options: dict[str, Any], seed: int) -> Mapping[str, Any]:
-        """The outputs of one design (SI, finite); a :class:`~mechatron.errors.MechatronError` where it fails."""
-
-
-class GradientAnalysis(Analysis, Protocol):
-    """An analysis that also gives exact first derivatives of its outputs (the exact route of ``optimize``)."""
-
-    def gradient_outputs(self, mech: Mechanism, options: dict[str, Any]) -> list[str]:
-        """The outputs :meth:`gradients` differentiates for these options, without running."""
-
-    def gradients(self, mech: Mechanism, options: dict[str, Any], parameters: list[str]
-                  ) -> tuple[dict[str, float], dict[str, np.ndarray]]:
-        """The outputs of one design and the gradient of each with respect to the named geometric parameters."""
 
 
 # ------------------------------------------------------------------------------------ the mechanism

@@ -25,49 +25,21 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..io.schema import FieldReader
+from ..io.schema import FieldReader, field_suffixes
 from .evaluator import Evaluator, analysis_options, design_geometry, mechanism_files, study_mechanism
+from .ranges import Range
 
 #: The ways designs are drawn (:mod:`mechatron.studies.designs`).
 METHODS = ("grid", "lhs", "sobol", "csv")
-#: Unit suffixes of ``low``, ``high`` and ``values`` → factor to SI.
-UNIT_SUFFIXES = {"": 1.0, "_mm": 1e-3, "_deg": math.pi / 180}
+#: Unit suffixes of ``low``, ``high`` and ``values`` → factor to SI (of the one unit table:
+#: :func:`~mechatron.io.schema.field_suffixes`): none, ``_mm`` and ``_deg``.
+UNIT_SUFFIXES = {**field_suffixes("length", "mm"), **field_suffixes("angle", "deg")}
 #: Directions of a Pareto axis.
 GOALS = ("minimize", "maximize")
 #: The fields of a :class:`StudySpec` that do not decide its rows: the file's name, what the result shows (recomputed
 #: from the table of a finished study) and the files read (their bytes are compared apart, to name the one that
 #: changed).
 NOT_ROWS = ("file", "pareto", "sensitivity", "files")
-
-
-@dataclass(frozen=True)
-class Range:
-    """One varied quantity: a range ``low``–``high`` (SI) or a list of ``values`` (numbers or names); ``target``
-    ``"ANALYSIS.OPTION"`` sends its value to an analysis' options instead of the mechanism's geometry."""
-
-    name: str
-    low: float | None = None
-    high: float | None = None
-    values: tuple[Any, ...] | None = None
-    target: str | None = None
-
-    @property
-    def bounds(self) -> tuple[float, float]:
-        """(``low``, ``high``) of a range (SI).
-
-        Raises:
-            TypeError: for a list of values.
-        """
-        if self.low is None or self.high is None:
-            raise TypeError(f"{self.name} is a list of values, not a range")
-        return self.low, self.high
-
-    def pick(self, u: float) -> Any:
-        """The value at the fraction ``u`` ∈ [0, 1): ``low + u (high − low)`` on a range, ``values[⌊u k⌋]`` of k
-        values (so that every value has the same share of a uniform sample)."""
-        if self.values is None:
-            return self.low + u * (self.high - self.low)
-        return self.values[min(int(u * len(self.values)), len(self.values) - 1)]
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import InputError
-from ...kinematics.geometry import point_positions
+from ...kinematics.geometry import acute_angle, point_positions
 from ...kinematics.loops import assemble
 from ...machines.bucket import BucketInputs, loop_equations
 from ..requirement import Requirement, Vector
@@ -167,7 +167,7 @@ class BucketProblem(OptimalDesignProblem):
         error = float((q[0] - start) ** 2 + (q[n - 1] - end) ** 2)
         requirements = []
         if self.mu_min is not None:
-            mu = np.arccos(np.minimum(1.0, np.abs(q[n:])))
+            mu = acute_angle(q[n:])
             requirements.append(Requirement("min_transmission_angle_deg", float(mu.min() / DEG),
                                             self.mu_min / DEG, "min", "deg"))
         return error, requirements

@@ -305,8 +305,11 @@ def _optimize(spec: NamedProblem) -> OptimumResult:
         if all(r.met() for r in met):
             doe_best = {"x": doe.points[i], "objective": value, "met": True}
             break
-    return OptimumResult(spec.name, p.mech.name, p.title, spec.method, p.variables, p.lower, p.upper, p.start,
-                         solution.x, p.objective_name, p.objective_unit, objective, requirements, start_objective,
-                         start_requirements, solution.success, solution.status, solution.iterations,
-                         solution.history, difference, doe.method, doe.points, doe.objective, doe.feasible, doe_best,
-                         choice, steps)
+    return OptimumResult(name=spec.name, mechanism=p.mech.name, title=p.title, solver=spec.method,
+                         variables=p.variables, lower=p.lower, upper=p.upper, start=p.start, x=solution.x,
+                         objective_name=p.objective_name, objective_unit=p.objective_unit, objective=objective,
+                         requirements=requirements, start_objective=start_objective,
+                         start_requirements=start_requirements, success=solution.success, status=solution.status,
+                         iterations=solution.iterations, history=solution.history, model_difference=difference,
+                         doe_method=doe.method, doe_points=doe.points, doe_objective=doe.objective,
+                         doe_feasible=doe.feasible, doe_best=doe_best, catalog_choice=choice, descent=steps)

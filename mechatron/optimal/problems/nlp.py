@@ -1,9 +1,9 @@
 r"""Solving an :class:`~mechatron.optimal.problems.base.OptimalDesignProblem` and comparing it with a DOE.
 
 :func:`solve`: the NLP  min f(x, s, t)  s.t.  Φ(x, s) = 0,  g(x, s, t) ≥ 0,  x_lo ≤ x ≤ x_hi  with CasADi's
-``nlpsol("ipopt")`` (exact first and second derivatives of the SX expressions), started from the design ``start``
-with its states assembled by the Pinocchio model. The optimum is then evaluated by the Pinocchio model: its objective
-and requirements are those reported.
+``nlpsol("ipopt")`` (:func:`~mechatron.optimal.nlpsol.run_nlp`; exact first and second derivatives of the SX
+expressions), started from the design ``start`` with its states assembled by the Pinocchio model. The optimum is
+then evaluated by the Pinocchio model: its objective and requirements are those reported.
 
 :func:`design_of_experiments`: scrambled Sobol or Latin-hypercube points of the same box (``scipy.stats.qmc``,
 seeded), each judged by the problem's DOE evaluation (the Pinocchio model, or for an explicit problem without loop
@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from ...studies.designs import sample_box
+from ..nlpsol import run_nlp
 from ..requirement import Requirement, Vector
 from .base import OptimalDesignProblem
 
@@ -48,25 +49,14 @@ def solve(problem: OptimalDesignProblem, *, max_iterations: int = 200, tolerance
     q0 = problem.values(problem.start, s0)
     w0 = np.concatenate([problem.start, s0, problem.aux_guess(q0)])
     inf = np.full(m + k, np.inf)
-    options: dict[str, Any] = {"print_time": False}
-    if solver == "ipopt":
-        options["ipopt"] = {"print_level": 0, "sb": "yes", "tol": tolerance, "max_iter": max_iterations,
-                            "honor_original_bounds": "yes", "constr_viol_tol": tolerance,
-                            "acceptable_tol": tolerance}
-    else:
-        options.update({"qpsol": "qrqp", "max_iter": max_iterations, "print_header": False, "print_iteration": False,
-                        "print_status": False,
-                        "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
-                        "tol_pr": tolerance, "tol_du": tolerance})
-    nlp = ca.nlpsol("optimal_design", solver, {"x": w, "f": f, "g": constraints}, options)
     nl = problem.loops.numel()
-    result = nlp(x0=w0, lbx=np.concatenate([problem.lower, -inf]), ubx=np.concatenate([problem.upper, inf]),
-                 lbg=np.zeros(nl + g.numel()), ubg=np.concatenate([np.zeros(nl), np.full(g.numel(), np.inf)]))
-    stats = nlp.stats()
-    history = [float(v) / problem.scale for v in stats.get("iterations", {}).get("obj", [])]
-    x = np.array(result["x"]).ravel()
-    return Solution(x[:n], x[n:n + m], bool(stats["success"]), str(stats.get("return_status", "")),
-                    int(stats.get("iter_count", len(history))), history)
+    run = run_nlp("optimal_design", {"x": w, "f": f, "g": constraints}, x0=w0,
+                  lbx=np.concatenate([problem.lower, -inf]), ubx=np.concatenate([problem.upper, inf]),
+                  lbg=np.zeros(nl + g.numel()), ubg=np.concatenate([np.zeros(nl), np.full(g.numel(), np.inf)]),
+                  tolerance=tolerance, max_iterations=max_iterations, solver=solver,
+                  ipopt={"constr_viol_tol": tolerance, "acceptable_tol": tolerance})
+    return Solution(run.w[:n], run.w[n:n + m], run.success, run.status, run.iterations,
+                    [v / problem.scale for v in run.history])
 
 
 @dataclass

@@ -1,16 +1,18 @@
-"""The result of a named problem (:mod:`mechatron.optimal.problems.named`): the optimum, the start, the solver's
-convergence and the DOE it is compared with."""
+"""The result of a named problem (:mod:`mechatron.optimal.problems.named`), the named form of the one result type
+(:class:`~mechatron.optimal.result.OptimalResult`): the optimum, the start, the solver's convergence and the DOE it
+is compared with."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from ...report.result import Result, json_ready
+from ...report.result import json_ready
 from ..requirement import Requirement, Vector
+from ..result import OptimalResult
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -18,8 +20,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 
-@dataclass
-class OptimumResult(Result):
+@dataclass(kw_only=True)
+class OptimumResult(OptimalResult):
     """An optimal design: the optimum x (SI units) and its objective and requirements from the Pinocchio model, the
     start's, the solver's status and convergence history, the largest relative difference between the CasADi
     expressions and the Pinocchio model at the optimum, and the DOE (points, objective, feasibility, its best). For
@@ -27,8 +29,6 @@ class OptimumResult(Result):
     (key, count, bore, rod, stroke m, mass kg, its checks), and ``descent``, the steps of the search (step, rows,
     mass kg)."""
 
-    name: str
-    mechanism: str
     title: str
     solver: str
     variables: tuple[str, ...]
@@ -39,7 +39,6 @@ class OptimumResult(Result):
     objective_name: str
     objective_unit: str
     objective: float
-    requirements: list[Requirement]
     start_objective: float
     start_requirements: list[Requirement]
     success: bool
@@ -54,24 +53,24 @@ class OptimumResult(Result):
     doe_best: dict[str, Any] | None
     catalog_choice: list[dict[str, Any]] | None = None
     descent: list[dict[str, Any]] | None = None
-    notes: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        """The optimum as :attr:`best` (each variable's value, m, and the objective's, :attr:`objective_unit`:
+        the Pinocchio model's) and the DOE as :attr:`evaluations` (the variables, the objective, ``feasible``)."""
+        import pandas as pd
+
+        self.best = {**dict(zip(self.variables, (float(v) for v in self.x))), self.objective_name: self.objective}
+        table = pd.DataFrame(np.asarray(self.doe_points, dtype=float).reshape(-1, len(self.variables)),
+                             columns=list(self.variables))
+        table[self.objective_name] = self.doe_objective
+        table["feasible"] = np.asarray(self.doe_feasible, dtype=bool)
+        self.evaluations = table
 
     @property
     def feasible(self) -> bool:
         """Every requirement met at the optimum (Pinocchio model), and every catalog cylinder chosen passing its
         checks (``cylinder_mass``)."""
         return all(r.met() for r in self.requirements) and all(c["feasible"] for c in self.catalog_choice or [])
-
-    @property
-    def best(self) -> dict[str, Any]:
-        """The optimum: each variable's value (m) and the objective's (:attr:`objective_unit`), the Pinocchio
-        model's."""
-        return {**dict(zip(self.variables, (float(v) for v in self.x))), self.objective_name: self.objective}
-
-    @property
-    def front(self) -> None:
-        """No Pareto front: a named problem has one objective."""
-        return None
 
     @property
     def beats_doe(self) -> bool | None:
@@ -176,10 +175,7 @@ class OptimumResult(Result):
             lines.append(f"{v:<12}{x:14.9f}{s:12.6f}{lo:10.4g}{hi:10.4g}")
         lines.append(f"objective {self.objective_name}: {self.objective:.6g} {self.objective_unit} at the optimum, "
                      f"{self.start_objective:.6g} at the start (Pinocchio model)")
-        for r in self.requirements:
-            sign = "≥" if r.kind == "min" else "≤"
-            lines.append(f"  {r.name:<42} {r.value:12.6g} {sign} {r.limit:<10.6g} margin {r.margin:10.3g} {r.unit}"
-                         f"  {r.verdict}")
+        lines += [r.line(42) for r in self.requirements]
         for c in self.catalog_choice or []:
             lines.append(f"  {c['cylinder']}: {c['count']}× {c['key']} (bore {c['bore'] * 1e3:g} mm, rod "
                          f"{c['rod'] * 1e3:g} mm), stroke {c['stroke']:.4f} m, {c['mass']:.2f} kg; "

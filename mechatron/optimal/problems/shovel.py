@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import InputError
-from ...kinematics.geometry import point_positions
+from ...kinematics.geometry import acute_angle, point_positions
 from ...kinematics.loops import assemble
 from ...machines.excavator import (
     FrontShovelDesign,
@@ -399,7 +399,7 @@ class ShovelProblem(OptimalDesignProblem):
             largest = max(largest, max(abs(f) for f in parts["forces"][j::3]))
             lo, hi = parts["sweep_lengths"][j], parts["sweep_lengths"][-3 + j]
             short, long = min(lo, hi), max(lo, hi)
-            mu = np.arccos(np.minimum(1.0, np.abs(parts["cosines"][j::3])))
+            mu = acute_angle(parts["cosines"][j::3])
             inside = min(min(L - short, long - L) for L in parts["special_lengths"][j::3])
             req += [Requirement(f"{c}_stroke_ratio", long / short, self.max_ratio, "max", "-"),
                     Requirement(f"{c}_min_transmission_angle_deg", float(mu.min() / DEG), self.mu_min / DEG, "min",

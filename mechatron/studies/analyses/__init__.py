@@ -1,5 +1,5 @@
 """The analyses a study runs on every design, by name. Each is a module that follows the
-:class:`~mechatron.studies.evaluator.Analysis` protocol:
+:class:`Analysis` protocol:
 
 - ``OUTPUTS``: the names of the outputs it adds, quantities of the registry (:mod:`mechatron.quantities`: their
   units are the registry's, ``mass_kg`` → kg, ``force_N`` → N), for the docs;
@@ -17,19 +17,54 @@
   so that a design gives the same row wherever it runs.
 
 An analysis with exact first derivatives (:data:`EXACT`) also follows
-:class:`~mechatron.studies.evaluator.GradientAnalysis` (``gradient_outputs``, ``gradients``):
+:class:`GradientAnalysis` (``gradient_outputs``, ``gradients``):
 :func:`gradient_analysis` gives it, None for the others.
 """
 
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING, cast
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Protocol, cast
 
 from ...errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..evaluator import Analysis, GradientAnalysis
+    import numpy as np
+
+    from ...model.mechanism import Mechanism
+
+class Analysis(Protocol):
+    """An analysis of a study (``[analyses.NAME]``): its ``OUTPUTS`` are names of quantities of the registry
+    (:mod:`mechatron.quantities`: the unit is the registry's, ``reach_m`` → m; ``CYLINDER`` and ``ACTUATOR`` stand
+    for each item's name)."""
+
+    OUTPUTS: tuple[str, ...]
+
+    def check(self, mech: Mechanism, options: dict[str, Any]) -> None:
+        """Raise :class:`~mechatron.errors.InputError` (naming the option) for wrong options, before any design."""
+
+    def output_names(self, mech: Mechanism, options: dict[str, Any]) -> list[str]:
+        """The names of the outputs :meth:`outputs` gives for these options, without running."""
+
+    def input_files(self, mech: Mechanism, options: dict[str, Any]) -> Sequence[str | Path]:
+        """Every file :meth:`outputs` reads for these options (part of a study's identity)."""
+
+    def outputs(self, mech: Mechanism, options: dict[str, Any], seed: int) -> Mapping[str, Any]:
+        """The outputs of one design (SI, finite); a :class:`~mechatron.errors.MechatronError` where it fails."""
+
+
+class GradientAnalysis(Analysis, Protocol):
+    """An analysis that also gives exact first derivatives of its outputs (the exact route of ``optimize``)."""
+
+    def gradient_outputs(self, mech: Mechanism, options: dict[str, Any]) -> list[str]:
+        """The outputs :meth:`gradients` differentiates for these options, without running."""
+
+    def gradients(self, mech: Mechanism, options: dict[str, Any], parameters: list[str]
+                  ) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+        """The outputs of one design and the gradient of each with respect to the named geometric parameters."""
+
 
 #: Analysis name → module (imported when a study asks for it).
 MODULES = {
@@ -39,8 +74,7 @@ MODULES = {
     "accuracy": "mechatron.studies.analyses.accuracy",
 }
 
-#: The analyses that give exact first derivatives of their outputs (:class:`~mechatron.studies.evaluator.
-#: GradientAnalysis`).
+#: The analyses that give exact first derivatives of their outputs (:class:`GradientAnalysis`).
 EXACT = ("linkage",)
 
 #: Analysis name → the modules its ``outputs`` imports on first use: the workers of an embedded cluster start with

@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ...drives.options import (
+    AMBIENT_DEGC,
     CHAIN_EFFICIENCY,
     INERTIA_RATIO_MAX,
     MAX_ITERATIONS,
@@ -72,7 +73,7 @@ NUMBERS: dict[str, tuple[float | None, dict]] = {
     "max_iterations": (MAX_ITERATIONS, dict(integer=True, minimum=MIN_PASSES, maximum=MAX_PASSES)),
     "stop_torque": (None, dict(positive=True, unit="N·m")), "stop_current": (None, dict(positive=True, unit="A")),
     "voltage": (None, dict(positive=True, unit="V")), "screw_life_h": (None, dict(positive=True, unit="h")),
-    "ambient": (40.0, dict(minimum=-50.0, maximum=100.0, unit="°C"))}
+    "ambient": (AMBIENT_DEGC, dict(minimum=-50.0, maximum=100.0, unit="°C"))}
 #: The options that are true or false.
 FLAGS = ("direct", "single_pass")
 OPTIONS = ("task", *CATALOGS, "objective", *NUMBERS, *FLAGS)
