@@ -1,7 +1,7 @@
 r"""Derating of a motor's continuous (S1) torque for where the machine runs: the ambient temperature and the altitude.
 
 A motor's catalog rating holds at the rated site of IEC 60034-1: a coolant (air) of at most 40 °C and an altitude of
-at most 1,000 m. Beyond it (mechatron's documented default, applied to every motor of a catalog):
+at most 1,000 m [IEC 60034-1, 6]. Beyond it (mechatron's documented default, applied to every motor of a catalog):
 
 - **ambient** θ_a > 40 °C, the rise-limited rule: the copper loss I² R, ∝ T², may raise the winding by the rated
   rise ΔT_r less the extra ambient, so T_S1 is scaled by

@@ -84,7 +84,8 @@ REFERENCES: dict[str, str] = {
                    "4.2.9 S9 non-periodic load and speed variations within the permissible range, overloads "
                    "included; 4.2.10 S10 discrete constant loads, each to thermal equilibrium), the cyclic duration "
                    "factor of S3 … S6 (the time under load, with starting and electric braking, over the cycle's), "
-                   "and clause 6 (the site operating conditions: the 40 °C ambient air the ratings refer to).",
+                   "and clause 6 (the site operating conditions the ratings refer to: an altitude of at most "
+                   "1,000 m and ambient air of at most 40 °C).",
     "Magnets": 'Advanced Magnets (Stanford Magnets), "What are temperature coefficients α and β of permanent '
                'magnets?", advancedmagnets.com, technical note: the reversible temperature coefficient α of '
                "remanence, [B_r(T₁) − B_r(T₂)] / (B_r(T₁) (T₁ − T₂)); typically −0.09 … −0.12 %/°C for sintered "
