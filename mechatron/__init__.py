@@ -21,6 +21,8 @@ from ._exports import lazy_exports
 from .errors import InputError, LimitWarning, MechatronError, MechatronWarning, SingularityError, UnreachableError
 
 if TYPE_CHECKING:  # the lazy names below, for editors and type checkers; at run time each loads on first use
+    from .accuracy.allocation import allocate_tolerances as allocate_tolerances
+    from .accuracy.calibration import calibrate as calibrate
     from .accuracy.study import tolerance_study as tolerance_study
     from .drives.sizing import size as size
     from .dynamics.constrained import simulate as simulate
@@ -48,6 +50,7 @@ _EXPORTS = {
     "inverse_dynamics": ".dynamics.tree", "forward_dynamics": ".dynamics.tree",
     "simulate": ".dynamics.constrained", "move": ".dynamics.motion",
     "size": ".drives.sizing", "tolerance_study": ".accuracy.study", "analyse_structure": ".structure.analysis",
+    "allocate_tolerances": ".accuracy.allocation", "calibrate": ".accuracy.calibration",
 }
 __getattr__, __dir__ = lazy_exports(globals(), _EXPORTS)
 

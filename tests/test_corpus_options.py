@@ -55,6 +55,7 @@ BASE = {
     "reduced": ["reduced", "crank_slider"],
     "size": ["size", "planar_2r", "--single-pass"],
     "tolerance": ["tolerance", "planar_2r", "--tolerances", "tol.csv", "--method", "worst"],
+    "calibrate": ["calibrate", "planar_2r", "--parameters", "a1"],  # --measurements: the file option under test
     "fk": ["fk", "planar_2r", "--q", "0,0"],
     "jacobian": ["jacobian", "planar_2r", "--q", "0,0"],
     "show": ["show", "planar_2r"],

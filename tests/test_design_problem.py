@@ -11,9 +11,9 @@ import pandas as pd
 import pytest
 
 from mechatron.errors import InputError
+from mechatron.optimal.design_file import MAX_EVALUATIONS
 from mechatron.optimal.evaluations import Evaluations
 from mechatron.optimal.exact import ExactModel
-from mechatron.optimal.problem import MAX_EVALUATIONS
 from mechatron.optimal.reader import read_problem as read_design
 from mechatron.optimal.solve import optimize_design
 from mechatron.studies.result import pareto_mask

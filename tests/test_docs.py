@@ -28,7 +28,8 @@ DOCS = ROOT / "docs"
 DATA = ROOT / "examples" / "data"
 EXAMPLE = re.compile(r"<!-- example: (?P<path>\S+) -->\n```(?P<lang>\w+)\n(?P<body>.*?)```", re.S)
 FORMAT_PAGES = ("robot_file.md", "urdf.md", "task_file.md", "trajectory_csv.md", "catalogs.md", "tolerances_csv.md",
-                "poses_csv.md", "structure_file.md", "front_shovel_design.md", "mechanism_file.md", "design_file.md")
+                "poses_csv.md", "structure_file.md", "front_shovel_design.md", "mechanism_file.md", "design_file.md",
+                "measurements_csv.md")
 DEG = math.pi / 180
 
 
@@ -99,11 +100,33 @@ def _tolerances(robot_name: str, need: str = "tolerance") -> Callable[[Path], ob
     return read
 
 
+def _cost_models(robot_name: str) -> Callable[[Path], object]:
+    def read(path: Path):
+        from mechatron.accuracy.costs import read_cost_models
+
+        return read_cost_models(path, robot(robot_name), DATA / "processes_puma560.csv")
+    return read
+
+
+def _processes(path: Path):
+    from mechatron.accuracy.costs import read_processes
+
+    return read_processes(path)
+
+
 def _poses(robot_name: str) -> Callable[[Path], object]:
     def read(path: Path):
         from mechatron.accuracy.sources import read_poses
 
         return read_poses(path, robot(robot_name))
+    return read
+
+
+def _measurements(robot_name: str) -> Callable[[Path], object]:
+    def read(path: Path):
+        from mechatron.accuracy.measurements import read_measurements
+
+        return read_measurements(path, robot(robot_name))
     return read
 
 
@@ -156,7 +179,10 @@ READERS: dict[str, Callable[[Path], object]] = {
     "examples/data/tolerances_puma560.csv": _tolerances("puma560"),
     "examples/data/tolerances_crank_slider.csv": _tolerances("crank_slider", "error"),
     "examples/data/tolerances_scara.csv": _tolerances("scara"),
+    "examples/data/tolerances_puma560_costs.csv": _cost_models("puma560"),
+    "examples/data/processes_puma560.csv": _processes,
     "examples/data/poses_puma560.csv": _poses("puma560"),
+    "examples/data/measurements_puma560.csv": _measurements("puma560"),
     "examples/data/four_bar_structure.toml": _structure,
     "examples/data/front_shovel_design.toml": _design,
     "examples/data/four_bar.toml": _mechanism,
@@ -165,7 +191,7 @@ READERS: dict[str, Callable[[Path], object]] = {
     "examples/data/tolerances_scissor_lift.csv": _tolerances(str(DATA / "scissor_lift.toml")),
     "examples/design/crank_reach.toml": _design_file,
 }
-SCRIPTS = {"make_samples.py"}
+SCRIPTS = {"make_samples.py", "make_calibration_puma560.py"}
 
 
 def read(relative: str):

@@ -88,7 +88,7 @@ def test_bucket_generalised_meets_the_transmission_angle():
     result = optimize(EXAMPLES / "bucket_transmission.toml")
     assert result.feasible and result.beats_doe
     # the synthesis itself transmits worse than asked: the requirement binds and the turn is no longer exact
-    problem = read_spec(EXAMPLES / "bucket_transmission.toml").problem
+    problem = read_spec(EXAMPLES / "bucket_transmission.toml").model
     _, at_synthesis = problem.judge(problem.evaluate(np.array([synthesize().c, synthesize().L2, 0.2])))
     assert at_synthesis[0].value < 20
     assert result.objective > 1e-4
@@ -118,7 +118,7 @@ def test_shovel_optimum_meets_the_working_range_with_less_force():
     assert names["L1_stroke_ratio"].value <= 1.7 + 1e-6
     # the largest boom-cylinder force by hand at the optimum: gravity moment of the bars CF, FQ, QV (4500, 2200,
     # 3800 kg, centres mid-way) about C over the distance from C to the cylinder line AB, at the special positions
-    problem = read_spec(EXAMPLES / "front_shovel_boom.toml").problem
+    problem = read_spec(EXAMPLES / "front_shovel_boom.toml").model
     mech = problem.with_strokes(problem.mech.with_parameters(problem.overrides(result.x)), result.x)
     forces, q = [], None
     for angles in problem.special.values():

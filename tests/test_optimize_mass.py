@@ -40,7 +40,7 @@ LINKS = {"CF": 4500.0, "FQ": 2200.0, "QV": 3800.0}
 @pytest.fixture(scope="module")
 def solved():
     spec = read_spec(EXAMPLE)
-    return spec.problem, optimize(spec)
+    return spec.model, optimize(spec)
 
 
 def catalog_rows() -> list[dict]:
@@ -146,7 +146,7 @@ def test_mass_derivative_equals_finite_differences_of_pinocchio():
     names = ("A_x", "B_y", "E_x")
     spec = read_spec(EXAMPLE)
     problem = MassProblem(mech, {n: (p[n] - 0.3, p[n] + 0.3) for n in names}, cylinders=("L1", "L2"), positions=2,
-                          catalog=spec.problem.catalog, pressure=RELIEF)
+                          catalog=spec.model.catalog, pressure=RELIEF)
     x = problem.start + np.array([0.1, -0.1, 0.05])
     problem.rows = problem.rows_of(problem.values(x))
     import casadi as ca

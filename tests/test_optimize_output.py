@@ -86,7 +86,7 @@ def _outputs(spec, mechanism):
     """The study analyses' outputs of the mechanism file ``mechanism`` (no variables: as it is)."""
     from mechatron.studies.runner import evaluate
 
-    study = replace(spec.study, mechanism=str(mechanism), parameters=())
+    study = replace(spec.evaluator, mechanism=str(mechanism), parameters=())
     (row,) = evaluate(study, pd.DataFrame({"design": [0], "seed": [0]})).to_dict(orient="records")
     assert row["status"] == "ok", row["reason"]
     return row

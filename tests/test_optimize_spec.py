@@ -63,7 +63,7 @@ def test_sqpmethod_finds_the_same_synthesis(tmp_path):
     spec = tmp_path / "bucket.toml"
     spec.write_text(BUCKET + '[solver]\nmethod = "sqpmethod"\n')
     result = optimize(spec)
-    assert result.solver == "sqpmethod" and result.success
+    assert result.solver["name"] == "sqpmethod" and result.success
     synthesis = synthesize()
     assert result.x == pytest.approx([synthesis.c, synthesis.L2], abs=1e-8)
 

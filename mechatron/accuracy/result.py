@@ -1,5 +1,6 @@
 """What a tolerance study returns: :class:`ToleranceResult`, with its text report and its charts (the error over the
-poses, the Monte Carlo spread at the critical pose, each error source's contribution).
+poses, the Monte Carlo spread at the critical pose and, against a limit, its process capability over the poses, each
+error source's contribution).
 
 It follows the result protocol (:class:`~mechatron.report.result.Result`): ``to_frame()`` is the per-pose table,
 ``as_dict()`` the study as plain data, ``plot()`` the charts in one figure, ``str()`` the report printed by
@@ -8,6 +9,7 @@ It follows the result protocol (:class:`~mechatron.report.result.Result`): ``to_
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -63,6 +65,15 @@ class ToleranceResult(Result):
         limit: The largest acceptable |Δr| (m) of the yield, if given.
         notes: Remarks on the study.
         coordinates: The names of the coordinate columns of ``poses``.
+        capability: With ``mc`` and a limit, the process capability (:mod:`~mechatron.accuracy.capability`): one
+            row per pose and quantity — ``label``, ``quantity`` (``dx``, ``dy``, ``dz`` against ±L; ``dr``, |Δr|,
+            against L), ``spec``, ``mean``, ``std`` (m), ``pp``, ``pp_low``, ``pp_high`` (NaN for ``dr``), ``ppk``,
+            ``ppk_low``, ``ppk_high``, ``ppm``, ``ppm_low``, ``ppm_high`` (parts per million out; the bounds of 95 %
+            intervals), ``samples`` (the pose's samples), ``sigma_error`` and ``ppm_error`` (the relative standard
+            errors of σ and of the PPM of |Δr|; inf while none is out).
+        target_error, target: The relative standard error the Monte Carlo's sample count was chosen for (with it the
+            poses table has ``samples_mc``, the samples drawn, and ``reached_error_mc``, the error reached) and of
+            what (``sigma`` or ``ppm``); ``None`` for a fixed count.
     """
 
     mechanism: str
@@ -78,6 +89,9 @@ class ToleranceResult(Result):
     limit: float | None = None
     notes: list[str] = field(default_factory=list)
     coordinates: tuple[str, ...] = ()
+    capability: pd.DataFrame | None = None
+    target_error: float | None = None
+    target: str | None = None
 
     @property
     def main_method(self) -> str:
@@ -103,17 +117,35 @@ class ToleranceResult(Result):
                 record[axis] = float(row[f"{axis}_{self.main_method}"])
             record["methods"] = {m: {c[: -len(m) - 1]: row[c] for c in self.poses.columns if c.endswith("_" + m)}
                                  for m in self.methods}
+            if self.capability is not None:
+                record["capability"] = self._capability_record(str(row["label"]))
             out.append(record)
         return json_ready(out)
 
+    def _capability_record(self, label: str) -> dict:
+        """A pose's capability as plain data: ``samples``, ``sigma_error``, ``ppm_error`` and, per quantity (``dx``,
+        ``dy``, ``dz``, ``dr``), ``spec``, ``mean``, ``std`` (m), ``pp``, ``ppk``, ``ppm`` and their ``_low`` and
+        ``_high`` bounds (None where undefined or infinite)."""
+        table = self._capability_table()
+        rows = table[table["label"] == label].to_dict(orient="records")
+        shared = ("samples", "sigma_error", "ppm_error")
+        out: dict = {name: rows[0][name] for name in shared} if rows else {}
+        for row in rows:
+            out[row["quantity"]] = {key: value for key, value in row.items()
+                                    if key not in ("label", "quantity", *shared)}
+        return out
+
     def as_dict(self) -> dict:
         """The study as plain data: ``mechanism``, ``frame``, ``methods``, ``k``, ``limit`` (m or None),
-        ``critical_pose`` (its label), ``poses`` (:meth:`records`), ``contributions`` (the rows of
-        :attr:`contributions`) and ``notes``."""
+        ``critical_pose`` (its label), ``poses`` (:meth:`records`; with a capability, each pose's under
+        ``capability``), ``contributions`` (the rows of :attr:`contributions`) and ``notes``; with a target error
+        also ``target_error`` and ``target``."""
         return json_ready({"mechanism": self.mechanism, "frame": self.frame, "methods": list(self.methods),
                            "k": self.k, "limit": self.limit, "critical_pose": self.critical_label,
                            "poses": self.records(), "contributions": frame_records(self.contributions),
-                           "notes": list(self.notes)})
+                           "notes": list(self.notes),
+                           **({"target_error": self.target_error, "target": self.target}
+                              if self.target_error is not None else {})})
 
     def __str__(self) -> str:
         methods, count = self.methods, len(self.poses)
@@ -130,8 +162,44 @@ class ToleranceResult(Result):
         columns = ["source", "unit", "tolerance", "sensitivity", "worst_share", "variance_share"]
         lines.append(c[columns + (["mc_share"] if "mc_share" in c else [])].to_string(
             index=False, float_format=lambda x: f"{x:.4g}"))
+        if self.capability is not None:
+            lines += self._capability_lines()
         lines += [f"note: {note}" for note in self.notes]
         return "\n".join(lines)
+
+    def _capability_lines(self) -> list[str]:
+        """The capability table of the text report: per pose and quantity Pp, Ppk and the PPM with their 95 %
+        intervals, the samples and the relative standard errors of σ and of the PPM (%)."""
+        import pandas as pd
+
+        c = self.capability
+        assert c is not None and self.limit is not None
+
+        def span(low: float, high: float) -> str:
+            return "" if math.isnan(low) else f"{low:.4g}…{high:.4g}"
+
+        shown = pd.DataFrame({
+            "pose": c["label"], "quantity": c["quantity"].map({"dx": "Δx", "dy": "Δy", "dz": "Δz", "dr": "|Δr|"}),
+            "spec": c["spec"], "Pp": c["pp"].map(lambda x: "" if math.isnan(x) else f"{x:.4g}"),
+            "Pp 95 %": [span(a, b) for a, b in zip(c["pp_low"], c["pp_high"])], "Ppk": c["ppk"].map("{:.4g}".format),
+            "Ppk 95 %": [span(a, b) for a, b in zip(c["ppk_low"], c["ppk_high"])],
+            "PPM": c["ppm"].map("{:.4g}".format), "PPM 95 %": [span(a, b) for a, b in zip(c["ppm_low"], c["ppm_high"])],
+            "samples": c["samples"], "σ error (%)": (100 * c["sigma_error"]).map("{:.3g}".format),
+            "PPM error (%)": (100 * c["ppm_error"]).map("{:.3g}".format)})
+        poses = list(dict.fromkeys(c["label"]))
+        lines = [f"\nprocess capability against L = {self.limit * 1e3:g} mm (per axis ±L, |Δr| ≤ L; Pp, Ppk "
+                 f"[ISO 22514-2] with 95 % intervals [Bissell, 1990], PPM out with its exact interval "
+                 f"[Clopper, 1934]; Ppk of |Δr| is a normal-theory index of a non-normal quantity):"]
+        lines.append(shown[c["label"].isin(poses[:SHOWN_POSES])].to_string(index=False))
+        if len(poses) > SHOWN_POSES:
+            lines.append(f"… {len(poses) - SHOWN_POSES} more poses")
+        if self.target_error is not None:
+            reached = self.poses["reached_error_mc"]
+            what = "σ" if self.target == "sigma" else "the PPM of |Δr|"
+            lines.append(f"samples chosen for a relative standard error of {what} ≤ {self.target_error:g}: "
+                         f"{int(self.poses['samples_mc'].min()):,}–{int(self.poses['samples_mc'].max()):,} per pose, "
+                         f"largest error reached {np.nanmax(reached):.3g}")
+        return lines
 
     # ---------------------------------------------------------------------------------------------- charts
     def plot(self, ax: Axes | None = None) -> Figure:
@@ -221,6 +289,36 @@ class ToleranceResult(Result):
         return style_axes(ax, "share of the variance of Δr (%)", "error source (parameter or coordinate)",
                           f"contributions at pose {self.critical_label}", legend=True)
 
+    def draw_capability(self, ax: Axes) -> Axes:
+        """Ppk (dimensionless) per pose with its 95 % interval: of each axis with a spread against ±L and of |Δr|
+        against L, and the line Ppk = 1 (the mean 3σ inside the limit)."""
+        from ..report.figures import style_axes
+
+        c = self._capability_table()
+        poses = list(dict.fromkeys(c["label"]))
+        x = np.arange(len(poses))
+        names = {"dx": "Δx (±L)", "dy": "Δy (±L)", "dz": "Δz (±L)", "dr": "|Δr| (≤ L)"}
+        for n, quantity in enumerate(names):
+            rows = c[c["quantity"] == quantity].set_index("label").reindex(poses)
+            finite = np.isfinite(rows["ppk"].to_numpy(dtype=float))
+            if not finite.any():
+                continue  # no spread (Δz of a planar arm): Ppk infinite
+            y = rows["ppk"].to_numpy(dtype=float)[finite]
+            low, high = rows["ppk_low"].to_numpy(dtype=float)[finite], rows["ppk_high"].to_numpy(dtype=float)[finite]
+            ax.errorbar(x[finite] + 0.1 * (n - 1.5), y, yerr=[y - low, high - y], fmt="o", capsize=3,
+                        label=names[quantity])
+        ax.axhline(1.0, color="k", ls=":", label="Ppk = 1")
+        long = max(len(label) for label in poses) > 6
+        ax.set_xticks(x, poses, rotation=30 if long else 0, ha="right" if long else "center")
+        limit = float(self.limit or 0.0)
+        return style_axes(ax, "pose (label)", "Ppk (-)", f"process capability against L = {limit * 1e3:g} mm, "
+                          "95 % intervals", legend=True)
+
+    def _capability_table(self) -> pd.DataFrame:
+        if self.capability is None:
+            raise InputError("no process capability: run the study with method mc and a limit")
+        return self.capability
+
     def _monte_carlo_samples(self) -> NDArray[np.float64]:
         if self.samples is None:
             raise InputError("no Monte Carlo samples: run the study with method mc")
@@ -237,14 +335,16 @@ class ToleranceResult(Result):
         return figure
 
     def monte_carlo_chart(self) -> Figure:
-        """The Monte Carlo histogram of |Δr| and the Δr spread at the critical pose."""
+        """The Monte Carlo histogram of |Δr| and the Δr spread at the critical pose and, against a limit, Ppk per
+        pose (:meth:`draw_capability`)."""
         from ..report.figures import new_figure
 
         self._monte_carlo_samples()
-        figure = new_figure(12.0, 5.0)
-        left, right = figure.subplots(1, 2)
-        self.draw_histogram(left)
-        self.draw_spread(right)
+        panels = [self.draw_histogram, self.draw_spread] + ([self.draw_capability] if self.capability is not None
+                                                            else [])
+        figure = new_figure(6.0 * len(panels), 5.0)
+        for panel, axes in zip(panels, figure.subplots(1, len(panels))):
+            panel(axes)
         return figure
 
     def contribution_chart(self) -> Figure:
@@ -308,6 +408,11 @@ class ToleranceResult(Result):
                                     "poses")]),
             Section("Contributions", [Table(self.contributions, f"at the critical pose {self.critical_label} (%)",
                                             "contributions")] + [Text(note) for note in self.notes]),
+            *([Section("Capability", [Table(self.capability, f"process capability against L = {self.limit * 1e3:g} "
+                                            "mm: Pp, Ppk [ISO 22514-2] with 95 % intervals [Bissell, 1990], parts "
+                                            "per million out with the exact interval [Clopper, 1934]; mean, std in m",
+                                            "capability")])]
+              if self.capability is not None and self.limit is not None else []),
             Section("Charts", [Chart(figure, name.replace("_", " ")) for name, figure in self.charts().items()])]
         if mechanism is not None:
             frame = self.frame if self.frame in mechanism.frame_names else None

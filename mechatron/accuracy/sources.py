@@ -12,7 +12,11 @@
   ``size`` / ``size_<length unit>`` (required for angles: the length of the shorter side);
 - ``distribution``: ``normal`` (σ = t/k, default), ``uniform`` (σ = t/√3) or ``triangular`` (σ = t/√6);
 - ``bias``: a systematic offset of the error (same unit columns as the tolerance), default 0;
-- ``error``: the signed error of one given set of errors (``--method given``; same unit columns).
+- ``error``: the signed error of one given set of errors (``--method given``; same unit columns);
+- a cost model for tolerance allocation (:mod:`~mechatron.accuracy.costs`: ``cost_a``, ``cost_b``, ``cost_k`` with
+  ``tolerance_min[_unit]`` and ``tolerance_max[_unit]``, or ``process``), read by
+  :func:`~mechatron.accuracy.costs.read_cost_models`; a row with one needs no tolerance when ``need`` is
+  ``"allocate"``.
 
 ``poses.csv`` — one row per configuration: a column per coordinate (joint names or q1…qn, one per joint — a
 continuous joint's angle too; for a closed loop the actuated coordinates), in rad and m, or with a unit suffix
@@ -47,6 +51,9 @@ DISTRIBUTIONS = ("normal", "uniform", "triangular")
 LENGTH_UNITS = UNITS["length"]
 ANGLE_UNITS = UNITS["angle"]
 VALUE_FIELDS = ("tolerance", "bias", "error")
+#: The columns of a cost model (:mod:`~mechatron.accuracy.costs`), and the prefixes of its tolerance bounds.
+COST_COLUMNS = ("cost_a", "cost_b", "cost_k", "process")
+BOUND_COLUMNS = ("tolerance_min", "tolerance_max")
 #: The range of a tolerance (SI: m, rad, or a ratio; 0 = exact): below a nanometre (or nanoradian) the Monte Carlo's
 #: perturbed positions cannot resolve the errors in double precision, and above 1000 m (rad) no mechanism is meant.
 SMALLEST_ERROR = 1e-9
@@ -106,6 +113,14 @@ def _unit_columns(frame: pd.DataFrame, path: Path) -> dict[str, list[tuple[str, 
     allowed |= {"size" + (f"_{u}" if u else "") for u in LENGTH_UNITS}
     for column in frame.columns:
         base, _, suffix = column.partition("_")
+        if column in COST_COLUMNS:
+            continue  # a cost model's columns (mechatron.accuracy.costs)
+        if column.startswith(BOUND_COLUMNS):  # tolerance_min, tolerance_min_mm, …
+            rest = column[len("tolerance_min"):]
+            if rest and (rest[0] != "_" or rest[1:] not in known):
+                raise InputError(f"unknown unit {rest[1:]!r} (known: {', '.join(sorted(u for u in known if u))})",
+                                 file=path, field=column)
+            continue
         if base in VALUE_FIELDS:
             if suffix not in known:
                 raise InputError(f"unknown unit {suffix!r} (known: {', '.join(sorted(u for u in known if u))})",
@@ -113,7 +128,8 @@ def _unit_columns(frame: pd.DataFrame, path: Path) -> dict[str, list[tuple[str, 
             out[base].append((column, suffix))
         elif column not in allowed:
             raise InputError("unknown column (expected parameter, tolerance[_unit], grade, size[_unit], distribution, "
-                             "bias[_unit], error[_unit])", file=path, field=column)
+                             "bias[_unit], error[_unit], cost_a, cost_b, cost_k, tolerance_min[_unit], "
+                             "tolerance_max[_unit], process)", file=path, field=column)
     return out
 
 
@@ -134,8 +150,8 @@ def _value(row: dict, columns: list[tuple[str, str]], unit: str, path: Path, lin
 
 def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") -> list[ErrorSource]:
     """The error sources of the tolerances file ``path`` for ``mech`` (values in SI: m, rad); ``need`` is
-    ``"tolerance"`` (every row needs a tolerance or grade) or ``"error"`` (every row needs an error, for the method
-    ``given``).
+    ``"tolerance"`` (every row needs a tolerance or grade), ``"error"`` (every row needs an error, for the method
+    ``given``) or ``"allocate"`` (a row with a cost model may leave its tolerance empty: 0 until allocated).
 
     Raises:
         InputError: naming the file, the row and the column of a bad value.
@@ -145,6 +161,7 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
     columns = _unit_columns(frame, path)
     if "parameter" not in frame.columns:
         raise InputError("missing column 'parameter'", file=path, field="parameter")
+    costed = [c for c in ("cost_b", "process") if c in frame.columns]
     if need == "tolerance" and not columns["tolerance"] and "grade" not in frame.columns:
         raise InputError("missing column 'tolerance' (or tolerance_mm, …, or grade)", file=path, field="tolerance")
     if need == "error" and not columns["error"]:
@@ -167,6 +184,9 @@ def read_tolerances(path: str | Path, mech: Mechanism, need: str = "tolerance") 
             if tolerance is not None:
                 raise InputError("give a tolerance or a grade, not both", file=path, row=i, field="grade")
             tolerance = _grade_tolerance(mech, name, unit, grade, row, path, i)
+        if tolerance is None and need == "allocate" and not any(row[c] for c in costed):
+            raise InputError("missing tolerance (or grade, or a cost model: cost_b or process)", file=path, row=i,
+                             field="tolerance")
         if tolerance is None and need == "tolerance":
             raise InputError("missing tolerance (or grade)", file=path, row=i, field="tolerance")
         if tolerance is not None and not (tolerance == 0 or SMALLEST_ERROR <= tolerance <= LARGEST_ERROR):
@@ -270,6 +290,23 @@ def read_poses(path: str | Path, mech: Mechanism) -> tuple[NDArray[np.float64], 
         check_input_ranges(mech, names, values, file=path, rows=[int(n) for n in frame.index],
                            fields=[lookup[n][0] for n in names], labels=labels)
     return values, labels
+
+
+#: The most poses a task gives an accuracy study: its trajectory's samples, evenly thinned.
+TASK_POSES = 100
+
+
+def task_poses(path: str | Path, mech: Mechanism, most: int = TASK_POSES) -> tuple[NDArray[np.float64], list[str]]:
+    """Poses (N, n_c) (rad, m) along the motion of the task file ``path`` (a TOML task or a trajectory CSV,
+    :func:`mechatron.dynamics.task.read_task`): its trajectory's samples, evenly thinned to at most ``most`` (the
+    first and the last kept), each labelled by its time (``t=0.25 s``)."""
+    from ..dynamics.task import read_task
+
+    trajectory = read_task(path, mech).trajectory
+    values = trajectory.coordinates if trajectory.coordinates is not None else trajectory.q
+    values = np.asarray(values, dtype=float)[:, [trajectory.names.index(n) for n in coordinate_names(mech)]]
+    pick = np.unique(np.round(np.linspace(0, len(values) - 1, min(most, len(values)))).astype(int))
+    return values[pick], [f"t={trajectory.t[i]:.4g} s" for i in pick]
 
 
 def _coordinate_limits(mech: Mechanism) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -5,6 +5,13 @@ r"""Monte Carlo statistics in constant memory: the samples arrive in chunks and 
   mean x̄_b and co-moment M_b (two-pass within the chunk), δ = x̄_b − x̄, n' = n + m,
   x̄' = x̄ + δ m/n', M' = M + M_b + δ δᵀ n m/n'. Variances are diag(M)/(n − ddof); the result equals the
   all-in-memory two-pass value up to rounding (relative 1e-13 for the sizes used here).
+- **Central moments to the fourth** (:class:`CentralMoments`): per value n, x̄ and the sums of powers
+  M_p = Σ (x − x̄)^p, p = 2, 3, 4, merged with the pairwise update of [Pebay, 2008] (its formulas for p ≤ 4; M₂ is
+  Chan's above): for a chunk b (n_b, x̄_b, M_p,b, two-pass within the chunk) joined to a (n_a, …),
+  δ = x̄_b − x̄_a, n = n_a + n_b, M₂ = M₂a + M₂b + δ² n_a n_b/n,
+  M₃ = M₃a + M₃b + δ³ n_a n_b (n_a − n_b)/n² + 3δ (n_a M₂b − n_b M₂a)/n,
+  M₄ = M₄a + M₄b + δ⁴ n_a n_b (n_a² − n_a n_b + n_b²)/n³ + 6δ² (n_a² M₂b + n_b² M₂a)/n² + 4δ (n_a M₃b − n_b M₃a)/n.
+  The fourth moment gives the standard error of a standard deviation (:mod:`~mechatron.accuracy.capability`).
 - **Variance shares** (:func:`variance_shares`): the least-squares fit Δr ≈ β e of the centred response on the
   centred errors by its normal equations C_ee β = C_eΔ, C the co-moments accumulated above (a (n_e, n_e) solve,
   scaled by the errors' spreads; no sample kept). Each source's share is Σ_axes (β_i s_i)² / Σ_axes var Δr with
@@ -70,6 +77,39 @@ class Moments:
     def variance(self, ddof: int = 1) -> Floats:
         """The variance of every value, Σ (x − x̄)² / (n − ddof)."""
         return np.diag(self.comoment) / max(self.n - ddof, 1)
+
+
+class CentralMoments:
+    """Count, mean and the central sums of powers M₂, M₃, M₄ of each of ``width`` values, merged chunk by chunk
+    [Pebay, 2008] (see the module)."""
+
+    def __init__(self, width: int) -> None:
+        self.n = 0
+        self.mean = np.zeros(width)
+        self.m2, self.m3, self.m4 = np.zeros(width), np.zeros(width), np.zeros(width)
+
+    def add(self, x: Floats) -> None:
+        """Merge the samples ``x`` (m, width)."""
+        nb = len(x)
+        if not nb:
+            return
+        mean = x.mean(axis=0)
+        c = x - mean
+        c2 = c * c
+        m2, m3, m4 = c2.sum(axis=0), (c2 * c).sum(axis=0), (c2 * c2).sum(axis=0)
+        na = self.n
+        n = na + nb
+        d = mean - self.mean
+        self.m4 = (self.m4 + m4 + d**4 * na * nb * (na * na - na * nb + nb * nb) / n**3
+                   + 6 * d**2 * (na * na * m2 + nb * nb * self.m2) / n**2 + 4 * d * (na * m3 - nb * self.m3) / n)
+        self.m3 = self.m3 + m3 + d**3 * na * nb * (na - nb) / n**2 + 3 * d * (na * m2 - nb * self.m2) / n
+        self.m2 = self.m2 + m2 + d**2 * na * nb / n
+        self.mean = self.mean + d * (nb / n)
+        self.n = n
+
+    def std(self, ddof: int = 1) -> Floats:
+        """The standard deviation of every value, √(M₂/(n − ddof))."""
+        return np.sqrt(self.m2 / max(self.n - ddof, 1))
 
 
 def variance_shares(moments: Moments, n_errors: int, axes: int = 3) -> Floats:

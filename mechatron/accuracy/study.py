@@ -17,7 +17,11 @@ t_i, biases b_i and standard deviations σ_i (:class:`~mechatron.accuracy.source
   limit, and each source's share of the variance (least-squares regression of Δr on the sampled errors). The
   samples are streamed in chunks (:mod:`~mechatron.accuracy.streaming`): moments by Chan's merge, the regression by
   its normal equations, quantiles exact up to 10⁶ samples per pose and within half a histogram bin beyond; memory
-  does not grow with the samples.
+  does not grow with the samples. With a limit L also the process capability per pose
+  (:mod:`~mechatron.accuracy.capability`): Pp and Ppk of each axis against ±L and of |Δr| against L, the parts per
+  million out, each with its 95 % interval [ISO 22514-2; Bissell, 1990; Clopper, 1934]. With a target error the
+  sample count of each pose is chosen as it runs, stopping once the relative standard error of σ (or of the PPM)
+  is reached, ``samples`` the cap.
 
 The worst case and RSS are the usual tolerance stack-ups built on the first-order error [Egorov, 8.4]; for both the
 modulus is [Egorov, 8.6] of the per-axis values (an upper bound of the largest |Δr|). The shares of the linear
@@ -37,11 +41,12 @@ from ..errors import InputError, SingularityError, UnreachableError
 from ..io.values import LARGEST, number, numbers
 from ..kinematics.loops import assemble
 from ..model.mechanism import Mechanism
+from .capability import AXES, capability_rows, check_target, next_count, ppm_error, sigma_error
 from .nonlinear import PerturbedLoop, perturbed_positions
 from .result import ToleranceResult
 from .sensitivity import Sensitivities, coordinate_names, sensitivities
 from .sources import POSE_BYTES, ErrorSource
-from .streaming import BINS, EXACT_SAMPLES, Moments, Quantiles, variance_shares
+from .streaming import BINS, EXACT_SAMPLES, CentralMoments, Moments, Quantiles, variance_shares
 
 __all__ = ["METHODS", "ToleranceResult", "configurations", "draw_errors", "analyse_tolerances", "tolerance_study"]
 
@@ -83,8 +88,8 @@ def _columns(study_sources: Sequence[ErrorSource], sens: Sensitivities) -> Float
 def analyse_tolerances(mech: Mechanism, sources: Sequence[ErrorSource], poses: ArrayLike,
                        labels: Sequence[str] | None = None, *, frame: str | None = None,
                        methods: Sequence[str] = ("worst", "rss"), k: float = 3.0, samples: int = 10000, seed: int = 0,
-                       limit: float | None = None, progress: Callable[[int, int], None] | None = None
-                       ) -> ToleranceResult:
+                       limit: float | None = None, progress: Callable[[int, int], None] | None = None,
+                       target_error: float | None = None, target: str = "sigma") -> ToleranceResult:
     """Run the ``methods`` (of :data:`METHODS`, see the module) for the error ``sources`` at every pose.
 
     Args:
@@ -97,9 +102,16 @@ def analyse_tolerances(mech: Mechanism, sources: Sequence[ErrorSource], poses: A
         methods: Of ``given`` (Δr of the sources' errors [Egorov, 8.4–8.6]), ``worst``, ``rss``, ``mc``; the first
             is the main one.
         k: The coverage factor: σ = t/k for normal errors, results at ±kσ.
-        samples, seed: Monte Carlo samples per pose and the seed of their generator.
-        limit: The largest acceptable |Δr| (m) for the Monte Carlo yield.
-        progress: Called with (samples done, samples in all) during the Monte Carlo.
+        samples, seed: Monte Carlo samples per pose (with ``target_error``: the most per pose) and the seed of their
+            generator.
+        limit: The largest acceptable |Δr| (m) for the Monte Carlo yield and capability
+            (:mod:`~mechatron.accuracy.capability`).
+        progress: Called with (samples done, samples in all) during the Monte Carlo; with a target error its
+            ``status(text)``, where it has one, shows the relative error reached.
+        target_error: With ``mc``: draw samples at each pose until the relative standard error of ``target`` is at
+            most this (0 < E ≤ 0.5), ``samples`` at most.
+        target: ``sigma`` (the standard deviation of every axis with a spread and of |Δr|, from the fourth moment)
+            or ``ppm`` (the parts per million of |Δr| > ``limit``).
     """
     methods = tuple(methods)
     for m in methods:
@@ -112,6 +124,11 @@ def analyse_tolerances(mech: Mechanism, sources: Sequence[ErrorSource], poses: A
         samples = number("samples", samples, integer=True, minimum=2)
     seed = number("seed", seed, integer=True, minimum=0)
     limit = number("limit", limit, positive=True, unit="m", allow_none=True)
+    target_error = check_target(target_error, target, limit)
+    if target_error is not None and "mc" not in methods:
+        from ..io.budget import option
+
+        raise InputError(f"{option('target_error')} needs the Monte Carlo (method mc or all)")
     if "given" in methods and any(s.error is None for s in sources):
         raise InputError("--method given needs an error for every source")
     frame = frame or mech.tool_frame
@@ -158,14 +175,16 @@ def analyse_tolerances(mech: Mechanism, sources: Sequence[ErrorSource], poses: A
     for m, values in results.items():
         table[f"dx_{m}"], table[f"dy_{m}"], table[f"dz_{m}"] = values.T
         table[f"dr_{m}"] = np.linalg.norm(values, axis=1)
-    mc_samples, mc_shares = None, None
+    mc_samples, mc_shares, capability = None, None, None
     lead = next((m for m in methods if m in results), None)  # the critical pose: the main method's largest |Δr|
     critical = int(np.argmax(table[f"dr_{lead}"])) if lead else 0
     if "mc" in methods:
-        stats, mc_samples, mc_shares, critical = _monte_carlo(mech, frame, sources, Q, sens.positions, samples, seed,
-                                                              k, limit, critical if lead else None, progress, notes)
+        run = _MonteCarlo(samples, seed, k, limit, target_error, target, progress, notes)
+        stats, mc_samples, mc_shares, critical, rows = run(mech, frame, sources, Q, sens.positions,
+                                                           critical if lead else None, labels)
         for column, values in stats.items():
             table[column] = values
+        capability = pd.DataFrame(rows) if rows else None
     shares = {
         "worst_share": 100 * (np.abs(J[critical]) * t).sum(axis=0) / max((np.abs(J[critical]) @ t).sum(), 1e-300),
         "variance_share": 100 * variance[critical] / max(variance[critical].sum(), 1e-300),
@@ -179,7 +198,8 @@ def analyse_tolerances(mech: Mechanism, sources: Sequence[ErrorSource], poses: A
         contributions["mc_share"] = mc_shares
     contributions = contributions.sort_values("variance_share", ascending=False, kind="stable").reset_index(drop=True)
     return ToleranceResult(mech.name, frame, methods, k, list(sources), table, contributions, sens, critical,
-                           mc_samples, limit, notes, tuple(coordinate_names(mech)))
+                           mc_samples, limit, notes, tuple(coordinate_names(mech)), capability,
+                           target_error, target if target_error is not None else None)
 
 
 def _nonlinear_given(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: Floats, error: Floats) -> Floats:
@@ -255,72 +275,156 @@ def monte_carlo_budget(samples: float, sources: int, poses: int) -> float:
     return estimate
 
 
-def _monte_carlo(mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: Floats, nominal: Floats,
-                 samples: int, seed: int, k: float, limit: float | None, critical: int | None,
-                 progress: Callable[[int, int], None] | None, notes: list[str]
-                 ) -> tuple[dict[str, Floats], Floats, Floats, int]:
-    """Monte Carlo statistics per pose, the first :data:`KEPT_SAMPLES` Δr samples (m) and the variance shares (%)
-    at the critical pose (the given one, else the largest |Δr| at the coverage), and that pose. The samples are
-    drawn, evaluated and summarized chunk by chunk (:mod:`~mechatron.accuracy.streaming`): memory independent of
-    ``samples``."""
-    parameters = [j for j, s in enumerate(sources) if s.kind == "parameter"]
-    names = [sources[j].name for j in parameters]
-    evaluator = perturbed_positions(mech, frame, names)
-    chunk = SLOW_CHUNK if isinstance(evaluator, PerturbedLoop) else CHUNK
-    if not evaluator.exact:
-        notes.append("some placements are not products of one-parameter exponentials: the Monte Carlo is exact "
-                     "in the coordinates and to first order in those parameters")
-    coverage = math.erf(k / math.sqrt(2))
-    total = len(Q) * samples
-    stats = {c: np.empty(len(Q)) for c in ("dx_mc", "dy_mc", "dz_mc", "dr_mc", "mean_dr_mc", "std_dr_mc",
-                                           "p50_dr_mc", "p95_dr_mc", "p99_dr_mc", "max_dr_mc", "failed_mc")}
-    if limit is not None:
-        stats["yield_mc"] = np.empty(len(Q))
-    best = None  # (pose, kept Δr samples, moments) of the critical pose
-    bound = 0.0
-    for i, q in enumerate(Q):
-        rng = np.random.default_rng(seed)  # the same samples at every pose (common random numbers)
-        summary = _Summary(samples, len(sources), limit)
-        for start in range(0, samples, chunk):
-            count = min(chunk, samples - start)
-            errors = draw_errors(sources, count, rng, k)
-            dl, dq = errors[:, parameters], _coordinate_errors(mech, sources, errors)
-            summary.add(errors, evaluator.positions(q, dl, dq) - nominal[i])
-            if progress:
-                progress(i * samples + start + count, total)
-        n = summary.moments.n
-        if n < 2:
-            raise InputError(f"pose {i + 1}: the loops do not close for the sampled errors")
-        m = len(sources)
-        mean, std = summary.moments.mean[m:m + 3], np.sqrt(summary.moments.variance()[m:m + 3])
-        stats["dx_mc"][i], stats["dy_mc"][i], stats["dz_mc"][i] = np.abs(mean) + k * std
-        quantiles = summary.quantiles.quantiles([coverage, 0.5, 0.95, 0.99])
-        bound = max(bound, summary.quantiles.bound)
-        stats["dr_mc"][i], stats["p50_dr_mc"][i], stats["p95_dr_mc"][i], stats["p99_dr_mc"][i] = quantiles
-        stats["mean_dr_mc"][i] = summary.moments.mean[m + 3]
-        stats["std_dr_mc"][i] = math.sqrt(summary.moments.variance()[m + 3])
-        stats["max_dr_mc"][i] = summary.quantiles.largest
-        stats["failed_mc"][i] = samples - n
+class _MonteCarlo:
+    """The Monte Carlo of a study: its options (``samples`` the count per pose, or the cap under a target error),
+    called on the poses."""
+
+    def __init__(self, samples: int, seed: int, k: float, limit: float | None, target_error: float | None,
+                 target: str, progress: Callable[[int, int], None] | None, notes: list[str]) -> None:
+        self.samples, self.seed, self.k, self.limit = samples, seed, k, limit
+        self.target_error, self.target = target_error, target
+        self.progress, self.notes = progress, notes
+        self.status = getattr(progress, "status", None)
+
+    def __call__(self, mech: Mechanism, frame: str, sources: Sequence[ErrorSource], Q: Floats, nominal: Floats,
+                 critical: int | None, labels: Sequence[str]
+                 ) -> tuple[dict[str, Floats], Floats, Floats, int, list[dict]]:
+        """Monte Carlo statistics per pose, the first :data:`KEPT_SAMPLES` Δr samples (m) and the variance shares
+        (%) at the critical pose (the given one, else the largest |Δr| at the coverage), that pose, and the
+        capability rows (with a limit). The samples are drawn, evaluated and summarized chunk by chunk
+        (:mod:`~mechatron.accuracy.streaming`): memory independent of ``samples``."""
+        samples, k, limit, notes = self.samples, self.k, self.limit, self.notes
+        parameters = [j for j, s in enumerate(sources) if s.kind == "parameter"]
+        names = [sources[j].name for j in parameters]
+        evaluator = perturbed_positions(mech, frame, names)
+        chunk = SLOW_CHUNK if isinstance(evaluator, PerturbedLoop) else CHUNK
+        if not evaluator.exact:
+            notes.append("some placements are not products of one-parameter exponentials: the Monte Carlo is exact "
+                         "in the coordinates and to first order in those parameters")
+        coverage = math.erf(k / math.sqrt(2))
+        stats = {c: np.empty(len(Q)) for c in ("dx_mc", "dy_mc", "dz_mc", "dr_mc", "mean_dr_mc", "std_dr_mc",
+                                               "p50_dr_mc", "p95_dr_mc", "p99_dr_mc", "max_dr_mc", "failed_mc")}
         if limit is not None:
-            stats["yield_mc"][i] = summary.within / n
-        chosen = i == critical if critical is not None else best is None or stats["dr_mc"][i] > stats["dr_mc"][best[0]]
-        if chosen:
-            best = (i, summary.kept[: summary.n_kept], summary.moments)
-    if bound > 0:
-        notes.append(f"more than {EXACT_SAMPLES:,} samples per pose: the Monte Carlo quantiles come from a "
-                     f"histogram of {BINS:,} bins, within {bound:.2g} m (half a bin)")
-    i, d, moments = best
-    return stats, d, variance_shares(moments, len(sources)), i
+            stats["yield_mc"] = np.empty(len(Q))
+        if self.target_error is not None:
+            stats["samples_mc"], stats["reached_error_mc"] = np.empty(len(Q)), np.empty(len(Q))
+        rows: list[dict] = []
+        best = None  # (pose, kept Δr samples, moments) of the critical pose
+        bound = 0.0
+        m = len(sources)
+        for i, q in enumerate(Q):
+            rng = np.random.default_rng(self.seed)  # the same samples at every pose (common random numbers)
+            summary = _Summary(samples, len(sources), limit)
+
+            def chunk_of(errors: Floats, q: Floats = q, i: int = i) -> Floats:
+                dl, dq = errors[:, parameters], _coordinate_errors(mech, sources, errors)
+                return evaluator.positions(q, dl, dq) - nominal[i]
+
+            drawn, error = self._run(summary, chunk_of, sources, rng, chunk, i, len(Q), labels[i])
+            n = summary.moments.n
+            if n < 2:
+                raise InputError(f"pose {i + 1}: the loops do not close for the sampled errors")
+            mean, std = summary.moments.mean[m:m + 3], np.sqrt(summary.moments.variance()[m:m + 3])
+            stats["dx_mc"][i], stats["dy_mc"][i], stats["dz_mc"][i] = np.abs(mean) + k * std
+            quantiles = summary.quantiles.quantiles([coverage, 0.5, 0.95, 0.99])
+            bound = max(bound, summary.quantiles.bound)
+            stats["dr_mc"][i], stats["p50_dr_mc"][i], stats["p95_dr_mc"][i], stats["p99_dr_mc"][i] = quantiles
+            stats["mean_dr_mc"][i] = summary.moments.mean[m + 3]
+            stats["std_dr_mc"][i] = math.sqrt(summary.moments.variance()[m + 3])
+            stats["max_dr_mc"][i] = summary.quantiles.largest
+            stats["failed_mc"][i] = drawn - n
+            if self.target_error is not None:
+                stats["samples_mc"][i], stats["reached_error_mc"][i] = drawn, error
+            if limit is not None:
+                stats["yield_mc"][i] = summary.within / n
+                rows += self._capability(summary, str(labels[i]), limit)
+            chosen = i == critical if critical is not None else \
+                best is None or stats["dr_mc"][i] > stats["dr_mc"][best[0]]
+            if chosen:
+                best = (i, summary.kept[: summary.n_kept], summary.moments)
+        if bound > 0:
+            notes.append(f"more than {EXACT_SAMPLES:,} samples per pose: the Monte Carlo quantiles come from a "
+                         f"histogram of {BINS:,} bins, within {bound:.2g} m (half a bin)")
+        if self.target_error is not None:
+            self._target_note(self.target_error, stats["reached_error_mc"])
+        i, d, moments = best
+        return stats, d, variance_shares(moments, len(sources)), i, rows
+
+    def _run(self, summary: _Summary, evaluate: Callable[[Floats], Floats], sources: Sequence[ErrorSource],
+             rng: np.random.Generator, chunk: int, pose: int, poses: int, label: str) -> tuple[int, float]:
+        """Draw and evaluate the samples of one pose into ``summary``, chunk by chunk: all ``samples``, or under a
+        target error until it is reached (:func:`~mechatron.accuracy.capability.next_count`). Returns the samples
+        drawn and the relative error reached (NaN without a target)."""
+        samples, target_error = self.samples, self.target_error
+        total = poses * samples
+        drawn, error = 0, math.nan
+        while drawn < samples:
+            if target_error is None:
+                count = min(chunk, samples - drawn)
+            else:
+                count = next_count(summary.moments.n, error, target_error, self.target, chunk, samples)
+                count = min(count, samples - drawn)
+            errors = draw_errors(sources, count, rng, self.k)
+            summary.add(errors, evaluate(errors))
+            drawn += count
+            if target_error is not None:
+                error = self._error(summary)
+                if self.status:
+                    self.status(f"pose {label}: relative error of {self._what()} {error:.3g} (target {target_error:g})")
+                if error <= target_error:
+                    break
+            if self.progress:
+                self.progress(pose * samples + drawn, total)
+        if self.progress and drawn < samples:
+            self.progress((pose + 1) * samples, total)
+        return drawn, error
+
+    def _what(self) -> str:
+        return "σ" if self.target == "sigma" else "the PPM"
+
+    def _error(self, summary: _Summary) -> float:
+        """The relative standard error of the target: of σ (every axis with a spread and |Δr|) or of the PPM."""
+        if self.target == "sigma":
+            h = summary.higher
+            return sigma_error(h.n, h.m2 / max(h.n, 1), h.m4 / max(h.n, 1))
+        return ppm_error(int(summary.over[-1]), summary.moments.n)
+
+    def _capability(self, summary: _Summary, label: str, limit: float) -> list[dict]:
+        """The capability rows of a pose against ``limit`` (m; :func:`~mechatron.accuracy.capability.capability_rows`)
+        with its label, samples and the relative errors of σ and of the PPM."""
+        h, n = summary.higher, summary.higher.n
+        extra = {"samples": n, "sigma_error": sigma_error(n, h.m2 / n, h.m4 / n),
+                 "ppm_error": ppm_error(int(summary.over[-1]), n)}
+        m2 = h.m2 / n
+        spread = m2 > 0
+        skewness = np.where(spread, h.m3 / n / np.where(spread, m2, 1.0) ** 1.5, 0.0)
+        kurtosis = np.where(spread, h.m4 / n / np.where(spread, m2, 1.0) ** 2, 3.0)
+        return [{"label": label, **row, **extra}
+                for row in capability_rows(limit, n, h.mean, h.std(), summary.over, skewness, kurtosis)]
+
+    def _target_note(self, target_error: float, reached: Floats) -> None:
+        """A remark naming the poses whose target error was not reached within the cap."""
+        from ..io.budget import option
+
+        missed = reached > target_error
+        if missed.any():
+            self.notes.append(f"the target relative error {target_error:g} of {self._what()} was not reached "
+                              f"at {int(missed.sum())} of {len(reached)} poses within the cap of "
+                              f"{option('samples')} {self.samples:,} (largest reached {np.nanmax(reached):.3g}): "
+                              f"raise {option('samples')}")
 
 
 class _Summary:
-    """The streamed statistics of one pose: moments of [errors, Δr, |Δr|], the |Δr| quantiles, the count within
-    the limit, and the first :data:`KEPT_SAMPLES` Δr samples (for the charts)."""
+    """The streamed statistics of one pose: moments of [errors, Δr, |Δr|], the central moments to the fourth of
+    [Δx, Δy, Δz, |Δr|], the |Δr| quantiles, the counts within the limit and beyond it (|Δx|, |Δy|, |Δz|, |Δr| >
+    L), and the first :data:`KEPT_SAMPLES` Δr samples (for the charts)."""
 
     def __init__(self, samples: int, n_errors: int, limit: float | None) -> None:
         self.moments = Moments(n_errors + 4)
+        self.higher = CentralMoments(len(AXES))
         self.quantiles = Quantiles(samples)
         self.limit, self.within = limit, 0
+        self.over = np.zeros(len(AXES), dtype=np.int64)
         self.kept, self.n_kept = np.empty((min(samples, KEPT_SAMPLES), 3)), 0
 
     def add(self, errors: Floats, delta: Floats) -> None:
@@ -329,10 +433,13 @@ class _Summary:
         if not good.all():
             errors, delta = errors[good], delta[good]
         r = np.linalg.norm(delta, axis=1)
-        self.moments.add(np.concatenate([errors, delta, r[:, None]], axis=1))
+        values = np.concatenate([delta, r[:, None]], axis=1)
+        self.moments.add(np.concatenate([errors, values], axis=1))
+        self.higher.add(values)
         self.quantiles.add(r)
         if self.limit is not None:
             self.within += int(np.count_nonzero(r <= self.limit))
+            self.over += np.count_nonzero(np.abs(values) > self.limit, axis=0)
         take = min(len(delta), len(self.kept) - self.n_kept)
         self.kept[self.n_kept:self.n_kept + take] = delta[:take]
         self.n_kept += take

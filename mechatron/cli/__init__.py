@@ -24,8 +24,8 @@ from .common import _join_negative_values, _Parser, outputs
 COMMANDS = {
     "list": "listing", "show": "show", "fk": "pose", "jacobian": "pose", "export-urdf": "export",
     "linkage": "linkage", "excavator": "excavator", "dynamics": "dynamics", "reduced": "reduced", "size": "size",
-    "tolerance": "tolerance", "structure": "structure", "study": "study", "optimize": "optimize",
-    "demo": "demo_command",
+    "tolerance": "tolerance", "calibrate": "calibrate", "structure": "structure", "study": "study",
+    "optimize": "optimize", "demo": "demo_command",
 }
 
 

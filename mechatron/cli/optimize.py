@@ -28,17 +28,16 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     if args.out and not parsed.is_design:
         raise InputError("-o writes the designs of a design file (docs/design_file.md); this is a named problem's "
                          "spec", field="-o")
-    from ..optimal.problem import DesignProblem
-    from ..optimal.result import DesignResult
     from ..optimal.solve import optimize
     from ..report.progress import progress_bar
 
     problem = read_problem(parsed)
-    bar = None if args.json or not isinstance(problem, DesignProblem) else \
-        progress_bar(f"{Path(args.spec).name} evaluations")
+    searched = problem.exact_model is None  # the study analyses: designs evaluated, with a progress line
+    bar = None if args.json or not searched else progress_bar(f"{Path(args.spec).name} evaluations")
     result = optimize(problem, workers=args.workers, scheduler=args.scheduler, progress=bar)
-    written, refused = [], []
-    if args.out and isinstance(problem, DesignProblem) and isinstance(result, DesignResult):
+    written: list[Path] = []
+    refused: list[InputError] = []
+    if args.out and searched:
         from ..optimal.write import write_optimum
 
         written, refused = write_optimum(problem, result, args.out)

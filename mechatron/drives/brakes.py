@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, TypeVar
 
 import numpy as np
 import pandas as pd
@@ -50,7 +50,6 @@ from numpy.typing import NDArray
 from .duty import JointDuty
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .checks import MotorArrays
     from .converters import Converters
 
 #: The motor catalog's brake columns (SI field names).
@@ -111,11 +110,30 @@ class BrakeData:
                      for name in BRAKE_COLUMNS))
 
 
-def with_brakes(motors: MotorArrays, duty: JointDuty) -> MotorArrays:
+class BrakedMotors(Protocol):
+    """What :func:`with_brakes` reads of a motor catalog's arrays (a dataclass,
+    :class:`~mechatron.drives.checks.MotorArrays`): the rotor inertia J_m (kg·m²), the mass (kg) and the brakes'."""
+
+    __dataclass_fields__: ClassVar[dict[str, Any]]
+
+    @property
+    def rotor(self) -> NDArray[np.float64]: ...
+
+    @property
+    def mass(self) -> NDArray[np.float64]: ...
+
+    @property
+    def brakes(self) -> BrakeData | None: ...
+
+
+Motors = TypeVar("Motors", bound=BrakedMotors)
+
+
+def with_brakes(motors: Motors, duty: JointDuty) -> Motors:
     """``motors`` for the joint of ``duty``: unchanged where the catalog has no brakes or the joint holds no load;
     else each motor with its brake's inertia and mass added (J_m + J_b, m + m_b) and the joint's τ_hold kept, so that
     the brake checks apply (:func:`brake_table`)."""
-    brakes = getattr(motors, "brakes", None)
+    brakes = motors.brakes
     if brakes is None:
         return motors
     hold = holding_torque(duty)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Literal, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 import pinocchio as pin
@@ -24,33 +24,12 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from .closures import ClosureSystem
+from .parameter import Parameter
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .dh import DHTable, Drive
+    from .dh_table import DHTable, Drive
 
-ParameterKind = Literal["length", "angle", "ratio"]
 T = TypeVar("T")
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A named geometric parameter of a mechanism.
-
-    Attributes:
-        name: Name used in overrides (``load("puma560", a2=0.45)``) and tolerance files.
-        value: Nominal value in SI units (m for lengths, rad for angles).
-        kind: ``"length"``, ``"angle"`` or ``"ratio"`` (dimensionless).
-        description: What the parameter is, e.g. "DH a of link 2 (common normal z1-z2)".
-    """
-
-    name: str
-    value: float
-    kind: ParameterKind
-    description: str = ""
-
-    @property
-    def unit(self) -> str:
-        return {"length": "m", "angle": "rad"}.get(self.kind, "-")
 
 
 def unknown_name_error(what: str, name: str, known: list[str], **where: Any) -> InputError:

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..quantities import unit_of
-from .problem import DesignProblem
+from .problem import Problem
 from .requirement import Requirement
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -24,7 +24,7 @@ class Evaluations:
     """Designs evaluated through the study's analyses, each once (kept by its variables' values), a batch at a time:
     in this process, or on a Dask client's workers (warmed once: the mechanism and the analyses' files loaded)."""
 
-    def __init__(self, spec: DesignProblem, client: Any = None, progress: Any = None):
+    def __init__(self, spec: Problem, client: Any = None, progress: Any = None):
         from ..studies.pace import Pace
 
         self.spec, self.client, self.progress = spec, client, progress

@@ -13,11 +13,11 @@ import numpy as np
 
 from .evaluations import Evaluations
 from .nlpsol import run_nlp
-from .problem import DesignProblem
+from .problem import Problem
 from .search import _batch, _middle, first_generation
 
 
-def solve_exact(spec: DesignProblem, evaluations: Evaluations) -> dict[str, Any]:
+def solve_exact(spec: Problem, evaluations: Evaluations) -> dict[str, Any]:
     """One objective with exact first derivatives by ipopt (the module docstring)."""
     import casadi as ca
 
@@ -45,7 +45,7 @@ def solve_exact(spec: DesignProblem, evaluations: Evaluations) -> dict[str, Any]
             "failed_trial_reasons": dict(sorted(model.failed.items(), key=lambda kv: -kv[1])[:3])}
 
 
-def _doe_start(spec: DesignProblem, evaluations: Evaluations) -> np.ndarray:
+def _doe_start(spec: Problem, evaluations: Evaluations) -> np.ndarray:
     """The exact route's start: ``[start]`` if given, else the best feasible design of a DOE of ``population``
     points (:func:`first_generation`; the middle of the box when none is feasible)."""
     rows = _batch(evaluations, first_generation(spec, evaluations))
@@ -62,7 +62,7 @@ class ExactModel:
     """The outputs and their exact gradients with respect to the variables at a design (the analyses'
     ``gradients``), each design once."""
 
-    def __init__(self, spec: DesignProblem):
+    def __init__(self, spec: Problem):
         from ..studies.analyses import gradient_analysis
         from ..studies.spec import study_mechanism
 
@@ -97,7 +97,7 @@ class ExactModel:
         return self._last[1], self._last[2]
 
 
-def exact_available(spec: DesignProblem) -> str | None:
+def exact_available(spec: Problem) -> str | None:
     """None when the exact route applies to ``spec``, else why not (in words)."""
     from ..studies.analyses import gradient_analysis
 

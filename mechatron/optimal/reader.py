@@ -1,7 +1,8 @@
 """The one reader of ``mechatron optimize``'s files: :func:`read_problem` parses a file once and reads it in the form
-it has — a design file (it has ``[analyses.NAME]`` tables, docs/design_file.md: a
-:class:`~mechatron.optimal.problem.DesignProblem`) or a named problem's spec (``[objective] type = ...``,
-docs/optimize_file.md: a :class:`~mechatron.optimal.problems.named.NamedProblem`)."""
+it has, each a :class:`~mechatron.optimal.problem.Problem` — a design file (it has ``[analyses.NAME]`` tables,
+docs/design_file.md: the study analyses as its model, :mod:`~mechatron.optimal.design_file`) or a named problem's
+spec (``[objective] type = ...``, docs/optimize_file.md: an exact CasADi model, :mod:`~mechatron.optimal.problems.
+named`)."""
 
 from __future__ import annotations
 
@@ -10,8 +11,9 @@ from pathlib import Path
 from typing import Any
 
 from ..io.schema import FieldReader
-from .problem import DesignProblem, design_problem
-from .problems.named import NamedProblem, named_problem
+from .design_file import design_problem
+from .problem import Problem
+from .problems.named import named_problem
 
 
 def is_design_file(data: Any) -> bool:
@@ -40,7 +42,7 @@ def parse_problem(path: str | Path) -> ProblemFile:
     return ProblemFile(Path(path), read_toml(Path(path)))
 
 
-def read_problem(source: ProblemFile | str | Path) -> DesignProblem | NamedProblem:
+def read_problem(source: ProblemFile | str | Path) -> Problem:
     """Read and check an optimisation file of either form (the module docstring), parsed once.
 
     Raises:

@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 
 from .evaluations import Evaluations
-from .problem import DesignProblem
+from .problem import Problem
 
 
-def first_generation(spec: DesignProblem, evaluations: Evaluations) -> np.ndarray:
+def first_generation(spec: Problem, evaluations: Evaluations) -> np.ndarray:
     """``population`` points of the unit cube: a Latin hypercube (the study's sampler, seeded), the start (when
     given: the middle of the box for the variables it leaves out) first."""
     from ..studies.designs import latin_hypercube
@@ -34,7 +34,7 @@ def _batch(evaluations: Evaluations, U: np.ndarray) -> list[dict[str, Any]]:
     return evaluations([evaluations.design(u) for u in np.atleast_2d(U)])
 
 
-def solve_global(spec: DesignProblem, evaluations: Evaluations) -> dict[str, Any]:
+def solve_global(spec: Problem, evaluations: Evaluations) -> dict[str, Any]:
     """One objective by differential evolution (the module docstring); returns the solver's summary."""
     from scipy.optimize import NonlinearConstraint, differential_evolution
 
@@ -56,15 +56,15 @@ def solve_global(spec: DesignProblem, evaluations: Evaluations) -> dict[str, Any
             "status": str(result.message), "iterations": int(result.nit)}
 
 
-def solve_pareto(spec: DesignProblem, evaluations: Evaluations) -> dict[str, Any]:
+def solve_pareto(spec: Problem, evaluations: Evaluations) -> dict[str, Any]:
     """Two objectives by NSGA-II (pymoo); the front is taken from every design evaluated (:func:`front_mask`)."""
     from pymoo.algorithms.moo.nsga2 import NSGA2
-    from pymoo.core.problem import Problem
+    from pymoo.core.problem import Problem as PymooProblem
     from pymoo.optimize import minimize
 
     count = sum((b.low is not None) + (b.high is not None) for b in spec.requirements)
 
-    class Design(Problem):
+    class Design(PymooProblem):
         def __init__(self) -> None:
             super().__init__(n_var=len(spec.variables), n_obj=2, n_ieq_constr=count, xl=0.0, xu=1.0)
 

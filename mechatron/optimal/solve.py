@@ -1,7 +1,7 @@
 r"""Optimal design, the one entry point (:func:`optimize`): a file read once (:func:`~mechatron.optimal.reader.
-read_problem`) — a design file (:class:`~mechatron.optimal.problem.DesignProblem`) or a named problem's spec
-(:class:`~mechatron.optimal.problems.named.NamedProblem`, solved by :func:`~mechatron.optimal.problems.named.
-optimize_named`) — and solved.
+read_problem`) into a :class:`~mechatron.optimal.problem.Problem` and solved by its model — a design file's study
+analyses by :func:`optimize_design`, a named problem's exact CasADi model by :func:`~mechatron.optimal.problems.named.
+optimize_named` — into an :class:`~mechatron.optimal.result.OptimalResult`.
 
 A design problem (:func:`optimize_design`) is solved with the study's own evaluation of a design
 (:class:`~mechatron.studies.evaluator.Evaluator`: the mechanism rebuilt with the design's parameters, every analysis
@@ -38,27 +38,28 @@ import numpy as np
 from ..errors import InputError
 from .evaluations import Evaluations
 from .exact import exact_available, solve_exact
-from .problem import DesignProblem
-from .problems.named import NamedProblem, optimize_named
+from .problem import Problem
+from .problems.named import optimize_named
 from .reader import ProblemFile, read_problem
-from .result import DesignResult, OptimalResult, front_mask
+from .result import OptimalResult, front_mask
 from .search import solve_global, solve_pareto
 
 
-def optimize(problem: DesignProblem | NamedProblem | ProblemFile | str | Path, workers: int = 1,
+def optimize(problem: Problem | ProblemFile | str | Path, workers: int = 1,
              scheduler: str | None = None, progress: Any = None) -> OptimalResult:
     """Solve an optimal-design problem — read from its file (:func:`~mechatron.optimal.reader.read_problem`) unless
-    given read — and return its result: a design problem's by :func:`optimize_design` (``workers``, ``scheduler``
-    and ``progress`` as there), a named problem's by :func:`~mechatron.optimal.problems.named.optimize_named`."""
-    if not isinstance(problem, (DesignProblem, NamedProblem)):
+    given read — and return its result: on the study analyses by :func:`optimize_design` (``workers``,
+    ``scheduler`` and ``progress`` as there), on an exact CasADi model (a named problem) by
+    :func:`~mechatron.optimal.problems.named.optimize_named`."""
+    if not isinstance(problem, Problem):
         problem = read_problem(problem)
-    if isinstance(problem, NamedProblem):
+    if problem.exact_model is not None:
         return optimize_named(problem)
     return optimize_design(problem, workers=workers, scheduler=scheduler, progress=progress)
 
 
-def optimize_design(spec: DesignProblem | str | Path, workers: int = 1, scheduler: str | None = None,
-                    progress: Any = None) -> DesignResult:
+def optimize_design(spec: Problem | str | Path, workers: int = 1, scheduler: str | None = None,
+                    progress: Any = None) -> OptimalResult:
     """Solve a design file (see the module docstring) in this process (``workers = 1``), on an embedded Dask
     cluster of ``workers`` processes, or on a running ``scheduler``."""
     import warnings
@@ -67,11 +68,10 @@ def optimize_design(spec: DesignProblem | str | Path, workers: int = 1, schedule
     from ..studies.analyses import worker_modules
     from ..studies.cluster import connect, disconnect, prestart
 
-    if not isinstance(spec, DesignProblem):
-        read = read_problem(spec)
-        if not isinstance(read, DesignProblem):
-            raise InputError("a named problem's spec, not a design file: optimize() solves it", file=read.path)
-        spec = read
+    if not isinstance(spec, Problem):
+        spec = read_problem(spec)
+    if spec.exact_model is not None:
+        raise InputError("a named problem's spec, not a design file: optimize() solves it", file=spec.file)
     workers = number("workers", workers, integer=True, minimum=1, maximum=1024)
     method = spec.method
     why = exact_available(spec)
@@ -97,7 +97,7 @@ def optimize_design(spec: DesignProblem | str | Path, workers: int = 1, schedule
     return _result(spec, evaluations, solver, notes)
 
 
-def _ended(spec: DesignProblem, evaluations: Evaluations, solver: dict[str, Any]) -> str:
+def _ended(spec: Problem, evaluations: Evaluations, solver: dict[str, Any]) -> str:
     """Why the search ended where it did, for the end of the progress line: stopped (an error), or the solver's
     status and, short of the budget, the designs evaluated of it (a design asked for again is not evaluated again;
     differential evolution runs whole generations; ipopt evaluates the analyses' exact derivatives, not designs)."""
@@ -108,7 +108,7 @@ def _ended(spec: DesignProblem, evaluations: Evaluations, solver: dict[str, Any]
     return f"ended: {solver['method'].split(' ')[0]}: {solver['status']}{short}"
 
 
-def _result(spec: DesignProblem, evaluations: Evaluations, solver: dict[str, Any], notes: list[str]) -> DesignResult:
+def _result(spec: Problem, evaluations: Evaluations, solver: dict[str, Any], notes: list[str]) -> OptimalResult:
     table = evaluations.table()
     rows = list(evaluations.rows.values())
     feasible = [i for i, r in enumerate(rows) if evaluations.feasible(r)]
@@ -133,15 +133,15 @@ def _result(spec: DesignProblem, evaluations: Evaluations, solver: dict[str, Any
         scores = [evaluations.objectives(rows[i])[0] for i in feasible]
         best = rows[feasible[int(np.argmin(scores))]]
     requirements = evaluations.requirements(best) if best is not None else []
-    return DesignResult(name=spec.name, mechanism=Path(spec.mechanism).name, objectives=spec.objectives,
-                        variables=tuple(evaluations.names), solver=solver, evaluations=table, best=best,
-                        requirements=requirements, front=front, notes=notes, units=_variable_units(spec))
+    return OptimalResult(name=spec.name, mechanism=Path(spec.mechanism).name, objectives=spec.objectives,
+                         variables=tuple(evaluations.names), solver=solver, evaluations=table, best=best,
+                         requirements=requirements, front=front, notes=notes, units=_units(spec))
 
 
-def _variable_units(spec: DesignProblem) -> dict[str, str]:
-    """The unit of each variable: its mechanism parameter's (m, rad), the registry's for an analysis option, "-"
-    for a list of names."""
-    from ..quantities import is_quantity, unit
+def _units(spec: Problem) -> dict[str, str]:
+    """The unit of each variable — its mechanism parameter's (m, rad), the registry's for an analysis option, "-"
+    for a list of names — and of each objective (:func:`~mechatron.quantities.unit_of`)."""
+    from ..quantities import is_quantity, unit, unit_of
     from ..studies.spec import study_mechanism
 
     mech = study_mechanism(spec.mechanism)
@@ -152,4 +152,4 @@ def _variable_units(spec: DesignProblem) -> dict[str, str]:
             out[p.name] = mech.parameters[p.name].unit
         else:
             out[p.name] = unit(option) if is_quantity(option) and p.values is None else "-"
-    return out
+    return {**out, **{name: unit_of(name) for name, _ in spec.objectives}}

@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from .problem import DesignProblem
-from .result import DesignResult
+from .problem import Problem
+from .result import OptimalResult
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -66,7 +66,7 @@ class DesignFile:
     error: InputError | None = None
 
 
-def draw_designs(spec: DesignProblem, designs: pd.DataFrame, folder: str | Path) -> list[DesignFile]:
+def draw_designs(spec: Problem, designs: pd.DataFrame, folder: str | Path) -> list[DesignFile]:
     """Each design (a row of the variables) as the text of a mechanism file ``folder/design-NNN``: a planar or
     spatial mechanism file for a mechanism read from one, with its parameters at the design's values, drawn at the
     pose the search evaluated (:func:`_redrawn`); else a URDF of the rebuilt mechanism. Analysis options among the
@@ -104,7 +104,7 @@ def draw_designs(spec: DesignProblem, designs: pd.DataFrame, folder: str | Path)
     return out
 
 
-def write_designs(spec: DesignProblem, designs: pd.DataFrame, folder: str | Path) -> list[Path]:
+def write_designs(spec: Problem, designs: pd.DataFrame, folder: str | Path) -> list[Path]:
     """Write the designs of :func:`draw_designs` in ``folder`` (created if needed), all of them or, where one does
     not read back, none (:class:`InputError` naming that file). Returns the paths written."""
     from ..io.output import output_directory, transaction, write_text
@@ -118,9 +118,9 @@ def write_designs(spec: DesignProblem, designs: pd.DataFrame, folder: str | Path
         return [write_text(f.path, f.text) for f in files]
 
 
-def write_optimum(spec: DesignProblem, result: DesignResult, folder: str | Path
+def write_optimum(spec: Problem, result: OptimalResult, folder: str | Path
                   ) -> tuple[list[Path], list[InputError]]:
-    """``mechatron optimize -o DIR``: first the results — ``optimum.json`` (:meth:`DesignResult.as_dict`) and
+    """``mechatron optimize -o DIR``: first the results — ``optimum.json`` (:meth:`OptimalResult.as_dict`) and
     ``designs.csv`` (every design evaluated: the variables, ``status``, ``reason``, the outputs, ``feasible``) —
     then the best design (two objectives: every design of the front) as mechanism files (:func:`draw_designs`),
     each one that reads back. The design files of an earlier run there (:func:`earlier_designs`) that this run

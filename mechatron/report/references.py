@@ -64,6 +64,15 @@ REFERENCES: dict[str, str] = {
                 "models\", Proceedings of ISUMA '90, the First International Symposium on Uncertainty Modeling and "
                 "Analysis, 1990: the test function f = sin x1 + a sin² x2 + b x3⁴ sin x1 of three uniforms on [−π, π], "
                 "whose Sobol indices have closed forms (the tests of the Sobol estimators).",
+    "Chase": 'K. W. Chase, W. H. Greenwood, B. G. Loosli, L. F. Hauglund, "Least cost tolerance allocation for '
+             'mechanical assemblies with automated process selection", Manufacturing Review 3(1), 1990, pp. 49–59: '
+             'the cost–tolerance curves of processes, among them the reciprocal power model C = A + B/T^k; the '
+             'closed-form least-cost allocation by Lagrange multipliers for a worst-case and for an RSS limit on '
+             "the assembly's tolerance stack (the tolerances in proportion to the cost coefficients and "
+             'sensitivities); and the selection of one process per dimension from its cost–tolerance table as a '
+             "discrete optimisation, by exhaustive search and faster searches compared with it. mechatron's limit "
+             "is the positioning error of a point at every pose with the exact sensitivities as the stack's "
+             'coefficients (ours).',
     "Pinocchio": "J. Carpentier et al., The Pinocchio C++ library, IEEE/SICE SII 2019: RNEA, ABA, CRBA and the "
                  "Lie-group operations (`integrate`, `difference`) every computation of mechatron rests on.",
     "vdStraete": 'H. J. van de Straete, P. Degezelle, J. De Schutter, R. J. M. Belmans, "Servo motor selection '
@@ -99,4 +108,28 @@ REFERENCES: dict[str, str] = {
                      "catalogs (THK and HIWIN ball screws, Bosch Rexroth cylinders): the critical speed and "
                      "buckling load of a screw shaft by its end fixing (80 % and 50 % allowed), the buckling length "
                      "K·L of a cylinder by its mountings (Euler's four cases).",
+    "ISO 22514-2": "ISO 22514-2:2017, Statistical methods in process management — Capability and performance "
+                   "— Part 2: Process capability and performance of time-dependent process models (the "
+                   "process performance indices Pp = (U − L)/(6σ̂) and Ppk = min(U − μ̂, μ̂ − L)/(3σ̂), and "
+                   "the one-sided Ppk of a characteristic with an upper limit only, (U − μ̂)/(3σ̂), σ̂ the "
+                   "overall standard deviation of the samples).",
+    "Bissell": "A. F. Bissell, \"How reliable is your capability index?\", Journal of the Royal Statistical "
+               "Society, Series C (Applied Statistics) 39, 1990, pp. 331–340: the approximate standard error "
+               "of the estimated Cpk of normal samples, √(1/(9n) + Cpk²/(2(n − 1))), and the interval Cpk ± "
+               "z·that.",
+    "Clopper": "C. J. Clopper, E. S. Pearson, \"The use of confidence or fiducial limits illustrated in the "
+               "case of the binomial\", Biometrika 26(4), 1934, pp. 404–413: the exact (\"Clopper–Pearson\") "
+               "interval of a binomial proportion, written with the beta distribution's quantiles.",
+    "Pebay": "P. Pébay, \"Formulas for robust, one-pass parallel computation of covariances and "
+             "arbitrary-order statistical moments\", Sandia report SAND2008-6212, 2008: the pairwise update of"
+             " the central sums of powers of two sets of samples merged (to the fourth order here).",
+    "Hollerbach": "J. M. Hollerbach, C. W. Wampler, \"The calibration index and taxonomy for robot kinematic "
+                  "calibration methods\", The International Journal of Robotics Research 15(6), 1996, pp. "
+                  "573–591: section 4 (the kinematic parameters and encoder offsets to identify, and why a "
+                  "set with redundant parameters is not identifiable), section 5 (identifiability from the "
+                  "rank and the singular values of the identification Jacobian, the condition number, "
+                  "parameter scaling).",
+    "Moré": "J. J. Moré, \"The Levenberg–Marquardt algorithm: implementation and theory\", in G. A. Watson "
+            "(ed.), Numerical Analysis, Lecture Notes in Mathematics 630, Springer, 1978, pp. 105–116: the "
+            "damped Gauss–Newton step and the scaling of the unknowns by the column norms of the Jacobian.",
 }

@@ -36,7 +36,7 @@ import numpy as np
 
 from ...errors import InputError
 from ..requirement import Requirement, Vector
-from .base import OptimalDesignProblem
+from .base import CasadiModel
 
 
 def _rot_z(ca: Any, angle: Any) -> Any:
@@ -80,7 +80,7 @@ def length_parameters(mech: Any) -> tuple[str, ...]:
     return tuple(name for name, p in mech.parameters.items() if p.kind == "length")
 
 
-class PositioningProblem(OptimalDesignProblem):
+class PositioningProblem(CasadiModel):
     """The positioning-error problem (see the module docstring).
 
     Args:

@@ -1,10 +1,11 @@
-r"""The optimal-design problem every worked case states, and what the solver needs of it.
+r"""The exact model of a named problem (:class:`CasadiModel`, the ``model`` of its
+:class:`~mechatron.optimal.problem.Problem`): what every worked case states, and what the solver needs of it.
 
 A design x (named parameters of a mechanism, SI units, within box bounds) fixes the geometry; the loop equations
 Φ(x, s) = 0 of the mechanism's positions of interest fix the states s (joint angles); the quantities q(x, s) (bucket
 angles, cylinder forces, lengths, cosines of transmission angles) are smooth CasADi SX expressions of both. The
 objective and the requirements are functions of the quantities. The same quantities are computed by the Pinocchio
-model (:meth:`OptimalDesignProblem.evaluate`: rebuild with ``mech.with_parameters``, assemble, evaluate), which is
+model (:meth:`CasadiModel.evaluate`: rebuild with ``mech.with_parameters``, assemble, evaluate), which is
 what checks the CasADi derivatives (central finite differences) and every requirement at the optimum.
 
 The derivative of q with respect to x along the loop equations is the implicit-function one:
@@ -21,8 +22,8 @@ import numpy as np
 from ..requirement import Requirement, Vector
 
 
-class OptimalDesignProblem(ABC):
-    """An optimal-design problem (see the module docstring). Subclasses set, in ``__init__``:
+class CasadiModel(ABC):
+    """The exact CasADi model of a named problem (see the module docstring). Subclasses set, in ``__init__``:
 
     - ``mech`` (the base mechanism), ``variables`` (names), ``lower``, ``upper``, ``start`` (arrays, SI units);
     - ``x`` (SX, the design), ``s`` (SX, the states; may be empty), ``loops`` (SX, Φ(x, s), one row per state);

@@ -30,7 +30,7 @@ from ...kinematics.geometry import acute_angle, point_positions
 from ...kinematics.loops import assemble
 from ...machines.bucket import BucketInputs, loop_equations
 from ..requirement import Requirement, Vector
-from .base import OptimalDesignProblem
+from .base import CasadiModel
 
 #: Design variables this problem knows, each a named parameter of the bucket mechanism (m).
 VARIABLES = ("c", "L2", "A_x", "A_y")
@@ -46,7 +46,7 @@ def _cos_line(u: Vector, v: Vector) -> float:
     return float(u @ v / (np.linalg.norm(u) * np.linalg.norm(v)))
 
 
-class BucketProblem(OptimalDesignProblem):
+class BucketProblem(CasadiModel):
     """The bucket problem (see the module docstring).
 
     Args:

@@ -3,8 +3,9 @@ r"""The named problems of ``mechatron optimize`` (docs/optimize_file.md): :func:
 
 A named problem's spec names a mechanism, the design variables (named parameters with bounds), the objective's
 ``type`` and the requirements. :func:`named_problem` checks it (from :func:`mechatron.optimal.reader.read_problem`,
-which parses the file once; one-line errors naming the file and field) and builds the problem, an
-:class:`~mechatron.optimal.problems.base.OptimalDesignProblem` (:mod:`~mechatron.optimal.problems.bucket`: the
+which parses the file once; one-line errors naming the file and field) and builds the problem, a
+:class:`~mechatron.optimal.problem.Problem` whose model is an exact one, an
+:class:`~mechatron.optimal.problems.base.CasadiModel` (:mod:`~mechatron.optimal.problems.bucket`: the
 bucket synthesis [Bucket] as the bucket angle error; :mod:`~mechatron.optimal.problems.shovel`: the front shovel
 [Shovel] with the least largest cylinder force; :mod:`~mechatron.optimal.problems.mass`: the same with the lightest
 catalog cylinders, a discrete choice solved by DOE-then-refine; :mod:`~mechatron.optimal.problems.accuracy`: a DH
@@ -12,9 +13,9 @@ arm's positioning error);
 :func:`optimize_named` solves it with ``casadi.nlpsol("ipopt")`` on SX expressions of the loop equations
 (:mod:`~mechatron.optimal.problems.nlp`), evaluates the optimum with the Pinocchio model, and compares it with the best
 of a DOE (scrambled Sobol or Latin-hypercube points of the same box; the best feasible point by the CasADi expressions
-that the Pinocchio model confirms, of the ten best). The :class:`~mechatron.optimal.problems.result.OptimumResult`
-follows the result protocol; ``mechatron optimize`` exits 1 when a requirement is not met at the optimum
-(:attr:`OptimumResult.feasible`).
+that the Pinocchio model confirms, of the ten best), an :class:`~mechatron.optimal.result.OptimalResult` in its
+comparison form; ``mechatron optimize`` exits 1 when a requirement is not met at the optimum
+(:attr:`OptimalResult.feasible`).
 
 The DOE has at most :data:`MAX_DOE_POINTS` points, a power of two for Sobol points (their balance needs it). A
 warning of a library while solving (NumPy, SciPy, CasADi) becomes one of the result's ``notes``, never a raw message
@@ -25,7 +26,6 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -33,9 +33,10 @@ import numpy as np
 
 from ...errors import InputError, MechatronError, MechatronWarning
 from ...io.schema import FieldReader
+from ..problem import Problem
 from ..requirement import Vector
-from .base import OptimalDesignProblem
-from .result import OptimumResult
+from ..result import OptimalResult
+from .base import CasadiModel
 
 DEG = math.pi / 180
 OBJECTIVES = ("bucket_angle_error", "max_cylinder_force", "positioning_error", "cylinder_mass")
@@ -44,42 +45,28 @@ WORKING_RANGE = ("max_digging_radius", "max_digging_height", "max_digging_depth"
 MAX_DOE_POINTS = 2 ** 20
 
 
-@dataclass
-class NamedProblem:
-    """A read named problem's spec: the problem and the options of the solver and of the DOE."""
-
-    name: str
-    problem: OptimalDesignProblem
-    path: Path | None = None
-    method: str = "ipopt"
-    max_iterations: int = 200
-    tolerance: float = 1e-12
-    doe_points: int = 256
-    doe_method: str = "sobol"
-    seed: int = 0
-
-
-def _mechanism(reader: Any, folder: Path) -> Any:
+def _mechanism(reader: Any, folder: Path) -> tuple[str, Any]:
     """The spec's mechanism, by the study files' loader and path rule (:func:`mechatron.studies.spec.read_mechanism`:
-    a file relative to the spec's folder, else a shipped name; loaded once per process and content)."""
+    a file relative to the spec's folder, else a shipped name; loaded once per process and content): its name or
+    absolute file, and the mechanism."""
     from ...studies.spec import read_mechanism as study_mechanism
 
-    return study_mechanism(reader, folder)[1]
+    return study_mechanism(reader, folder)
 
 
 def _bounds(reader: Any, mech: Any, known: tuple[str, ...]) -> dict[str, tuple[float, float]]:
-    """``[variables]`` read as a design file's (:func:`~mechatron.optimal.problem.read_variables`), only the
+    """``[variables]`` read as a design file's (:func:`~mechatron.optimal.design_file.read_variables`), only the
     named problem's ``known`` ones, as ranges: name → (lower, upper) (m)."""
-    from ..problem import read_variables
+    from ..design_file import read_variables
 
     variables = read_variables(reader, mech, {}, Path(reader.file or ".").resolve().parent, known)
     return {p.name: p.bounds for p in variables}
 
 
 def _start(reader: Any, bounds: dict[str, tuple[float, float]]) -> dict[str, float]:
-    """``[start]`` read as a design file's (:func:`~mechatron.optimal.problem.read_start`)."""
+    """``[start]`` read as a design file's (:func:`~mechatron.optimal.design_file.read_start`)."""
     from ...studies.spec import Range
-    from ..problem import read_start
+    from ..design_file import read_start
 
     return read_start(reader, [Range(name, low, high) for name, (low, high) in bounds.items()])
 
@@ -93,7 +80,7 @@ def _data_file(table: Any, key: str, folder: Path) -> Path:
 
 
 def _positioning_problem(reader: Any, objective: Any, requirements: Any, mech: Any, folder: Path
-                         ) -> OptimalDesignProblem:
+                         ) -> CasadiModel:
     """The positioning-error problem of a spec (:mod:`~mechatron.optimal.problems.accuracy`)."""
     from ...accuracy.sources import read_poses, read_tolerances
     from .accuracy import PositioningProblem, length_parameters
@@ -141,7 +128,7 @@ def _coordinates(mech: Any, values_deg: Vector) -> Vector:
     return np.array([v * DEG if link.is_revolute else v for v, link in zip(values_deg, mech.dh.links)])
 
 
-def named_problem(reader: FieldReader, path: Path) -> NamedProblem:
+def named_problem(reader: FieldReader, path: Path) -> Problem:
     """Check a parsed named problem's spec (``reader`` over the file at ``path``, docs/optimize_file.md) and build
     its problem.
 
@@ -155,7 +142,7 @@ def named_problem(reader: FieldReader, path: Path) -> NamedProblem:
 
     name = reader.string("name", path.stem)
     reader.string("description", "")
-    mech = _mechanism(reader, path.parent)
+    mechanism, mech = _mechanism(reader, path.parent)
     objective = reader.table("objective")
     kind = objective.string("type", choices=OBJECTIVES)
     requirements = reader.table("requirements", None) or FieldReader({}, file=path, path="requirements")
@@ -171,7 +158,7 @@ def named_problem(reader: FieldReader, path: Path) -> NamedProblem:
         positions = requirements.whole("positions", 9, minimum=2)
         objective.finish()
         requirements.finish()
-        problem: OptimalDesignProblem = BucketProblem(
+        problem: CasadiModel = BucketProblem(
             mech, bounds, start, min_transmission_angle=None if mu is None else mu * DEG, positions=positions,
             **options)
     elif kind == "positioning_error":
@@ -214,9 +201,16 @@ def named_problem(reader: FieldReader, path: Path) -> NamedProblem:
     doe = reader.table("doe", None) or FieldReader({}, file=path, path="doe")
     method = solver.string("method", "ipopt", choices=("ipopt", "sqpmethod"))
     doe_method = doe.string("method", "sobol", choices=("sobol", "lhs"))
-    spec = NamedProblem(name, problem, path, method, solver.whole("max_iterations", 200, minimum=1),
-                solver.number("tolerance", 1e-12, positive=True), _doe_points(doe, doe_method), doe_method,
-                doe.whole("seed", 0, minimum=0))
+    from ...studies.ranges import Range
+
+    spec = Problem(str(path), name, mechanism,
+                   tuple(Range(v, lo, hi) for v, lo, hi in zip(problem.variables, problem.lower, problem.upper)),
+                   ((problem.objective_name, "minimize"),), problem,
+                   start=dict(zip(problem.variables, (float(v) for v in problem.start))), method=method,
+                   max_iterations=solver.whole("max_iterations", 200, minimum=1),
+                   tolerance=solver.number("tolerance", 1e-12, positive=True),
+                   doe_points=_doe_points(doe, doe_method), doe_method=doe_method,
+                   seed=doe.whole("seed", 0, minimum=0))
     for table in (solver, doe, reader):
         table.finish()
     return spec
@@ -235,10 +229,10 @@ def _doe_points(doe: Any, method: str) -> int:
 
 
 # ------------------------------------------------------------------------------------------------ running
-def optimize_named(spec: NamedProblem | str | Path) -> OptimumResult:
+def optimize_named(spec: Problem | str | Path) -> OptimalResult:
     """Solve the spec's problem, evaluate the optimum and the start with the Pinocchio model and compare the optimum
     with the best feasible design of a DOE over the same box (see the module docstring)."""
-    if not isinstance(spec, NamedProblem):
+    if not isinstance(spec, Problem):
         from ...io.toml import read_toml
 
         path = Path(spec)
@@ -264,15 +258,17 @@ def _notes(caught: list[warnings.WarningMessage]) -> list[str]:
     return notes
 
 
-def _optimize(spec: NamedProblem) -> OptimumResult:
+def _optimize(spec: Problem) -> OptimalResult:
     """:func:`optimize_named` of a read spec."""
     from .nlp import design_of_experiments, judge_with_pinocchio, solve
 
-    p = spec.problem
+    p = spec.exact_model
+    if p is None:
+        raise InputError("a design file, not a named problem's spec: optimize() solves it", file=spec.file)
     try:
         start_objective, start_requirements = p.judge(p.evaluate(p.start))
     except MechatronError as exc:
-        raise InputError(f"the start design cannot be evaluated: {getattr(exc, 'message', exc)}", file=spec.path,
+        raise InputError(f"the start design cannot be evaluated: {getattr(exc, 'message', exc)}", file=spec.file,
                          field="start") from None
     from .mass import MassProblem, descend
 
@@ -283,7 +279,7 @@ def _optimize(spec: NamedProblem) -> OptimumResult:
             solution, steps = descend(p, doe, max_iterations=spec.max_iterations, tolerance=spec.tolerance,
                                       solver=spec.method)
         except InputError as exc:
-            raise InputError(exc.message, file=spec.path, field=exc.field) from None
+            raise InputError(exc.message, file=spec.file, field=exc.field) from None
     else:
         solution = solve(p, max_iterations=spec.max_iterations, tolerance=spec.tolerance, solver=spec.method)
     try:
@@ -305,11 +301,29 @@ def _optimize(spec: NamedProblem) -> OptimumResult:
         if all(r.met() for r in met):
             doe_best = {"x": doe.points[i], "objective": value, "met": True}
             break
-    return OptimumResult(name=spec.name, mechanism=p.mech.name, title=p.title, solver=spec.method,
-                         variables=p.variables, lower=p.lower, upper=p.upper, start=p.start, x=solution.x,
-                         objective_name=p.objective_name, objective_unit=p.objective_unit, objective=objective,
-                         requirements=requirements, start_objective=start_objective,
-                         start_requirements=start_requirements, success=solution.success, status=solution.status,
-                         iterations=solution.iterations, history=solution.history, model_difference=difference,
-                         doe_method=doe.method, doe_points=doe.points, doe_objective=doe.objective,
-                         doe_feasible=doe.feasible, doe_best=doe_best, catalog_choice=choice, descent=steps)
+    return _result(spec, p, solution, objective, requirements, difference, (start_objective, start_requirements),
+                   doe, doe_best, choice, steps)
+
+
+def _result(spec: Problem, p: CasadiModel, solution: Any, objective: float, requirements: list,
+            difference: float, start: tuple[float, list], doe: Any, doe_best: dict[str, Any] | None,
+            choice: list[dict[str, Any]] | None, steps: list[dict[str, Any]] | None) -> OptimalResult:
+    """The result in its comparison form: the optimum as ``best`` (each variable's value, m, and the objective's:
+    the Pinocchio model's), the DOE as ``evaluations`` (the variables, the objective, ``feasible``), the solver's
+    summary."""
+    import pandas as pd
+
+    best = {**dict(zip(p.variables, (float(v) for v in solution.x))), p.objective_name: objective}
+    table = pd.DataFrame(np.asarray(doe.points, dtype=float).reshape(-1, len(p.variables)), columns=list(p.variables))
+    table[p.objective_name] = doe.objective
+    table["feasible"] = np.asarray(doe.feasible, dtype=bool)
+    solver = {"name": spec.method, "success": solution.success, "status": solution.status,
+              "iterations": solution.iterations, "history": solution.history,
+              "casadi_pinocchio_difference": difference}
+    return OptimalResult(name=spec.name, mechanism=p.mech.name, variables=p.variables, objectives=spec.objectives,
+                         solver=solver, requirements=requirements, evaluations=table, best=best,
+                         units={**dict.fromkeys(p.variables, "m"), p.objective_name: p.objective_unit},
+                         title=p.title, lower=p.lower, upper=p.upper, start=p.start, start_objective=start[0],
+                         start_requirements=start[1], doe_method=doe.method, doe_points=doe.points,
+                         doe_objective=doe.objective, doe_feasible=doe.feasible, doe_best=doe_best,
+                         catalog_choice=choice, descent=steps)

@@ -1,4 +1,4 @@
-r"""Solving an :class:`~mechatron.optimal.problems.base.OptimalDesignProblem` and comparing it with a DOE.
+r"""Solving an :class:`~mechatron.optimal.problems.base.CasadiModel` and comparing it with a DOE.
 
 :func:`solve`: the NLP  min f(x, s, t)  s.t.  Φ(x, s) = 0,  g(x, s, t) ≥ 0,  x_lo ≤ x ≤ x_hi  with CasADi's
 ``nlpsol("ipopt")`` (:func:`~mechatron.optimal.nlpsol.run_nlp`; exact first and second derivatives of the SX
@@ -21,7 +21,7 @@ import numpy as np
 from ...studies.designs import sample_box
 from ..nlpsol import run_nlp
 from ..requirement import Requirement, Vector
-from .base import OptimalDesignProblem
+from .base import CasadiModel
 
 
 @dataclass
@@ -36,7 +36,7 @@ class Solution:
     history: list[float] = field(default_factory=list)
 
 
-def solve(problem: OptimalDesignProblem, *, max_iterations: int = 200, tolerance: float = 1e-12,
+def solve(problem: CasadiModel, *, max_iterations: int = 200, tolerance: float = 1e-12,
           solver: str = "ipopt") -> Solution:
     """Solve the problem's NLP (see the module docstring) from its ``start``."""
     import casadi as ca
@@ -79,7 +79,7 @@ class DesignOfExperiments:
 NDArrayBool = Any
 
 
-def design_of_experiments(problem: OptimalDesignProblem, points: int = 256, method: str = "sobol",
+def design_of_experiments(problem: CasadiModel, points: int = 256, method: str = "sobol",
                           seed: int = 0) -> DesignOfExperiments:
     """Judge ``points`` designs of the problem's box (see the module docstring)."""
     X = sample_box(problem.lower, problem.upper, points, method, seed)
@@ -99,7 +99,7 @@ def design_of_experiments(problem: OptimalDesignProblem, points: int = 256, meth
     return DesignOfExperiments(method, X, objective, feasible, reasons)
 
 
-def judge_with_pinocchio(problem: OptimalDesignProblem, x: Vector) -> tuple[float, list[Requirement], float]:
+def judge_with_pinocchio(problem: CasadiModel, x: Vector) -> tuple[float, list[Requirement], float]:
     """(objective, requirements, largest relative difference of the quantities between the CasADi expressions and
     the Pinocchio model) at the design x, the objective and requirements from the Pinocchio model."""
     q = problem.evaluate(x)

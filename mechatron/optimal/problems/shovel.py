@@ -47,7 +47,7 @@ from ...machines.excavator import (
     special_angles,
 )
 from ..requirement import Requirement, Vector
-from .base import OptimalDesignProblem
+from .base import CasadiModel
 
 DEG = math.pi / 180
 #: cylinder → (base, eye, pivot, joint index): the triangle each cylinder closes.
@@ -67,7 +67,7 @@ def _direction(u: Vector) -> float:
     return math.atan2(u[1], u[0])
 
 
-class ShovelProblem(OptimalDesignProblem):
+class ShovelProblem(CasadiModel):
     """The front-shovel problem (see the module docstring).
 
     Args:
