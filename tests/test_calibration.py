@@ -256,9 +256,25 @@ def test_cli_calibrates_the_example_and_writes_the_robot_file(capsys, tmp_path):
     assert csv.read_text().startswith("name,kind,unit,nominal,identified,change,std_error,identifiable")
 
 
+
+def test_cli_report_holds_the_unknowns_method_and_residuals(capsys, tmp_path):
+    """``--report``: one HTML file with the identified values (as the JSON gives them), the method and identifiability
+    sections and the residual chart."""
+    import re
+
+    report = tmp_path / "cal.html"
+    code, out, err = run(capsys, "calibrate", "puma560", "--measurements", EXAMPLE, "--parameters", "a2,d3",
+                         "--report", report, "--json")
+    assert code == 0, err
+    text, data = report.read_text(encoding="utf-8"), json.loads(out)
+    assert re.findall(r"<h2[^>]*>(.*?)</h2>", text)[1:] == ["Unknowns", "Method", "Identifiability", "Residuals"]
+    assert "Levenberg" in text and "<img" in text
+    identified = data["unknowns"][0]["identified"]
+    assert f"{identified:.6g}" in text  # the table shows 6 significant digits
+
 BAD = [
     ("fewer rows than unknowns", "q1,q2,q3,q4,q5,q6,x,y,z\n0,0,0,0,0,0,0.5,0,0.8\n", "a2,d3,d4,alpha2",
-     "m.csv: 1 measurements give 3 equations (3 per row) for 4 unknowns: give at least 2 rows"),
+     "m.csv: 1 measurement gives 3 equations (3 per row) for 4 unknowns: give at least 2 rows"),
     ("NaN position", "q1,q2,q3,q4,q5,q6,x,y,z\n0,0,0,0,0,0,nan,0,0.8\n0,1,0,0,0,0,0.5,0,0.8\n", "a2",
      "m.csv: row 2: field 'x': not a finite number: 'nan'"),
     ("unknown parameter", "q1,q2,q3,q4,q5,q6,x,y,z\n0,0,0,0,0,0,0.5,0,0.8\n0,1,0,0,0,0,0.5,0,0.8\n", "a2,a9",

@@ -220,3 +220,26 @@ def test_cli_json_is_the_result(capsys, files, monkeypatch, arm):
                                 methods=["mc"], samples=20000, seed=4, limit=LIMIT, target_error=0.05)
     assert data == json.loads(result.to_json())
     assert data["poses"][0]["capability"]["sigma_error"] <= 0.05
+
+
+def test_cli_writes_the_capability_table(files, monkeypatch, capsys):
+    """``--capability FILE``: the table of every pose and quantity, whose Ppk and PPM of Δx hold the normal closed
+    form within the written 95 % intervals."""
+    import pandas as pd
+
+    monkeypatch.chdir(files)
+    code = main([*BASE, "--method", "mc", "--limit-mm", "0.2", "--samples", "100000", "--seed", "2",
+                 "--capability", "cap.csv"])
+    assert code == 0 and "wrote cap.csv" in capsys.readouterr().out
+    table = pd.read_csv(files / "cap.csv").set_index("quantity")
+    assert list(table.index) == ["dx", "dy", "dz", "dr"]
+    want = truth()
+    for name in ("ppk", "ppm"):
+        assert table.loc["dx", f"{name}_low"] <= want["dx"][name] <= table.loc["dx", f"{name}_high"]
+    assert table.loc["dx", "std"] == pytest.approx(SIGMA, rel=0.02)  # m
+
+
+@pytest.mark.parametrize("extra", [["--method", "rss", "--limit-mm", "0.2"], ["--method", "mc"]])
+def test_cli_capability_needs_the_monte_carlo_and_a_limit(capfd, files, extra):
+    assert_clean_error([*BASE, *extra, "--capability", "cap.csv"], capfd, files, ["--capability"])
+    assert not (files / "cap.csv").exists()

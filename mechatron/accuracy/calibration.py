@@ -226,7 +226,8 @@ def calibrate(mech: Mechanism, measurements: Measurements | str | Path, paramete
     n = len(problem.names)
     per_row = problem.size // len(meas)
     if problem.size <= n:
-        raise InputError(f"{len(meas)} measurements give {problem.size} equations ({per_row} per row) for {n} "
+        rows = f"{len(meas)} measurement gives" if len(meas) == 1 else f"{len(meas)} measurements give"
+        raise InputError(f"{rows} {problem.size} equations ({per_row} per row) for {n} "
                          f"unknowns: give at least {n // per_row + 1} rows", file=meas.file)
     try:
         x, r, J, iterations, converged = _solve(problem, allow_unidentifiable, rcond, max_iterations, xtol)

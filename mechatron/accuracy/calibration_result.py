@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..model.mechanism import Mechanism
+    from ..report.html import Report
 
 #: Measurements the text report lists one by one.
 SHOWN_ROWS = 20
@@ -185,6 +186,33 @@ class CalibrationResult(Result):
         style_axes(ax, "measurement (label)", "position error |Δr| (mm)",
                    f"{self.mechanism}: calibration residuals at {self.frame}", legend=True)
         return figure
+
+    def report(self, mechanism: Mechanism | None = None, **context: object) -> Report:
+        """The HTML report (:mod:`mechatron.report.html`): the identified unknowns, the method, the
+        identifiability, the residuals of every measurement before and after, and their chart."""
+        import sys
+
+        import pandas as pd
+
+        from ..report.html import Chart, Method, Report, Section, Table, Text
+
+        ident = self.identifiability
+        stats = pd.DataFrame([{"quantity": key, "value": value} for key, value in self.statistics().items()])
+        solver = sys.modules.get("mechatron.accuracy.calibration")  # the module that ran it (it imports this one)
+        apart = "; ".join(" and ".join(group) for group in ident.groups) or "none"
+        summary = (f"rank {ident.rank} of {ident.unknowns}, condition number {ident.condition:.4g}; RMS position "
+                   f"error {self.statistics()['rms_position_before'] * 1e3:.4g} mm → "
+                   f"{self.statistics()['rms_position_after'] * 1e3:.4g} mm")
+        sections = [
+            Section("Unknowns", [Table(self.to_frame(), "nominal, identified, change and standard error (SI)",
+                                       "unknowns")]),
+            Section("Method", [Method(solver.__doc__)] if solver is not None and solver.__doc__ else []),
+            Section("Identifiability", [Text(summary), Text(f"cannot be told apart: {apart}")]),
+            Section("Residuals", [Table(stats, "RMS and largest error before and after (m, rad)", "statistics"),
+                                  Table(self.residuals(), "every measurement (m, rad)", "residuals"),
+                                  Chart(self.plot())]),
+        ]
+        return Report(str(self).splitlines()[0], sections, summary)
 
     def __str__(self) -> str:
         ident = self.identifiability

@@ -43,5 +43,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     output_option(p, "-o", "--output", kind=None,
                   help="write the calibrated mechanism: a robot file (.toml) of a DH arm, a mechanism file (.toml) "
                        "of a linkage, or a URDF (.urdf)")
-    add_output_options(p)
+    add_output_options(p, report=True)
     p.set_defaults(func=cmd_calibrate)

@@ -33,15 +33,19 @@ def cmd_tolerance(args: argparse.Namespace) -> int:
     poses, labels = _poses(args, mech)
     limit = args.limit_mm * 1e-3 if args.limit_mm is not None else None
     long_run = "mc" in methods and len(poses) * args.samples >= 200_000 and not args.json
+    if args.capability and ("mc" not in methods or limit is None):
+        raise InputError("--capability needs the Monte Carlo (--method mc or all) and a limit (--limit-mm)")
     result = analyse_tolerances(mech, sources, poses, labels, frame=args.frame, methods=methods, k=args.k,
-                       samples=args.samples, seed=args.seed, limit=limit, target_error=args.target_error,
-                       target=args.target,
-                       progress=progress_bar(f"{mech.name}: Monte Carlo") if long_run else None)
+                                samples=args.samples, seed=args.seed, limit=limit, target_error=args.target_error,
+                                target=args.target,
+                                progress=progress_bar(f"{mech.name}: Monte Carlo") if long_run else None)
     written = []
-    if args.contributions:
-        from ..io.output import write_table
+    from ..io.output import write_table
 
+    if args.contributions:
         written.append(write_table(result.contributions, args.contributions))
+    if args.capability:
+        written.append(write_table(result.capability, args.capability))
     if args.plots:
         written += result.save_charts(args.plots)
     emit(result, args, written, mechanism=mech)
@@ -79,7 +83,7 @@ def _allocate(args: argparse.Namespace, mech: Mechanism) -> int:
         raise InputError(f"--allocate bounds --method rss or worst, not {method} (every allocation is verified by "
                          "a Monte Carlo of the full nonlinear model)")
     for option, value in (("--contributions", args.contributions), ("--plots", args.plots),
-                          ("--target-error", getattr(args, "target_error", None))):
+                          ("--capability", args.capability), ("--target-error", getattr(args, "target_error", None))):
         if value:
             raise InputError(f"{option} goes with a tolerance study, not with --allocate (its outputs: --csv, "
                              "--plot, --json, --allocated)")
@@ -133,6 +137,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     output_option(p, "--allocated", kind="table",
                   help="with --allocate: write the allocated tolerances as a tolerances CSV")
     output_option(p, "--contributions", kind="table", help="write the contributions table (CSV)")
+    output_option(p, "--capability", kind="table",
+                  help="with --method mc|all and --limit-mm: write the process capability table (CSV): per pose and "
+                       "quantity Pp, Ppk, PPM with their 95 %% intervals")
     output_option(p, "--plots", kind="folder", metavar="DIR",
                   help="write the error map, Monte Carlo and contribution charts as DIR/<robot>_<chart>.png (the "
                        "charts of an earlier run that this one does not draw are removed)")
