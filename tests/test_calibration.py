@@ -350,3 +350,46 @@ def test_a_urdf_arm_with_a_continuous_joint_calibrates_and_writes_its_urdf(tmp_p
         assert np.allclose(mechatron.frame_placement(back, back.configuration(q), "tool").translation, p, atol=1e-10)
     with pytest.raises(InputError, match="write it as .urdf"):
         result.write(tmp_path / "turret_built.toml")
+
+
+FULL = ["a2", "d3", "d4", "alpha2", "alpha3", "q2", "q3"]  # the offsets the example was simulated with
+
+
+def test_residuals_consistent_with_their_sigma_give_no_note():
+    """The shipped example identifies every simulated offset: σ̂ ≈ 1 and the χ² test accepts it."""
+    result = calibrate(mechatron.load("puma560"), EXAMPLE, FULL)
+    assert result.notes == () and 0.7 < result.sigma < 1.3
+
+
+def test_a_missing_error_source_fails_the_chi2_test():
+    """Without the twist and encoder offsets the residuals are far above the σ of the file: a note says so."""
+    result = calibrate(mechatron.load("puma560"), EXAMPLE, ["a2", "d3", "d4"])
+    assert result.sigma > 5 and len(result.notes) == 1 and "χ² test rejects" in result.notes[0]
+    assert result.as_dict()["notes"] == list(result.notes) and "note: the residuals" in str(result)
+
+
+def test_an_outlier_is_named(tmp_path):
+    """One measurement 3 mm off (150 σ) in x: the note names it by label and row."""
+    lines = EXAMPLE.read_text(encoding="utf-8").splitlines()
+    header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    columns = lines[header].split(",")
+    target = header + 17  # the 17th measurement
+    cells = lines[target].split(",")
+    label = cells[0]
+    cells[columns.index("x_mm")] = f"{float(cells[columns.index('x_mm')]) + 3.0:.6f}"
+    lines[target] = ",".join(cells)
+    path = tmp_path / "outlier.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    result = calibrate(mechatron.load("puma560"), path, FULL)
+    assert len(result.notes) == 1 and f"measurement {label} (row {target + 1})" in result.notes[0]
+
+
+def test_readings_outside_the_joint_limits_warn(tmp_path):
+    puma = mechatron.load("puma560")
+    upper = puma.model.upperPositionLimit[0]
+    path = tmp_path / "m.csv"
+    rows = [f"{q1},0,0,0,0,0,0.5,0,0.8" for q1 in (0.0, 0.3, upper + 0.5)]
+    path.write_text("label,q1,q2,q3,q4,q5,q6,x,y,z\n" + "\n".join(f"p{i + 1}," + r for i, r in enumerate(rows)),
+                    encoding="utf-8")
+    with pytest.warns(mechatron.LimitWarning, match="measurement p3"):
+        calibrate(puma, path, ["a2"])

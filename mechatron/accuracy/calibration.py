@@ -82,6 +82,10 @@ class CalibrationProblem:
         changes = {name: nominal[name] + float(dx) for name, dx in zip(self.parameters, x)}
         return self.mech.with_parameters(changes) if changes else self.mech
 
+    def configurations(self, x: Floats) -> Floats:
+        """The configurations q (N, nq) of the measured rows with the unknowns ``x``."""
+        return self._configurations(self.mechanism(x), x)
+
     def _configurations(self, mech: Mechanism, x: Floats) -> Floats:
         from .study import configurations
 
@@ -229,6 +233,8 @@ def calibrate(mech: Mechanism, measurements: Measurements | str | Path, paramete
         rows = f"{len(meas)} measurement gives" if len(meas) == 1 else f"{len(meas)} measurements give"
         raise InputError(f"{rows} {problem.size} equations ({per_row} per row) for {n} "
                          f"unknowns: give at least {n // per_row + 1} rows", file=meas.file)
+    mech.warn_limits(problem.configurations(np.zeros(n)), "measurements",
+                     [f"measurement {label}" for label in meas.labels])
     try:
         x, r, J, iterations, converged = _solve(problem, allow_unidentifiable, rcond, max_iterations, xtol)
     except (UnreachableError, SingularityError) as exc:
@@ -298,4 +304,30 @@ def _result(problem: CalibrationProblem, x: Floats, r: Floats, J: Floats, iterat
                                 start + float(x[k]), error))
     return CalibrationResult(problem.mech.name, problem.frame, tuple(unknowns), found, before, after,
                              problem.measurements, float(np.sqrt(sigma2)), iterations, converged,
-                             problem.mechanism(x))
+                             problem.mechanism(x), _notes(problem, r, sigma2, dof, converged, iterations))
+
+
+#: The significance of the χ² test of the residuals against the σ given: below it they are taken as inconsistent.
+CHI2_SIGNIFICANCE = 1e-3
+
+
+def _notes(problem: CalibrationProblem, r: Floats, sigma2: float, dof: int, converged: bool,
+           iterations: int) -> tuple[str, ...]:
+    """What a reader of the calibration should know: no convergence; with σ given, weighted residuals that a χ²
+    test rejects (RSS/(m − n) = σ̂² against χ²_{m−n}/(m − n) at :data:`CHI2_SIGNIFICANCE`), with the measurement
+    whose weighted residual is largest (a possible outlier)."""
+    from scipy import stats
+
+    meas, notes = problem.measurements, []
+    if not converged:
+        notes.append(f"Levenberg–Marquardt stopped after {iterations} iterations without converging: the values "
+                     "are the best reached")
+    if meas.weighted and dof > 0 and stats.chi2.sf(sigma2 * dof, dof) < CHI2_SIGNIFICANCE:
+        per_row = np.linalg.norm(r.reshape(len(meas), -1), axis=1)
+        worst = int(np.argmax(per_row))
+        where = f" (row {meas.rows[worst]})" if meas.rows else ""
+        notes.append(f"the residuals are {np.sqrt(sigma2):.3g} times the σ given (a χ² test rejects them at "
+                     f"{CHI2_SIGNIFICANCE:g}): the σ are too small, the model lacks an error source, or a measurement "
+                     f"is off — the largest weighted residual is that of measurement {meas.labels[worst]}{where}, "
+                     f"{per_row[worst]:.3g} σ")
+    return tuple(notes)

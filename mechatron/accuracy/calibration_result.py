@@ -91,6 +91,8 @@ class CalibrationResult(Result):
         converged: Whether the step fell below its tolerance within the iterations allowed.
         calibrated: The mechanism with the identified parameters (joint offsets are not parameters: see
             :meth:`offsets`; :meth:`write` puts them into the file where the format can hold them).
+        notes: What the fit says of itself: no convergence, residuals inconsistent with the σ given (with the
+            largest one's measurement).
     """
 
     mechanism: str
@@ -104,6 +106,7 @@ class CalibrationResult(Result):
     iterations: int
     converged: bool
     calibrated: Mechanism
+    notes: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------------------------------ values
     def values(self) -> dict[str, float]:
@@ -170,7 +173,7 @@ class CalibrationResult(Result):
                                     "cannot_be_told_apart": [list(g) for g in ident.groups],
                                     "singular_values": list(ident.singular_values)},
                 "statistics": self.statistics(), "sigma": self.sigma, "iterations": self.iterations,
-                "converged": self.converged, "residuals": frame_records(self.residuals())}
+                "converged": self.converged, "notes": list(self.notes), "residuals": frame_records(self.residuals())}
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """The position error |Δr| (mm) of every measurement with the nominal and with the calibrated model."""
@@ -207,7 +210,8 @@ class CalibrationResult(Result):
             Section("Unknowns", [Table(self.to_frame(), "nominal, identified, change and standard error (SI)",
                                        "unknowns")]),
             Section("Method", [Method(solver.__doc__)] if solver is not None and solver.__doc__ else []),
-            Section("Identifiability", [Text(summary), Text(f"cannot be told apart: {apart}")]),
+            Section("Identifiability", [Text(summary), Text(f"cannot be told apart: {apart}"),
+                                        *(Text(f"note: {note}") for note in self.notes)]),
             Section("Residuals", [Table(stats, "RMS and largest error before and after (m, rad)", "statistics"),
                                   Table(self.residuals(), "every measurement (m, rad)", "residuals"),
                                   Chart(self.plot())]),
@@ -254,6 +258,7 @@ class CalibrationResult(Result):
                   for label, before, after in zip(shown["label"], shown["dr_before"], shown["dr_after"])]
         if len(table) > SHOWN_ROWS:
             lines.append(f"  … {len(table) - SHOWN_ROWS} more (--csv or --json for all)")
+        lines += [f"note: {note}" for note in self.notes]
         return "\n".join(lines)
 
     # ------------------------------------------------------------------------------------------ the file

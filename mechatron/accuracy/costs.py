@@ -158,9 +158,9 @@ def _continuous(row: dict, source: ErrorSource, columns: Sequence[str], path: Pa
         raise InputError(f"give tolerance_min and tolerance_max in one unit (the cost's t is in it), not {low_unit!r} "
                          f"and {high_unit!r}", file=path, row=line, field=high_column)
     if not low < high:
-        raise InputError(f"tolerance_max must be above tolerance_min ({high / units[low_unit]:g} <= "
-                         f"{low / units[low_unit]:g} {low_unit or source.unit})", file=path, row=line,
-                         field=high_column)
+        unit = low_unit or source.unit
+        raise InputError(f"tolerance_max {high / units[low_unit]:g} {unit} must be above tolerance_min "
+                         f"{low / units[low_unit]:g} {unit}", file=path, row=line, field=high_column)
     model = ContinuousCost(a, b, k, low_unit, units[low_unit], low, high)
     try:
         tightest = model.cost(low)

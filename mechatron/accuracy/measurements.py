@@ -42,7 +42,8 @@ class Measurements:
     """Measured poses of a machine: ``coordinates`` (N, n_c) as the encoders read them (rad, m; in
     :func:`~mechatron.accuracy.sensitivity.coordinate_names` order), ``positions`` (N, 3) (m, world frame),
     ``rotations`` (N, 3, 3) or None, the standard deviations ``sigma`` (N,) (m) and ``sigma_rot`` (N,) (rad) that
-    weight the rows, a ``label`` per row, the file's ``rows`` (line numbers) and ``file``."""
+    weight the rows, a ``label`` per row, the file's ``rows`` (line numbers) and ``file``; ``weighted`` when the
+    σ of the positions are given (not the default σ of :data:`DEFAULT_SIGMA`)."""
 
     coordinates: Floats
     positions: Floats
@@ -52,6 +53,7 @@ class Measurements:
     labels: tuple[str, ...]
     rows: tuple[int, ...] = ()
     file: str | None = None
+    weighted: bool = False  # the file gives the σ of its positions (a sigma column): σ̂ is then tested against 1
 
     def __post_init__(self) -> None:
         n = len(self.positions)
@@ -162,7 +164,7 @@ def read_measurements(path: str | Path, mech: Mechanism) -> Measurements:
         check_input_ranges(mech, names, coordinates, file=path, rows=[int(i) for i in frame.index],
                            fields=[lookup[n][0] for n in names], labels=list(labels))
     return Measurements(coordinates, positions, rotations, sigma, sigma_rot, labels,
-                        tuple(int(i) for i in frame.index), str(path))
+                        tuple(int(i) for i in frame.index), str(path), weighted=bool(quantities["sigma"]))
 
 
 #: The σ of a row's position (m) when a file gives none: 1 mm, so that σ̂ reads as the residuals' spread in mm.
