@@ -110,3 +110,108 @@ def test_closed_loop_balance(tmp_path):
     assert mech.model.joints[j].shortname() == "JointModelPX"
     axis = data.oMi[j].rotation @ np.array([1.0, 0.0, 0.0])  # the cylinder's axis in world axes
     assert abs(result.wrenches[0, lift, :3] @ axis) == pytest.approx(abs(force), rel=1e-9)
+
+
+# ------------------------------------------------------------------ all samples at once (batched_reactions)
+def _random_states(mech, rng, count):
+    """``count`` random states of a closed loop: positions along its generic task, random input rates (±1) and
+    accelerations (±5) with the dependent coordinates' by the loops' velocity and acceleration analysis."""
+    from mechatron.dynamics.task import generic_task
+    from mechatron.dynamics.trajectory import closed_loop_states
+    from mechatron.kinematics.loops import joint_acceleration, joint_velocity
+
+    Q = closed_loop_states(mech, generic_task(mech).trajectory)[0]
+    Q = Q[rng.choice(len(Q), count, replace=False)]
+    V = np.array([joint_velocity(mech, q, {n: rng.uniform(-1, 1) for n in mech.actuated}) for q in Q])
+    A = np.array([joint_acceleration(mech, q, v, {n: rng.uniform(-5, 5) for n in mech.actuated})
+                  for q, v in zip(Q, V)])
+    return Q, V, A
+
+
+def _state_by_state(mech, Q, V, A, loads):
+    """The reference: the constrained inverse dynamics and one Pinocchio RNEA pass (data.f) per state."""
+    from mechatron.dynamics import constrained as cd
+
+    states = [cd.reactions(mech, q, v, a, cd.inverse(mech, q, v, a, loads)[1], loads) for q, v, a in zip(Q, V, A)]
+    return np.array([s.joints for s in states]), {k: np.array([s.pins[k] for s in states]) for k in states[0].pins}
+
+
+@pytest.mark.parametrize(("name", "loads"), [
+    ("robots/six_bar_bucket.toml", [("K", [2000.0, -5000.0, 0.0])]),
+    ("crank_slider", [("C@slider", [1000.0, 0.0, 0.0], [0.0, 0.0, 30.0])]),
+    ("examples/data/scissor_lift.toml", None),  # pins and two sliders
+    ("front_shovel", [("K", [1.0e4, -2.0e4, 0.0])]),
+])
+def test_batched_matches_state_by_state(name, loads, rng):
+    """At random states the batched Newton–Euler balance gives Pinocchio's RNEA wrenches and the per-state
+    multipliers to rounding (relative 1e-9 of the largest value)."""
+    from mechatron.dynamics.batched_reactions import reactions_at
+
+    mech = mechatron.load(str(ROOT / name) if "/" in name else name)
+    Q, V, A = _random_states(mech, rng, 40)
+    wrenches, pins = reactions_at(mech, Q, V, A, loads)
+    reference, reference_pins = _state_by_state(mech, Q, V, A, loads)
+    np.testing.assert_allclose(wrenches, reference, rtol=0, atol=1e-9 * np.abs(reference).max())
+    assert list(pins) == list(reference_pins)
+    scale = max(np.abs(p).max() for p in reference_pins.values())
+    for key, value in reference_pins.items():
+        np.testing.assert_allclose(pins[key], value, rtol=0, atol=1e-9 * scale)
+
+
+@pytest.fixture()
+def crank_states():
+    from mechatron.kinematics.loops import assemble, joint_acceleration, joint_velocity
+
+    mech = mechatron.load("crank_slider")
+    rows = []
+    for angle, rate, accel in [(30, 10.0, 0.0), (75, -3.0, 40.0)] * 3:
+        q = assemble(mech, {"q1": math.radians(angle)})
+        v = joint_velocity(mech, q, {"q1": rate})
+        rows.append((q, v, joint_acceleration(mech, q, v, {"q1": accel})))
+    return (mech, *(np.array(x) for x in zip(*rows)))
+
+
+def test_batched_crank_slider_free_body(crank_states):
+    """The crank-slider of tests/test_closed_loop_dynamics.py worked by hand ([Egorov, 5.6]: l1 = 0.1, L2 = 0.4 m,
+    q1 = 30°, q̇1 = 10 rad/s, q̈1 = 0, 1000 N on the slider): the pin force on the rod at C, the crank's force on
+    the rod at B, the guide's force on the slider and the crank's moment at A — at every one of several copies of
+    the state, batched with other states."""
+    from mechatron.dynamics.batched_reactions import reactions_at
+
+    mech, Q, V, A = crank_states
+    wrenches, pins = reactions_at(mech, Q, V, A, [("C@slider", [1000.0, 0.0, 0.0])])
+    hand = slice(0, None, 2)  # the even rows are the hand-worked state
+    np.testing.assert_allclose(pins["C=C@slider"][hand], np.tile([1009.9501, -120.2979], (3, 1)), atol=1e-4)
+    np.testing.assert_allclose(wrenches[hand, 1, :2], np.tile([-1028.5605, 134.9179], (3, 1)), atol=1e-4)
+    np.testing.assert_allclose(wrenches[hand, 2, 1], -110.4879, atol=1e-4)
+    np.testing.assert_allclose(wrenches[hand, 0, 5], 63.112255, atol=1e-6)
+
+
+def test_joint_reactions_closed_loop_trajectory():
+    """Along a move of the six-bar bucket (its cylinder 1.1 → 2.0 m) with a payload at K, the result equals the
+    state-by-state reference at every sample."""
+    from mechatron.dynamics.trajectory import closed_loop_states
+
+    mech = with_payload(mechatron.load("six_bar_bucket"), 800.0, "K")
+    motion = cycle(None, [[1.1], [2.0]], vmax=0.2, amax=0.5, dt=0.02)
+    result = joint_reactions(mech, motion)
+    reference, pins = _state_by_state(mech, *closed_loop_states(mech, motion), None)
+    np.testing.assert_allclose(result.wrenches, reference, rtol=0, atol=1e-9 * np.abs(reference).max())
+    for key, value in pins.items():
+        np.testing.assert_allclose(result.pins[key], value, rtol=0, atol=1e-9 * np.abs(value).max())
+    check_result(result)
+
+
+def test_serial_batched_matches_rnea(rng):
+    """A PUMA 560 with a force and a moment at its tool, at random states: Pinocchio's RNEA wrenches (data.f)."""
+    from mechatron.dynamics.batched_reactions import reactions_at
+    from mechatron.dynamics.tree import transmitted_wrenches
+
+    mech = mechatron.load("puma560")
+    Q = rng.uniform(-2, 2, (30, mech.nq))
+    V, A = rng.uniform(-2, 2, (30, mech.nv)), rng.uniform(-8, 8, (30, mech.nv))
+    loads = [("tool", [10.0, -20.0, 5.0], [1.0, 2.0, 3.0])]
+    wrenches, pins = reactions_at(mech, Q, V, A, loads)
+    reference = np.array([transmitted_wrenches(mech, q, v, a, loads) for q, v, a in zip(Q, V, A)])
+    np.testing.assert_allclose(wrenches, reference, rtol=0, atol=1e-9 * np.abs(reference).max())
+    assert pins == {}

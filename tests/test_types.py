@@ -27,7 +27,7 @@ PUBLIC = ("mechatron/__init__.py", "mechatron/_exports.py", "mechatron/errors.py
           "mechatron/drives/sizing.py", "mechatron/drives/options.py", "mechatron/optimal/")
 
 #: mypy's errors in the whole package at most (all in the layers outside PUBLIC). Lower it when the count falls.
-MOST_ERRORS = 452
+MOST_ERRORS = 449
 
 #: The packages whose names load on first use (PEP 562): each re-imports them under ``if TYPE_CHECKING:``.
 LAZY_PACKAGES = ("mechatron", "mechatron.kinematics", "mechatron.dynamics")

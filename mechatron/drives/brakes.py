@@ -12,7 +12,9 @@ and every sample of a dwell — is not zero: τ_hold = max |τ_s| over those sam
 with τ_hold = 0 needs no brake, and its motors are sized as without brakes.
 
 **The brake is an option of the motor.** On a joint that needs one, the brake's inertia and mass are added to the
-motor's (J_m + J_b, m + m_b) wherever those count: every check, the objective, the mass loading the mechanism.
+motor's (J_m + J_b, m + m_b) wherever those count: every check (the acceleration torque (J_m + J_b + J_c) u ω̇,
+the inertia ratio (J_L/u² + J_c)/(J_m + J_b), the thermal and the electrical ones), the objective, the ``time``
+objective's pace (the joint's and the whole task's), the mass loading the mechanism.
 
 **Checks** (u the ratio, η the converter's efficiency, J_c its motor-side inertia, J_L the largest load inertia, the
 diagonal of the mass matrix at the worst pose, ω_max the task's largest joint speed):
@@ -24,6 +26,9 @@ diagonal of the mass matrix at the worst pose, ω_max the task's largest joint s
   lost to wear, heat and contamination and for a load heavier than planned).
   A motor without a brake (T_h missing) has the limit :data:`NO_BRAKE` (~0): it cannot drive such a joint, and
   this check is its one failure (the energy checks below do not apply to it: there is no brake to take the energy).
+  That failure is a yes or no, not a degree: the closest pairs of a joint that such motors leave infeasible are
+  ranked as if each had a brake that holds (:func:`assumed`; ours): first those that would then pass every check,
+  by the objective, then the others by their worst load factor; the report says which motors have no brake.
 - brake stop energy: an emergency stop from ω_max with the brake's torque (taken as T_h: the dynamic torque is
   about the holding one) against the kinetic energy at the motor side and gravity going on pulling. The kinetic
   energy E_k = ½ J_tot ω_m², J_tot = J_m + J_b + J_c + J_L/u², ω_m = u ω_max; over the braking angle θ_m (motor
@@ -61,8 +66,8 @@ BRAKE_UNITS = ("N·m", "J", "J")
 BRAKE_FACTOR = 2.0
 #: The default emergency stops per hour of the energy-per-hour check (our default).
 STOPS_PER_HOUR = 1.0
-#: The holding torque (N·m) of a motor without a brake: a brake of no torque, finite so that the closest pairs of an
-#: infeasible joint are still ranked; a load factor above :data:`NO_BRAKE_FACTOR` says "no brake".
+#: The holding torque (N·m) of a motor without a brake: a brake of no torque, finite so that every load factor is a
+#: number; a load factor above :data:`NO_BRAKE_FACTOR` says "no brake" (the closest pairs are ranked without it).
 NO_BRAKE = 1e-9
 NO_BRAKE_FACTOR = 1e6
 #: A static torque at rest below this fraction of the joint's largest |τ| is rounding: no load held.
@@ -92,7 +97,9 @@ def holding_torque(duty: JointDuty) -> float:
 @dataclass(frozen=True)
 class BrakeData:
     """The brake columns of a motor catalog as arrays (SI; NaN where a motor lacks the value; T_h NaN: no brake),
-    and ``hold``, the static torque τ_hold of the joint being sized (0: none needed, the checks do not apply)."""
+    and ``hold``, the static torque τ_hold of the joint being sized (0: none needed, the checks do not apply).
+    ``assumed``: a motor without a brake is checked as if it had one that holds (its holding torque unchecked) —
+    how the closest pairs of a joint that no braked motor can drive are ranked (:func:`assumed`)."""
 
     holding: NDArray[np.float64]
     inertia: NDArray[np.float64]
@@ -100,14 +107,27 @@ class BrakeData:
     stop_energy: NDArray[np.float64]
     energy_per_h: NDArray[np.float64]
     hold: float = 0.0
+    assumed: bool = False
 
     @classmethod
     def of(cls, motors: pd.DataFrame) -> BrakeData | None:
         """The brake data of a motor catalog, ``None`` where it has no ``brake_holding_torque`` column."""
         if "brake_holding_torque" not in motors:
             return None
-        return cls(*(motors[name].to_numpy(dtype=float) if name in motors else np.full(len(motors), math.nan)
-                     for name in BRAKE_COLUMNS))
+        holding, inertia, mass, stop_energy, energy_per_h = (
+            motors[name].to_numpy(dtype=float) if name in motors else np.full(len(motors), math.nan)
+            for name in BRAKE_COLUMNS)
+        return cls(holding, inertia, mass, stop_energy, energy_per_h)
+
+    def missing(self, m: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Whether each motor of ``m`` lacks the brake this joint needs (τ_hold > 0 and T_h NaN): its holding-torque
+        check fails whatever its size, a yes-or-no failure (:data:`NO_BRAKE`), not a degree of one."""
+        return np.isnan(self.holding[m]) if self.hold > 0 else np.zeros(len(m), dtype=bool)
+
+    @property
+    def braked(self) -> int:
+        """How many motors of the catalog have a brake (T_h given)."""
+        return int(np.count_nonzero(~np.isnan(self.holding)))
 
 
 class BrakedMotors(Protocol):
@@ -132,9 +152,10 @@ Motors = TypeVar("Motors", bound=BrakedMotors)
 def with_brakes(motors: Motors, duty: JointDuty) -> Motors:
     """``motors`` for the joint of ``duty``: unchanged where the catalog has no brakes or the joint holds no load;
     else each motor with its brake's inertia and mass added (J_m + J_b, m + m_b) and the joint's τ_hold kept, so that
-    the brake checks apply (:func:`brake_table`)."""
+    the brake checks apply (:func:`brake_table`). Once: arrays that carry a τ_hold already are returned as they are
+    (the brake is not added twice)."""
     brakes = motors.brakes
-    if brakes is None:
+    if brakes is None or brakes.hold > 0:  # no brakes, or added already
         return motors
     hold = holding_torque(duty)
     if hold == 0:
@@ -143,12 +164,23 @@ def with_brakes(motors: Motors, duty: JointDuty) -> Motors:
                    np.nan_to_num(brakes.mass), brakes=replace(brakes, hold=hold))
 
 
+def assumed(motors: Motors) -> Motors | None:
+    """``motors`` (arrays of :func:`with_brakes`) with every motor that lacks the brake its joint needs checked as
+    if it had one that holds (:attr:`BrakeData.assumed`): the brake check met, the other checks as they are; ``None``
+    where no motor lacks one (or the joint needs none)."""
+    brakes = motors.brakes
+    if brakes is None or brakes.hold == 0 or brakes.braked == len(brakes.holding):
+        return None
+    return replace(motors, brakes=replace(brakes, assumed=True))
+
+
 def brake_table(duty: JointDuty, brakes: BrakeData | None, rotor: NDArray[np.float64], conv: Converters,
                 m: NDArray[np.intp], c: NDArray[np.intp], factor: float = BRAKE_FACTOR,
                 stops_per_hour: float = STOPS_PER_HOUR) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """(values, limits), each (len(m), 3), of the brake checks (:data:`BRAKE_CHECKS`, the module docstring) of the
     pairs (m[i], c[i]); ``rotor``: J_m + J_b of every motor. Where they do not apply (no brake data, no load held)
-    the values are 0 and the limits inf."""
+    the values are 0 and the limits inf; the holding torque of a motor without a brake has the limit
+    :data:`NO_BRAKE`, or inf where :attr:`BrakeData.assumed`."""
     values, limits = np.zeros((len(m), 3)), np.full((len(m), 3), math.inf)
     if brakes is None or brakes.hold == 0:
         return values, limits
@@ -162,7 +194,7 @@ def brake_table(duty: JointDuty, brakes: BrakeData | None, rotor: NDArray[np.flo
     with np.errstate(divide="ignore", invalid="ignore"):
         energy = np.where(t_h > gravity, kinetic * t_h / (t_h - gravity), math.inf)
     energy = np.where(kinetic == 0, 0.0, energy)
-    values[:, 0], limits[:, 0] = factor * gravity, t_h
+    values[:, 0], limits[:, 0] = factor * gravity, np.where(braked | (not brakes.assumed), t_h, math.inf)
     for k, (permitted, stops) in enumerate(((brakes.stop_energy, 1.0), (brakes.energy_per_h, stops_per_hour)), 1):
         limits[:, k] = np.where(braked, np.nan_to_num(permitted[m], nan=math.inf), math.inf)
         values[:, k] = np.where(np.isfinite(limits[:, k]), stops * energy, 0.0)  # unchecked: 0, as documented

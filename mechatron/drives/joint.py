@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..report.result import json_ready
-from .brakes import with_brakes
+from .brakes import NO_BRAKE, assumed, with_brakes
 from .checks import (
     ALL_CHECKS,
     PASS_TOLERANCE,
@@ -106,6 +106,8 @@ class JointSizing(DriveSizing):
             <mechatron.drives.checks.DriveLimits.ambient>`).
         motor_figures: the numbers of the motor's catalog row the totals read (:meth:`motor_number`), known
             without the row.
+        brake_note: when no pair is feasible and some of the closest pairs' motors lack the brake the joint needs:
+            that said plainly, and that those pairs are ranked by their other checks (:func:`brake_note`); else "".
 
     Properties :attr:`ranking` and :attr:`rivals`: the best feasible pairs and the pairs that come before the chosen
     one by the objective but fail a check (:class:`Alternatives`).
@@ -128,6 +130,7 @@ class JointSizing(DriveSizing):
     alternatives: Alternatives | None = field(default=None, repr=False)
     ambient: float = DEFAULT_AMBIENT
     motor_figures: dict = field(default_factory=dict, repr=False, compare=False)
+    brake_note: str = ""
 
     @property
     def ranking(self) -> pd.DataFrame:
@@ -292,6 +295,19 @@ class JointSizing(DriveSizing):
         message)."""
         return {**super().explanation(), "gearbox_duty": self.gearbox_duty(), "ruled_out": self.ruled_out()}
 
+    def cells(self, check: Check) -> tuple[str, str, str, str]:
+        """:meth:`~mechatron.drives.report.DriveSizing.cells`; a motor without the brake the joint needs has no
+        holding torque: limit ``none``, margin ``no brake`` (not the sentinel's :data:`~mechatron.drives.brakes.
+        NO_BRAKE` and its huge negative margin)."""
+        value, limit, unit, margin = super().cells(check)
+        return (value, "none", unit, margin) if _no_brake(check) else (value, limit, unit, margin)
+
+    def margin_text(self, check: Check) -> str:
+        return "no brake" if _no_brake(check) else super().margin_text(check)
+
+    def closest_notes(self) -> list[str]:
+        return [self.brake_note] if self.brake_note and not self.feasible else []
+
     def explanation_lines(self) -> list[str]:
         """The deciding check, the runners-up, the gearbox's duty and the kinds a rule removed whole."""
         lines = [*self.thermal_lines(), *super().explanation_lines()]
@@ -331,7 +347,8 @@ class JointSizing(DriveSizing):
     def as_dict(self) -> dict:
         """joint, kind, feasible, motor, gearbox (the converter's key), converter_kind, ratio, time_scale, checks
         (name, value, limit, unit, margin, pass; SI), alternatives (the best feasible pairs), closest (when none is
-        feasible), thermal (:meth:`thermal`: the thermal check used, the duty type, the winding's temperature), and
+        feasible), brake_note (:attr:`brake_note`), thermal (:meth:`thermal`: the thermal check used, the duty
+        type, the winding's temperature), and
         the explanation (:meth:`~mechatron.drives.report.DriveSizing.explanation`): deciding_check, runner_up,
         drive_mass_kg, drive_price; ``drive``: the servo drive's key (``None`` without drives)."""
         return json_ready({
@@ -340,7 +357,7 @@ class JointSizing(DriveSizing):
             "time_scale": self.time_scale, "checks": [c.as_dict() for c in self.checks],
             "alternatives": self.ranking.head(REPORTED).to_dict(orient="records"),
             "closest": [] if self.feasible else self.closest.to_dict(orient="records"), "thermal": self.thermal(),
-            **self.explanation()})
+            "brake_note": self.brake_note, **self.explanation()})
 
     def plot(self, ax: Axes | None = None) -> Figure:
         """The chosen motor's speed–torque chart: its continuous (S1) and intermittent zones
@@ -429,19 +446,49 @@ def size_joint(duty: JointDuty, motors: pd.DataFrame, gearboxes: pd.DataFrame | 
         first = first_m, first_c
         alternatives.before = tuple(before) if len(first_m) else None
     feasible = bool(len(first[0]))
-    closest = Later(pd.DataFrame) if feasible else _closest(checks, table)  # empty, made if asked for
+    closest: Later | pd.DataFrame = Later(pd.DataFrame)  # empty, made if asked for
+    note = ""
     if feasible:
         m, c = int(first[0][0]), int(first[1][0])
     else:
-        m = int(np.flatnonzero(arrays.key == closest["motor"].iloc[0])[0])
-        c = int(np.flatnonzero(conv.key == closest["converter"].iloc[0])[0])
+        closest = frame = _closest(checks, table, alternatives)
+        m = int(np.flatnonzero(arrays.key == frame["motor"].iloc[0])[0])
+        c = int(np.flatnonzero(conv.key == frame["converter"].iloc[0])[0])
+        note = brake_note(duty, arrays, frame["motor"].to_numpy())
     figures = {"rotor_inertia": arrays.rotor[m], "mass": arrays.mass[m], "price": arrays.price[m],
                "torque_constant": arrays.kt[m], "resistance": arrays.resistance[m]}
     return JointSizing(duty.name, duty.kind, objective, feasible, str(arrays.key[m]), str(conv.key[c]),
                        str(conv.kind[c]), float(conv.ratio[c]), checks.checks(m, c), closest, duty,
                        Later(_catalog_row, motors, m),
                        {f: _entry(getattr(conv, f)[c]) for f in conv.__dataclass_fields__}, scale, alternatives,
-                       (limits or DriveLimits()).ambient, {k: float(v) for k, v in figures.items()})
+                       (limits or DriveLimits()).ambient, {k: float(v) for k, v in figures.items()},
+                       note)
+
+
+def _no_brake(check: Check) -> bool:
+    """Whether ``check`` is the holding-torque check of a motor without the brake its joint needs."""
+    return check.name == "brake holding torque" and check.limit <= NO_BRAKE
+
+
+def brake_note(duty: JointDuty, motors: MotorArrays, closest: NDArray[np.str_]) -> str:
+    """What an infeasible joint's report says of the brakes of its ``closest`` pairs' motors (keys): "" where each
+    has the brake the joint needs, or it needs none; else that they lack it — no motor of the catalog has one, or
+    some of the closest do not — and that such pairs are ranked by their other checks, as if each had a brake
+    (:func:`_closest`)."""
+    brakes = motors.brakes
+    if brakes is None or brakes.hold == 0:
+        return ""
+    index = np.flatnonzero(np.isin(motors.key, closest))
+    lacking = sorted(set(motors.key[index[brakes.missing(index)]].tolist()))
+    if not lacking:
+        return ""
+    unit = "N·m" if duty.kind == "revolute" else "N"
+    held = f"{duty.name} holds {brakes.hold:.4g} {unit} at rest (gravity and the external loads)"
+    if brakes.braked == 0:
+        return (f"no motor of the catalog has a brake, and {held}: every candidate fails the brake holding torque "
+                f"check; the closest are ranked by their other checks, as if each had a brake")
+    return (f"{held}; {', '.join(lacking)} {'has' if len(lacking) == 1 else 'have'} no brake (the catalog gives one "
+            f"for {brakes.braked} of its {len(motors)} motors): ranked by the other checks, as if it had one")
 
 
 def _entry(value: np.ndarray) -> object:
@@ -539,10 +586,10 @@ class Alternatives:
             self._ranking = rows.sort_values(["score", *tie_break], kind="stable").reset_index(drop=True)
         return self._ranking.drop(columns=["_m", "_c"])
 
-    def best(self) -> tuple[np.ndarray, np.ndarray]:
-        """(motors, converters) of the ranking's first pair (none when nothing is feasible)."""
+    def best(self, count: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """(motors, converters) of the ranking's first ``count`` pairs (none when nothing is feasible)."""
         self.ranking()
-        return self._ranking["_m"].to_numpy()[:1], self._ranking["_c"].to_numpy()[:1]
+        return self._ranking["_m"].to_numpy()[:count], self._ranking["_c"].to_numpy()[:count]
 
     def rivals(self) -> pd.DataFrame:
         """The rivals (:attr:`JointSizing.rivals`): none for the ``margin`` objective (:attr:`before` ``None``)."""
@@ -674,8 +721,24 @@ class Alternatives:
                 "mass": float(mass), "price": float(price), "message": message}
 
 
-def _closest(checks: PairChecks, table: _Table) -> pd.DataFrame:
-    """The pairs with the smallest worst load factor and the checks they fail."""
-    m, c = smallest_worst(checks, REPORTED)
+def _closest(checks: PairChecks, table: _Table, alternatives: Alternatives) -> pd.DataFrame:
+    """The pairs with the smallest worst load factor and the checks they fail. On a joint that holds a load at rest
+    where motors lack a brake (:func:`~mechatron.drives.brakes.assumed`), the pairs are ranked as if each had a brake
+    that holds — the brake check is a yes or no, and its factor (τ_g over a holding torque of ~0) would rank them by
+    their gravity torque alone: first the pairs that would then pass every check, in the objective's order (those
+    the sizing would choose from), then the smallest worst load factor of the others."""
+    braked = assumed(alternatives.motors) if alternatives.motors is not None else None
+    if braked is None:
+        m, c = smallest_worst(checks, REPORTED)
+    else:
+        relaxed = PairChecks(checks._duty, braked, checks.conv, alternatives.inertia_ratio_max, alternatives.limits)
+        would = replace(alternatives, checks=relaxed, _ranking=None, _rivals=None, _ruled_out=None)
+        m, c = would.best(REPORTED)
+        if len(m) < REPORTED:
+            pairs = set(zip(m.tolist(), c.tolist()))
+            more = [(i, j) for i, j in zip(*(x.tolist() for x in smallest_worst(relaxed, 2 * REPORTED)))
+                    if (i, j) not in pairs][:REPORTED - len(m)]
+            m = np.concatenate([m, np.array([i for i, _ in more], dtype=int)]).astype(int)
+            c = np.concatenate([c, np.array([j for _, j in more], dtype=int)]).astype(int)
     return table.rows(checks, m, c, failed=True).drop(columns=["kind", "smallest_margin"])
 

@@ -143,15 +143,29 @@ class DriveSizing(Result):
         lines = [head if self.feasible else f"{head}  — NO FEASIBLE DRIVE; the closest one shown"]
         lines.append(f"    {'check':<32}{'value':>11}{'limit':>11}  {'unit':<6}{'margin':>8}  result")
         for c in self.checks:
-            value, limit, unit = shown(c)
-            margin = "filter" if self.is_filter(c) else f"{c.margin:.1%}"
+            value, limit, unit, margin = self.cells(c)
             lines.append(f"    {c.name:<32}{value:>11}{limit:>11}  {unit:<6}{margin:>8}  "
                          f"{'PASS' if c.passed else 'FAIL'}"
                          + ("" if c.count is None else f"  (allowed {c.count:,.0f} times in its life)"))
         if not self.feasible:
             lines.append("    closest candidates and the checks they fail (load factor = value/limit):")
             lines += [f"      {self.candidate(row)}: {row['failed']}" for row in self.closest.to_dict(orient="records")]
+            lines += [f"    {note}" for note in self.closest_notes()]
         return lines + self.explanation_lines()
+
+    def cells(self, check: Check) -> tuple[str, str, str, str]:
+        """A check's value, limit, unit (:func:`shown`) and margin as the text table shows them (a pass/fail filter,
+        :meth:`is_filter`, says ``filter`` for its margin)."""
+        return *shown(check), "filter" if self.is_filter(check) else self.margin_text(check)
+
+    def margin_text(self, check: Check) -> str:
+        """A check's margin in words: a percentage."""
+        return f"{check.margin:.1%}"
+
+    def closest_notes(self) -> list[str]:
+        """Lines after the closest candidates of an infeasible coordinate: how they were ranked where it is not
+        plainly by their worst load factor (none here)."""
+        return []
 
     def __str__(self) -> str:
         return "\n".join(self.lines())
@@ -256,7 +270,7 @@ class DriveSizing(Result):
     def explanation_lines(self) -> list[str]:
         """The deciding check and the runners-up, as text lines."""
         deciding = self.deciding()
-        lines = [f"    deciding check: {deciding.name}, margin {deciding.margin:.1%}"] if deciding else []
+        lines = [f"    deciding check: {deciding.name}, margin {self.margin_text(deciding)}"] if deciding else []
         lines += [f"    runner-up {row['candidate']}: {row['reason']}" for row in self.runner_up()]
         return lines
 

@@ -15,6 +15,7 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 
+from .brakes import with_brakes
 from .checks import PASS_TOLERANCE, DriveLimits, MotorArrays, PairChecks
 from .converters import Converters
 from .duty import JointDuty
@@ -288,9 +289,11 @@ def motor_passes(duty: JointDuty, motors: pd.DataFrame | MotorArrays, conv: Conv
                   limits: DriveLimits | None = None) -> Callable[[float], bool]:
     """passes(k): whether some pair passes every check with the task replayed k times slower, a block of motors at
     a time (the pair that passed last is tried first; with motors checked by their winding, the pairs of a block by
-    their lower bounds, smallest first, a few at a time, until one passes)."""
+    their lower bounds, smallest first, a few at a time, until one passes). On a joint that holds a load at rest each
+    motor carries its brake (:func:`~mechatron.drives.brakes.with_brakes`: J_m + J_b in every check, the brake's
+    checks), as in the sizing at the pace found."""
     last: list[tuple[int, int]] = []
-    motors = MotorArrays.of(motors)
+    motors = with_brakes(MotorArrays.of(motors), duty)
 
     def passes(k: float) -> bool:
         checks = PairChecks(duty.scaled(k), motors, conv, inertia_ratio_max, limits)

@@ -10,6 +10,10 @@ torque (or force); the rest is what the bearing carries. A closed loop's samples
 first (:func:`~mechatron.dynamics.trajectory.closed_loop_states`), its multipliers λ from the constrained inverse
 dynamics, and the closure forces join the RNEA as external forces (:func:`~mechatron.dynamics.constrained.
 reactions`): each pin's λ is the force (N, world axes) that its point ``a`` receives.
+
+All samples are computed at once in NumPy (the same Newton–Euler balance and multipliers,
+:mod:`~mechatron.dynamics.batched_reactions`; benchmarks/reactions.py measures it against the state-by-state
+passes); redundant closures, or joints the batched kinematics does not know, take the RNEA pass state by state.
 """
 
 from __future__ import annotations
@@ -121,22 +125,33 @@ class JointReactions(Result):
 
 def joint_reactions(mech: Mechanism, trajectory: Trajectory, loads: Loads = None) -> JointReactions:
     """The :class:`JointReactions` of ``mech`` along ``trajectory`` (of its joints; of a closed loop's actuated
-    coordinates) under gravity and ``loads`` (the module docstring)."""
-    from .constrained import inverse, reactions
+    coordinates) under gravity and ``loads`` (the module docstring): all samples at once
+    (:func:`~mechatron.dynamics.batched_reactions.reactions_at`), or state by state where the closures are redundant
+    or the batched kinematics does not know a joint."""
+    from .batched_reactions import reactions_at
     from .trajectory import closed_loop_states
-    from .tree import transmitted_wrenches
 
     joints = list(mech.model.names[1:])
+    t = np.asarray(trajectory.t, float)
     if mech.closures:
         Q, V, A = closed_loop_states(mech, trajectory)
-        states = [reactions(mech, q, v, a, inverse(mech, q, v, a, loads)[1], loads) for q, v, a in zip(Q, V, A)]
-        wrenches = np.array([s.joints for s in states]).reshape(len(Q), len(joints), 6)
-        pins = {name: np.array([s.pins[name] for s in states]) for name in (states[0].pins if states else {})}
-        return JointReactions(mech.name, np.asarray(trajectory.t, float), joints, wrenches, pins)
-    Q = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
-    if Q.shape[1] != mech.nq:
-        Q = mech.configuration(np.atleast_2d(np.asarray(trajectory.coordinates, dtype=float)))
-    V, A = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (trajectory.v, trajectory.a))
-    wrenches = np.array([transmitted_wrenches(mech, q, v, a, loads) for q, v, a in zip(Q, V, A)])
-    return JointReactions(mech.name, np.asarray(trajectory.t, float), joints,
-                          wrenches.reshape(len(Q), len(joints), 6))
+    else:
+        Q = np.atleast_2d(np.asarray(trajectory.q, dtype=float))
+        if Q.shape[1] != mech.nq:
+            Q = mech.configuration(np.atleast_2d(np.asarray(trajectory.coordinates, dtype=float)))
+        V, A = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (trajectory.v, trajectory.a))
+    batched = reactions_at(mech, Q, V, A, loads) if len(Q) else None
+    wrenches, pins = batched if batched is not None else _state_by_state(mech, Q, V, A, loads)
+    return JointReactions(mech.name, t, joints, wrenches.reshape(len(Q), len(joints), 6), pins)
+
+
+def _state_by_state(mech: Mechanism, Q: Array, V: Array, A: Array, loads: Loads) -> tuple[Array, dict[str, Array]]:
+    """(wrenches, pins): one constrained inverse dynamics (a closed loop) and one RNEA pass per state."""
+    from .constrained import inverse, reactions
+    from .tree import transmitted_wrenches
+
+    if not mech.closures:
+        return np.array([transmitted_wrenches(mech, q, v, a, loads) for q, v, a in zip(Q, V, A)]), {}
+    states = [reactions(mech, q, v, a, inverse(mech, q, v, a, loads)[1], loads) for q, v, a in zip(Q, V, A)]
+    wrenches = np.array([s.joints for s in states])
+    return wrenches, {name: np.array([s.pins[name] for s in states]) for name in (states[0].pins if states else {})}

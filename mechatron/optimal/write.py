@@ -150,15 +150,18 @@ def _redrawn(linkage: Any, design: Any, values: dict[str, float]) -> Any:
     value, the points' coordinates moved) drawn at the design's assembled pose: every drawn point where the
     design's mechanism (``design``, rebuilt as the search evaluated it: its loops closed with the actuated inputs
     held where the file holds them) has it at its reference configuration, a point's direction (a slider's
-    line) turned with its body and a centre of mass given by world coordinates moved with it. A design's moved
-    pins (a cylinder's base) can put the *drawn* pose outside a cylinder's stroke; drawn at the assembled pose,
-    each held input is at the value the file held it at, within its stroke, and the loops close as drawn."""
+    line) turned with its body, a centre of mass given by world coordinates moved with it, and every body's x
+    axis and prismatic guide turned with it (:func:`_turned_joints`), so that the file read back has the
+    evaluated joint coordinates. A design's moved pins (a cylinder's base) can put the *drawn* pose outside a
+    cylinder's stroke; drawn at the assembled pose, each held input is at the value the file held it at, within
+    its stroke, and the loops close as drawn."""
     import pinocchio as pin
 
     from ..model.linkage import parameter_spec
 
     model, data = design.model, design.model.createData()
-    pin.framesForwardKinematics(model, data, np.asarray(design.reference_q, dtype=float))
+    q = np.asarray(design.reference_q, dtype=float)
+    pin.framesForwardKinematics(model, data, q)
     redrawn = parameter_spec(linkage, values)
     points = []
     for p in redrawn.points:
@@ -178,7 +181,48 @@ def _redrawn(linkage: Any, design: Any, values: dict[str, float]) -> Any:
             joint = model.frames[model.getFrameId(b.name, pin.FrameType.BODY)].parentJoint
             b = replace(b, com=tuple(float(v) for v in data.oMi[joint].act(model.inertias[joint].lever)[:2]))
         bodies.append(b)
-    return replace(redrawn, points=tuple(points), bodies=tuple(bodies))
+    redrawn = replace(redrawn, points=tuple(points), bodies=tuple(bodies))
+    return replace(redrawn, joints=_turned_joints(redrawn, model, data, q))
+
+
+def _turned_joints(spec: Any, model: Any, data: Any, q: np.ndarray) -> tuple:
+    """The tree joints of ``spec`` (its points already drawn at the pose ``q`` of ``model``, whose kinematics are
+    in ``data``) so that, read back, each joint's coordinate is its value in ``q``. A body's x axis in the file is
+    world angle θ (rad): a revolute joint's θ = θ_parent + q (the coordinate is the angle from the parent's x
+    axis), a prismatic body's θ = θ_parent. So a revolute joint given by its world ``angle`` gets θ_parent + q
+    (not 2π-wrapped, so its limits still hold); one whose x axis the file would take from a point that does not
+    turn with it (a ``toward`` point of another body, or none: the parent's axis) gets that ``angle`` too; one
+    toward a point of its own body keeps it, θ = atan2 of that point from the pin as the file draws it. A prismatic
+    guide's world ``direction`` turns to the joint's x axis at the pose (its length kept)."""
+    from ..model.linkage_spec import GROUND, joint_coordinate, joint_parent
+    from ..model.shapes import with_derived
+
+    drawn = with_derived(spec, spec.drawing())
+    theta: dict[str, float] = {GROUND: 0.0}
+    turned: dict[int, Any] = {}
+    pending = [k for k, j in enumerate(spec.joints) if j.kind in ("revolute", "prismatic")]
+    while pending:  # each joint once its parent's x axis is known, as the file's layout places them
+        k = next((k for k in pending if joint_parent(spec, spec.joints[k]) in theta), None)
+        if k is None:  # not a tree: left as it is, for the read-back to name
+            break
+        pending.remove(k)
+        j = spec.joints[k]
+        parent = theta[joint_parent(spec, j)]
+        joint = model.getJointId(joint_coordinate(j))
+        if j.kind == "prismatic":
+            theta[j.body] = parent
+            if j.direction is not None:
+                axis = data.oMi[joint].rotation[:2, 0] * float(np.hypot(*j.direction))
+                turned[k] = replace(j, direction=(float(axis[0]), float(axis[1])))
+            continue
+        toward = j.toward or next((p for p in spec.body(j.body).points if p != j.at), None)
+        if j.angle is None and toward is not None and toward in spec.body(j.body).points:
+            d = np.asarray(drawn[toward], dtype=float) - np.asarray(drawn[j.at], dtype=float)
+            theta[j.body] = float(np.arctan2(d[1], d[0]))
+            continue
+        theta[j.body] = parent + float(q[model.joints[joint].idx_q])
+        turned[k] = replace(j, toward=None, angle=theta[j.body])
+    return tuple(turned.get(k, j) for k, j in enumerate(spec.joints))
 
 
 def _moved(linkage: Any, values: dict[str, float]) -> Any:
