@@ -143,3 +143,16 @@ def test_system_time_pace_counts_the_brake():
     base = {j.joint: j.duty.scaled(1 / result.time_scale) for j in result.joints}
     alone = [size_joint(d, cat, gearboxes, objective="time").time_scale for d in base.values()]
     assert result.time_scale == pytest.approx(max(alone), rel=2e-3)
+
+
+def test_smallest_margin_counts_a_missing_brake_as_minus_one():
+    """A study's ``smallest_margin`` of a joint that no braked motor drives: the missing brake is −1 (no holding torque
+    at all), the other checks keep their own margins 1 − value/limit, not the 1e-9 N·m sentinel's −10⁹."""
+    duty, motors, gearboxes = held_duty(), default_catalog("motors"), default_catalog("gearboxes")
+    unbraked = size_joint(duty, without_brakes(motors), gearboxes)
+    others = [c.margin for c in unbraked.checks if c.name != "brake holding torque"]
+    assert unbraked.smallest_margin() == min([-1.0, *others])
+    assert all(1 - c.value / c.limit == pytest.approx(c.margin) for c in unbraked.checks
+               if c.name != "brake holding torque" and c.limit > 0 and math.isfinite(c.limit) and c.value >= 0)
+    plain = size_joint(duty, motors, gearboxes)
+    assert plain.smallest_margin() == min(c.margin for c in plain.checks) > 0

@@ -308,6 +308,12 @@ class JointSizing(DriveSizing):
     def closest_notes(self) -> list[str]:
         return [self.brake_note] if self.brake_note and not self.feasible else []
 
+    def smallest_margin(self) -> float:
+        """The smallest margin over the checks (< 0: a check fails); a missing brake, a yes-or-no failure, counts as
+        −1 (−100 %: no holding torque at all; mechatron's rule), not the sentinel :data:`~mechatron.drives.brakes.
+        NO_BRAKE`'s margin of about −10⁹, so that a study's ``smallest_margin`` stays a measure of how far."""
+        return min((-1.0 if _no_brake(c) else c.margin for c in self.checks), default=math.inf)
+
     def explanation_lines(self) -> list[str]:
         """The deciding check, the runners-up, the gearbox's duty and the kinds a rule removed whole."""
         lines = [*self.thermal_lines(), *super().explanation_lines()]

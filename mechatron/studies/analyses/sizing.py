@@ -21,7 +21,8 @@ motors or only cylinders); ``cycle_time_s`` (the task's duration as sized: short
 
 An infeasible design is a row, not an error: ``feasible`` is false and the other outputs are those of the
 closest candidates (the drive of each coordinate with the smallest worst load factor, as ``mechatron size``
-reports it), so that ``smallest_margin`` is negative — how far the design is from feasible — and the masses and
+reports it; a held coordinate that no braked motor can drive ranks them as if each had a brake, its missing brake
+a margin of −1), so that ``smallest_margin`` is negative — how far the design is from feasible — and the masses and
 costs are finite.
 
 The helpers ``field_*`` check the options of any analysis (one line naming ``[analyses.NAME] FIELD``).
