@@ -208,6 +208,15 @@ def test_calibrated_robot_file_and_urdf_read_back(puma, readings, tmp_path):
     for q, p in zip(measured.coordinates, measured.positions):  # the files, read as the encoders read
         assert np.allclose(mechatron.frame_placement(robot, q, "tool").translation, p, atol=1e-10)
         assert np.allclose(mechatron.frame_placement(urdf, q, "tool").translation, p, atol=1e-10)
+    # the stops stay on the machine: q_read = q_model − δq, so each limit moves by −δq in both files
+    for written in (robot, urdf):
+        index = {name: puma.model.joints[puma.joint_id(name)].idx_q for name in result.offsets()}
+        for name, offset in result.offsets().items():
+            i = index[name]
+            assert written.model.lowerPositionLimit[i] == pytest.approx(puma.model.lowerPositionLimit[i] - offset,
+                                                                        abs=1e-12)
+            assert written.model.upperPositionLimit[i] == pytest.approx(puma.model.upperPositionLimit[i] - offset,
+                                                                        abs=1e-12)
 
 
 def test_calibrated_mechanism_file_reads_back(tmp_path):

@@ -2,12 +2,14 @@
 
 - ``.toml`` of a DH arm: the robot file of its table with the identified a, α, d, θ
   (:func:`~mechatron.model.robot_writer.write_robot_file`); a joint offset δq is folded into the row's constant,
-  θ + δq of a revolute joint, d + δq of a prismatic one (the joint limits stay as they were);
+  θ + δq of a revolute joint, d + δq of a prismatic one, and its limits shifted by −δq: the joint's coordinate is
+  then the encoder's reading, and its stops stay where they are on the machine (q_model = q_read + δq ∈ [lo, hi]);
 - ``.toml`` of a closed-loop linkage read from a mechanism file: that file's spec with the identified lengths and
   pin coordinates (:func:`~mechatron.model.linkage.parameter_spec`,
   :func:`~mechatron.model.linkage_file.write_linkage_file`); it holds no encoder zeros, so joint offsets are refused;
 - ``.urdf`` of a serial mechanism: :func:`~mechatron.model.urdf.export_urdf` of the calibrated model, a joint offset
-  folded into the joint's origin (origin · exp(axis δq): the joint then reads as the encoder does).
+  folded into the joint's origin (origin · exp(axis δq): the joint then reads as the encoder does), its limits
+  shifted by −δq likewise.
 
 Each is written whole or not at all, and never over the file the mechanism was read from.
 """
@@ -68,7 +70,11 @@ def write_calibrated(mech: Mechanism, offsets: Mapping[str, float], path: str | 
             field = "theta" if table.links[i - 1].is_revolute else "d"
             key = table.parameter_names(i)[field]
             changes[key] = mech.parameter_values()[key] + offset
-        return [write_robot_file(table.with_values(changes), path, description=mech.description,
+        table = table.with_values(changes)
+        links = [dataclasses.replace(link, lower=link.lower - offsets.get(link.name, 0.0),
+                                     upper=link.upper - offsets.get(link.name, 0.0)) for link in table.links]
+        table = dataclasses.replace(table, links=tuple(links))
+        return [write_robot_file(table, path, description=mech.description,
                                  source=f"calibrated from {Path(mech.source).name if mech.source else mech.name}",
                                  header=header, link_masses_include_drives=mech.link_masses_include_drives)]
     if offsets:
@@ -95,4 +101,9 @@ def _offset_model(mech: Mechanism, offsets: Mapping[str, float]) -> Mechanism:
         joint_model.calc(joint_data, pin.neutral(mech.model))
         axis = np.asarray(joint_data.S, dtype=float).reshape(6)
         model.jointPlacements[joint] = mech.model.jointPlacements[joint] * pin.exp6(pin.Motion(axis * offset))
+        if joint_model.nq == 1:  # a continuous joint's (cos, sin) has no limits
+            lower, upper = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+            lower[joint_model.idx_q] -= offset
+            upper[joint_model.idx_q] -= offset
+            model.lowerPositionLimit, model.upperPositionLimit = lower, upper
     return dataclasses.replace(mech, model=model)
