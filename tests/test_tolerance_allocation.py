@@ -355,6 +355,22 @@ def test_the_cli_prints_and_writes_the_allocation(capsys, tmp_path):
     assert code == 0 and "binding poses" in out and "total cost" in out
 
 
+
+def test_the_report_holds_the_allocation_method_and_poses(capsys, tmp_path):
+    """``--report``: the allocated table, the method, every pose with the Monte Carlo's verdict, as the JSON says."""
+    import re
+
+    report = tmp_path / "allocation.html"
+    code, out, err = run(capsys, "tolerance", "puma560", "--tolerances", str(DATA / "tolerances_puma560_costs.csv"),
+                         "--processes", str(DATA / "processes_puma560.csv"), "--poses",
+                         str(DATA / "poses_puma560.csv"), "--allocate", "--limit-mm", "0.25", "--samples", "500",
+                         "--report", str(report), "--json")
+    assert code == 0, err
+    data, text = json.loads(out), report.read_text(encoding="utf-8")
+    assert re.findall(r"<h2[^>]*>(.*?)</h2>", text)[1:5] == ["Allocation", "Method", "Poses", "Charts"]
+    assert f"total cost {data['total_cost']:.6g}" in text and "branch and bound" in text
+    assert text.count(">PASS<") == len(data["poses"]) == 6 and data["meets_limit_mc"]
+
 def test_processes_file_reads_sorted_with_rising_costs():
     tables = read_processes(DATA / "processes_puma560.csv")
     for table in tables.values():

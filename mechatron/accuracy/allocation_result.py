@@ -26,6 +26,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..model.mechanism import Mechanism
+    from ..report.html import Report
     from .error_model import ErrorModel
     from .result import ToleranceResult
 
@@ -156,6 +158,36 @@ class AllocationResult(Result):
                            "meets_limit_mc": self.meets, "search": self.search,
                            "tolerances": frame_records(self.table), "poses": frame_records(self.poses),
                            "notes": list(self.notes)})
+
+    def report(self, mechanism: Mechanism | None = None, **context: object) -> Report:
+        """The HTML report (:mod:`mechatron.report.html`): the allocated tolerances with their costs and shares, the
+        method, every pose with its error and the verifying Monte Carlo (mm, PASS when within the limit), and the
+        charts."""
+        import sys
+
+        from ..report.html import Chart, Method, Report, Section, Table, Text
+
+        poses = self.poses.copy()
+        for column in ("dr", "margin", "dr_mc"):
+            poses[f"{column} (mm)"] = poses.pop(column) * 1e3
+        poses["pass"] = poses.pop("meets_mc")
+        solver = sys.modules.get("mechatron.accuracy.allocation")  # the module that ran it (it imports this one)
+        summary = (f"total cost {self.total_cost:.6g}" + ("" if self.given_cost is None else
+                                                         f" (the file's tolerances: {self.given_cost:.6g})")
+                   + f"; binding at {', '.join(self.binding) or 'no pose'}; the Monte Carlo "
+                   + ("meets" if self.meets else "does not meet") + f" {self.limit * 1e3:g} mm at every pose")
+        sections = [
+            Section("Allocation", [Text(summary), Table(self.table, "per error source: model, process option, "
+                                                        "tolerance (its file unit and SI), cost, share (%)",
+                                                        "allocation")]),
+            Section("Method", [Method(solver.__doc__)] if solver is not None and solver.__doc__ else []),
+            Section("Poses", [Table(poses, f"|Δr| {self.method} of the allocation and of a Monte Carlo of the full "
+                                           f"nonlinear model ({self.samples:,} samples per pose, seed {self.seed}) "
+                                           "against the limit (mm)", "poses"),
+                              *(Text(f"note: {note}") for note in self.notes)]),
+            Section("Charts", [Chart(self.plot())]),
+        ]
+        return Report(str(self).splitlines()[0], sections, summary)
 
     def __str__(self) -> str:
         n = len(self.poses)
