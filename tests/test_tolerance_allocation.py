@@ -134,6 +134,9 @@ encoder,12 bit,,1.5,3.2
 encoder,14 bit,,0.4,7.5
 encoder,16 bit,,0.1,18.0
 """
+#: The tables of PROCESSES in SI: (tolerance m or rad, cost), loosest first.
+TABLES = {"length": [(0.2e-3, 1.0), (0.08e-3, 2.7), (0.03e-3, 6.1), (0.01e-3, 13.9)],
+          "encoder": [(1.5e-3, 3.2), (0.4e-3, 7.5), (0.1e-3, 18.0)]}
 POSES = np.array([[0.0, 0.0], [0.4, 1.2], [-0.7, 2.2]])
 
 
@@ -167,8 +170,7 @@ def test_process_selection_equals_brute_force(arm, tmp_path, method, limit):
     tolerances = tmp_path / "t.csv"
     tolerances.write_text("parameter,process,distribution\na1,length,normal\na2,length,uniform\n"
                           "q1,encoder,uniform\nq2,encoder,normal\n")
-    tables = {"length": [(0.2e-3, 1.0), (0.08e-3, 2.7), (0.03e-3, 6.1), (0.01e-3, 13.9)],
-              "encoder": [(1.5e-3, 3.2), (0.4e-3, 7.5), (0.1e-3, 18.0)]}
+    tables = TABLES
     rows = {"a1": "length", "a2": "length", "q1": "encoder", "q2": "encoder"}
     distributions = {"a1": "normal", "a2": "uniform", "q1": "uniform", "q2": "normal"}
     cost, t = brute_force(method, limit, rows, distributions, tables)
@@ -189,8 +191,7 @@ def test_a_mix_of_process_and_continuous_rows_equals_brute_force(arm, tmp_path):
     tolerances = tmp_path / "t.csv"
     tolerances.write_text("parameter,process,tolerance_min_mrad,tolerance_max_mrad,cost_b\na1,length,,,\n"
                           "q1,encoder,,,\nq2,,0.01,5,2\n")
-    tables = {"length": [(0.2e-3, 1.0), (0.08e-3, 2.7), (0.03e-3, 6.1), (0.01e-3, 13.9)],
-              "encoder": [(1.5e-3, 3.2), (0.4e-3, 7.5), (0.1e-3, 18.0)]}
+    tables = TABLES
     limit = 0.5e-3
     Js = [planar_jacobian(*q) for q in POSES]
     best = (math.inf, ())

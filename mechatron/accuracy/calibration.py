@@ -8,7 +8,7 @@ tolerances file: the model's coordinate is the reading plus the offset, q = q_re
     r_p,i = (p(l + Δl, q_read,i + δq) − p_meas,i) / σ_i ,    r_R,i = log(R(l + Δl, q_read,i + δq) R_meas,iᵀ) / σ_rot,i
 
 (m/m; rad/rad, the orientation only where measured), and x minimises ½ Σ r² by Levenberg–Marquardt [Moré 1978]
-on the exact Jacobian: ∂p/∂x and the rotation's ω from :func:`~mechatron.accuracy.pose_sensitivity.pose_sensitivities`
+on the exact Jacobian: ∂p/∂x and the rotation's ω from :func:`~mechatron.accuracy.sensitivity.pose_sensitivities`
 (∂r_R/∂x = J_log(E) Eᵀ ω with E = R R_measᵀ and J_log Pinocchio's ``Jlog3``), the mechanism rebuilt with the new
 parameters at every iterate (``Mechanism.with_parameters``; a closed loop re-assembled at each measured input).
 
@@ -45,8 +45,7 @@ from ..io.values import number
 from ..model.mechanism import Mechanism, unknown_name_error
 from .calibration_result import CalibrationResult, Identifiability, Unknown
 from .measurements import Measurements, read_measurements
-from .pose_sensitivity import pose_sensitivities
-from .sensitivity import coordinate_names, resolve_coordinate
+from .sensitivity import coordinate_names, pose_sensitivities, resolve_coordinate
 
 Floats = NDArray[np.float64]
 

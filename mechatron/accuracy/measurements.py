@@ -29,7 +29,7 @@ from ..io.tables import number, read_csv
 from ..model.mechanism import Mechanism
 from ..units import UNITS
 from .sensitivity import coordinate_names
-from .sources import _pose_column
+from .sources import pose_column
 
 Floats = NDArray[np.float64]
 
@@ -117,7 +117,7 @@ def read_measurements(path: str | Path, mech: Mechanism) -> Measurements:
         if column in used:
             continue
         try:
-            name, factor = _pose_column(mech, column, path)
+            name, factor = pose_column(mech, column, path)
         except InputError as exc:
             raise InputError(f"{exc.message}; or x, y, z, roll, pitch, yaw, sigma, sigma_rot (with a unit suffix), "
                              "label", file=path, field=column) from None

@@ -90,34 +90,51 @@ def sensitivities(mech: Mechanism, q: ArrayLike, frame: str | None = None, param
                   coordinates: Sequence[str] | None = None) -> Sensitivities:
     """∂r/∂l and ∂r/∂q [Egorov, 8.4] of ``frame`` (default the tool frame) at the configurations ``q`` ((nq,) or
     (N, nq), assembled ones for a closed loop), for ``parameters`` (default all) and ``coordinates`` (default every
-    joint, or the actuated ones of a closed loop): m per m of a length, m per rad of an angle."""
+    joint, or the actuated ones of a closed loop): m per m of a length, m per rad of an angle (the translational
+    rows of :func:`pose_sensitivities`)."""
     Q = np.atleast_2d(np.asarray(q, dtype=float))
     if Q.shape[1] != mech.nq:
         raise InputError(f"configurations of {mech.name} need {mech.nq} values, got {Q.shape[1]}")
-    fid = mech.frame_id(frame or mech.tool_frame)
     parameters = list(mech.parameters) if parameters is None else list(parameters)
     coordinates = coordinate_names(mech) if coordinates is None else list(coordinates)
-    columns = [mech.model.joints[mech.joint_id(c)].idx_v for c in coordinates]
-    derivatives = placement_derivatives(mech, parameters)
-    model, data = mech.model, mech.data
+    twists, placements = pose_sensitivities(mech, Q, frame or mech.tool_frame, parameters, coordinates)
+    positions = np.array([p.translation for p in placements]).reshape(len(Q), 3)
+    return Sensitivities(tuple(parameters) + tuple(coordinates), np.ascontiguousarray(twists[:, :3]), positions, Q)
+
+
+def pose_sensitivities(mech: Mechanism, q: ArrayLike, frame: str, parameters: Sequence[str],
+                       coordinates: Sequence[str]) -> tuple[NDArray[np.float64], list[pin.SE3]]:
+    r"""(twists (N, 6, n_l + n_c), placements): the world-aligned twist [v; ω] of ``frame`` per unit of each of
+    ``parameters`` then ``coordinates`` (m/m, rad/m, m/rad, rad/rad) at the configurations ``q`` ((N, nq),
+    assembled ones for a closed loop), and the frame's placement (world) at each; to first order
+
+        p(l + Δl, q + Δq) = p + Σ v_k Δl_k + Σ v_j Δq_j ,   R(l + Δl, q + Δq) = exp([Σ ω_k Δl_k + Σ ω_j Δq_j]×) R .
+
+    The parameter columns are :func:`frame_parameter_twists`, the coordinate columns the frame Jacobian's; in a
+    closed loop the dependent coordinates follow by :func:`loop_derivatives`: d/dl = ξ_l + J ∂q/∂l, d/dq_a = J S."""
+    Q = np.atleast_2d(np.asarray(q, dtype=float))
+    fid = mech.frame_id(frame)
     n_l = len(parameters)
-    out = np.empty((len(Q), 3, n_l + len(coordinates)))
-    positions = np.empty((len(Q), 3))
+    derivatives = placement_derivatives(mech, list(parameters))
+    columns = [mech.model.joints[mech.joint_id(c)].idx_v for c in coordinates]
     solver = loop_solver(mech) if mech.closures else None
+    actuated = {name: k for k, name in enumerate(mech.actuated)}
+    model, data = mech.model, mech.data
+    out = np.empty((len(Q), 6, n_l + len(coordinates)))
+    placements = []
     for i, qi in enumerate(Q):
         J = pin.computeFrameJacobian(model, data, qi, fid, LWA)
         pin.updateFramePlacements(model, data)
-        positions[i] = data.oMf[fid].translation
-        d_point = frame_parameter_twists(mech, derivatives, fid)[:3] if n_l else np.zeros((3, 0))
+        placements.append(data.oMf[fid].copy())
+        twists = frame_parameter_twists(mech, derivatives, fid) if n_l else np.zeros((6, 0))
         if solver is None:
-            out[i, :, :n_l] = d_point
-            out[i, :, n_l:] = J[:3, columns]
+            out[i, :, :n_l] = twists
+            out[i, :, n_l:] = J[:, columns]
             continue
         dq_dl, S = loop_derivatives(mech, solver, derivatives, qi)
-        out[i, :, :n_l] = d_point + J[:3] @ dq_dl
-        actuated = {name: k for k, name in enumerate(mech.actuated)}
-        out[i, :, n_l:] = (J[:3] @ S)[:, [actuated[c] for c in coordinates]]
-    return Sensitivities(tuple(parameters) + tuple(coordinates), out, positions, Q)
+        out[i, :, :n_l] = twists + J @ dq_dl
+        out[i, :, n_l:] = (J @ S)[:, [actuated[c] for c in coordinates]]
+    return out, placements
 
 
 def loop_derivatives(mech: Mechanism, solver: LoopSolver, derivatives: PlacementDerivatives, q: ArrayLike

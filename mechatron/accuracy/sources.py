@@ -234,7 +234,7 @@ def _grade_tolerance(mech: Mechanism, name: str, unit: str, grade: str, row: dic
         raise InputError(exc.message, file=path, row=line, field="grade") from None
 
 
-def _pose_column(mech: Mechanism, column: str, path: Path) -> tuple[str, float]:
+def pose_column(mech: Mechanism, column: str, path: Path) -> tuple[str, float]:
     """(coordinate, factor to SI) of a poses column: a coordinate's name (or ``qk``), with a unit suffix or not."""
     name = resolve_coordinate(mech, column)
     if name is not None:
@@ -268,7 +268,7 @@ def read_poses(path: str | Path, mech: Mechanism) -> tuple[NDArray[np.float64], 
     for column in frame.columns:
         if column == "label":
             continue
-        name, factor = _pose_column(mech, column, path)
+        name, factor = pose_column(mech, column, path)
         if name in lookup:
             raise InputError(f"{name} is given twice", file=path, field=column)
         lookup[name] = (column, factor)
